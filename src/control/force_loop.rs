@@ -1,0 +1,77 @@
+//! Outer loop: damper force → spool demand. Two laws (parameter `force_controller`):
+//!
+//! ```text
+//! both:   s = sign(v),  e = s (F_dem − F) / max(|F_dem|, F_ref_min)        relative force error
+//! 0 (default, PHYSICS.md §4): u = Kp e + Ki Σe T + Kd ė
+//!         A_ff = Q̂ / (C_d sqrt(2 Δp_dem/ρ))     inverse valve law at the demanded force
+//!         A_dem = A_ff exp(−u),  x_dem = A⁻¹(A_dem)
+//! 1 (the paper's PID):  x_dem = x_bias − (Kp e + Ki Σe T + Kd ė)
+//! ```
+//! Since d ln F / d ln A ≈ −2 everywhere on the valve map, law 0 has a loop gain independent of
+//! the operating point; law 1 is tuned for one point and slows down or rings elsewhere.
+//! Anti-windup: the integrator only moves while the demand is not clipped.
+
+use super::{FilteredDerivative, Measurements};
+use crate::physics::params::{Derived, ForceController, Parameters};
+
+/// Smallest valve-area demand [m²].
+const A_DEMAND_MIN: f64 = 1e-7;
+
+/// Outer-loop state.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct ForceLoop {
+    /// Integral term [1 for law 0, m for law 1].
+    pub integral: f64,
+    /// Derivative of the relative error.
+    pub error_rate: FilteredDerivative,
+}
+
+/// The semi-active limit: a damper can only resist the motion. Returns the demand [N] where it
+/// resists the velocity `v` [m/s], 0 where it would push.
+pub fn clip_to_dissipative(force_demand: f64, v: f64) -> f64 {
+    let s = if v >= 0.0 { 1.0 } else { -1.0 };
+    s * (s * force_demand).max(0.0)
+}
+
+impl ForceLoop {
+    /// Spool demand [m] for the (already clipped) force demand `f_demand` [N].
+    pub fn step(&mut self, p: &Parameters, d: &Derived, f_demand: f64, m: Measurements) -> f64 {
+        let ts = p.t_sample;
+        let s = if m.v_damper >= 0.0 { 1.0 } else { -1.0 };
+        let error = s * (f_demand - m.force) / f_demand.abs().max(p.f_ref_min);
+        match d.force_controller {
+            ForceController::FeedforwardLogArea => {
+                let rate = self.error_rate.update(error, ts, p.tau_df);
+                let integral = self.integral + p.ki_f * error * ts;
+                let u = p.kp_f * error + integral + p.kd_f * rate;
+                let a_demand = feedforward_area(p, d, f_demand, m.v_damper) * (-u.clamp(-20.0, 20.0)).exp();
+                if a_demand > A_DEMAND_MIN && a_demand < d.a_demand_max {
+                    self.integral = integral;
+                }
+                d.ports.position_for_area(a_demand.clamp(A_DEMAND_MIN, d.a_demand_max)).clamp(p.x_lap, d.x_demand_max)
+            }
+            ForceController::PaperPid => {
+                let rate = self.error_rate.update(error, ts, p.tau_df);
+                let integral = self.integral + p.ki_f_pid * error * ts;
+                let x = p.x_spool_bias - (p.kp_f_pid * error + integral + p.kd_f_pid * rate);
+                if x > p.x_lap && x < d.x_demand_max {
+                    self.integral = integral;
+                }
+                x.clamp(p.x_lap, d.x_demand_max)
+            }
+        }
+    }
+}
+
+/// Valve area [m²] that gives |`f_demand`| [N] at velocity `v` [m/s] in steady state (inverse
+/// orifice law with the nominal reservoir pressure), within the valve's range.
+pub fn feedforward_area(p: &Parameters, d: &Derived, f_demand: f64, v: f64) -> f64 {
+    let cyl = &d.cylinder;
+    let (q, dp) = if v >= 0.0 {
+        (cyl.a_annulus * v, (f_demand.abs() + p.p_reservoir0 * cyl.a_rod) / cyl.a_annulus)
+    } else {
+        (cyl.a_rod * -v, f_demand.abs() / cyl.a_rod - p.p_reservoir0)
+    };
+    let area = q / (p.cd_valve * (2.0 * dp.max(1e4) / p.rho).sqrt());
+    area.clamp(2e-7, d.a_demand_max)
+}

@@ -1,0 +1,155 @@
+//! The damper as a co-simulation unit, with no FMI types: the plant integrated by Rodas3 on a
+//! fixed internal grid, the controller sampled every `T_sample` on the grid
+//! `t_start + k·T_sample`, whatever the communication steps are. A communication step may be any
+//! positive length; sample instants inside it split it. All state is plain `Copy` data.
+
+use crate::control::{Controller, Demands, Measurements};
+use crate::physics::params::{Derived, Parameters};
+use crate::physics::plant::{idx, rest_current, Plant, PlantOutputs, State};
+use crate::solver::{rodas3_step, SolverError};
+
+/// Inputs from the master, held over a communication step.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Inputs {
+    /// Damper extension velocity [m/s].
+    pub v_damper: f64,
+    /// Demanded force [N], tension positive.
+    pub force_demand: f64,
+    /// Spool position demand [m] (control_mode 1).
+    pub x_spool_demand: f64,
+}
+
+/// The evolving state of a damper (everything but the parameters).
+#[derive(Clone, Copy, Debug)]
+pub struct DamperState {
+    /// Plant states, see [`crate::physics::plant::idx`].
+    pub y: State,
+    pub controller: Controller,
+    /// Amplifier output reaching the coil, held between samples [A].
+    pub i_command: f64,
+    /// Time of the state [s].
+    pub time: f64,
+    /// Start of the controller's sample grid [s].
+    pub start_time: f64,
+    /// Index of the next controller sample on that grid.
+    pub next_sample: u64,
+}
+
+/// Work done by one communication step.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct StepStats {
+    /// Controller samples taken.
+    pub samples: u32,
+    /// Rodas3 steps taken.
+    pub substeps: u32,
+}
+
+/// The outputs of the damper at its present state.
+#[derive(Clone, Copy, Debug)]
+pub struct Outputs {
+    pub plant: PlantOutputs,
+    pub y: State,
+    /// Spool demand of the last controller sample [m].
+    pub x_spool_ref: f64,
+    /// Force demand after the semi-active clip [N].
+    pub force_demand_clipped: f64,
+}
+
+/// A damper with validated parameters.
+#[derive(Clone, Copy, Debug)]
+pub struct Damper {
+    params: Parameters,
+    derived: Derived,
+    pub state: DamperState,
+    pub inputs: Inputs,
+}
+
+impl Damper {
+    /// A damper at rest at `x_damper_start`, its spool at `x_spool_start`, at time `start_time` [s].
+    pub fn new(params: Parameters, inputs: Inputs, start_time: f64) -> Result<Self, String> {
+        params.validate()?;
+        let derived = params.derive();
+        let y = Plant::rest_state(&params, &derived, params.x_damper_start, params.x_spool_start);
+        let i0 = rest_current(&params, params.x_spool_start);
+        let mut controller = Controller::at_rest(&derived, params.x_spool_start, i0);
+        controller.x_spool_demand = params.x_spool_start;
+        let state = DamperState { y, controller, i_command: i0, time: start_time, start_time, next_sample: 0 };
+        Ok(Damper { params, derived, state, inputs })
+    }
+
+    /// Rebuilds a damper from a saved state (for FMU state restore).
+    pub fn from_state(params: Parameters, inputs: Inputs, state: DamperState) -> Result<Self, String> {
+        params.validate()?;
+        Ok(Damper { params, derived: params.derive(), state, inputs })
+    }
+
+    pub fn params(&self) -> &Parameters {
+        &self.params
+    }
+
+    fn plant(&self) -> Plant<'_> {
+        Plant { p: &self.params, d: &self.derived, v_damper: self.inputs.v_damper, i_command: self.state.i_command }
+    }
+
+    /// Outputs at the present state.
+    pub fn outputs(&self) -> Outputs {
+        Outputs {
+            plant: self.plant().evaluate(&self.state.y),
+            y: self.state.y,
+            x_spool_ref: self.state.controller.x_spool_demand,
+            force_demand_clipped: self.state.controller.force_demand_clipped,
+        }
+    }
+
+    /// Advances from the present time by `h` [s] > 0. On failure the state is left as it was.
+    pub fn do_step(&mut self, h: f64) -> Result<StepStats, SolverError> {
+        let saved = self.state;
+        let result = self.advance(h);
+        if result.is_err() {
+            self.state = saved;
+        }
+        result
+    }
+
+    fn advance(&mut self, h: f64) -> Result<StepStats, SolverError> {
+        let ts = self.params.t_sample;
+        let tol = 1e-6 * ts;
+        let t_end = self.state.time + h;
+        let mut t = self.state.time;
+        let mut stats = StepStats::default();
+        loop {
+            let t_sample = self.state.start_time + self.state.next_sample as f64 * ts;
+            if t_sample <= t + tol {
+                self.sample_controller();
+                stats.samples += 1;
+                continue;
+            }
+            let t_next = if t_sample < t_end - tol { t_sample } else { t_end };
+            let n = if (t_next - t - ts).abs() <= tol {
+                self.derived.substeps
+            } else {
+                (((t_next - t) / self.params.h_max) - 1e-9).ceil().max(1.0) as usize
+            };
+            let dt = (t_next - t) / n as f64;
+            for _ in 0..n {
+                let (y, _) = rodas3_step(&self.plant(), &self.state.y, dt)?;
+                self.state.y = y;
+            }
+            stats.substeps += n as u32;
+            t = t_next;
+            if t >= t_end - tol {
+                break;
+            }
+        }
+        self.state.time = t_end;
+        Ok(stats)
+    }
+
+    fn sample_controller(&mut self) {
+        let out = self.plant().evaluate(&self.state.y);
+        let m = Measurements { force: out.force, x_spool: self.state.y[idx::X_SPOOL], v_damper: self.inputs.v_damper };
+        let demands = Demands { force: self.inputs.force_demand, x_spool: self.inputs.x_spool_demand };
+        self.state.i_command = self.state.controller.sample(&self.params, &self.derived, m, demands);
+        self.state.next_sample += 1;
+    }
+}

@@ -1,0 +1,92 @@
+//! Oil with entrained air, and the sharp-edged orifice law shared by every restriction.
+//!
+//! ```text
+//! effective bulk modulus (polytropic air in oil, Merritt; MathWorks "Hydraulic Fluid"):
+//!   r(p)   = (p_atm / (p + p_atm))^(1/n)
+//!   β_e(p) = (1 + α₀ r) / (1/β_L + α₀ r / (n (p + p_atm)))          p gauge [Pa]
+//! orifice with a laminar region (MathWorks Fixed Orifice form):
+//!   Q(A, Δp) = C_d A sqrt(2/ρ) Δp / (Δp² + p_tr²)^(1/4)
+//! ```
+//! For |Δp| ≫ p_tr the orifice law is the turbulent `C_d A sqrt(2|Δp|/ρ)`; at Δp = 0 its slope is
+//! finite, `C_d A sqrt(2/ρ)/sqrt(p_tr)`, which keeps the Jacobian bounded at flow reversals.
+
+/// Standard atmospheric pressure [Pa].
+pub const P_ATM: f64 = 101_325.0;
+
+/// Effective bulk modulus [Pa] of oil (bulk modulus `beta_oil` [Pa]) carrying `air_fraction`
+/// (air volume per oil volume at atmospheric pressure) of air with polytropic index `n`, at gauge
+/// pressure `p` [Pa]. Below 2 % of an atmosphere absolute the air law is frozen (cavitation region)
+/// so that β_e stays positive.
+pub fn effective_bulk_modulus(p: f64, beta_oil: f64, air_fraction: f64, n: f64) -> f64 {
+    if air_fraction == 0.0 {
+        return beta_oil;
+    }
+    let p_abs = (p + P_ATM).max(0.02 * P_ATM);
+    let r = (P_ATM / p_abs).powf(1.0 / n);
+    (1.0 + air_fraction * r) / (1.0 / beta_oil + air_fraction * r / (n * p_abs))
+}
+
+/// Flow [m³/s] through a sharp-edged orifice of area `area` [m²] with discharge coefficient `cd`
+/// under the pressure drop `dp` [Pa], for oil of density `rho` [kg/m³]; `p_transition` [Pa] sets
+/// the laminar region around Δp = 0.
+#[inline]
+pub fn orifice_flow(cd: f64, area: f64, dp: f64, rho: f64, p_transition: f64) -> f64 {
+    cd * area * (2.0 / rho).sqrt() * dp / (dp * dp + p_transition * p_transition).sqrt().sqrt()
+}
+
+/// C¹ ramp from 0 (u ≤ 0) to 1 (u ≥ 1): 3u² − 2u³. Used for valve openings so the right-hand side
+/// stays continuously differentiable.
+#[inline]
+pub fn smoothstep(u: f64) -> f64 {
+    let u = u.clamp(0.0, 1.0);
+    u * u * (3.0 - 2.0 * u)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn bulk_modulus_matches_the_physics_brief_table() {
+        // PHYSICS.md §3.2: α₀ 2.5 %, n 1.4, β_L 1.5 GPa.
+        for (bar, mpa) in [(5.0, 112.0), (10.0, 277.8), (20.0, 611.1), (50.0, 1138.5), (100.0, 1366.1), (150.0, 1430.0)] {
+            let b = effective_bulk_modulus(bar * 1e5, 1.5e9, 0.025, 1.4) / 1e6;
+            assert!((b - mpa).abs() < 0.1, "{bar} bar: {b} MPa, expected {mpa}");
+        }
+    }
+
+    #[test]
+    fn bulk_modulus_limits() {
+        // Without air it is the oil's; with air it rises monotonically towards it with pressure.
+        assert_eq!(effective_bulk_modulus(1e6, 1.5e9, 0.0, 1.4), 1.5e9);
+        let mut last = 0.0;
+        for k in 0..200 {
+            let b = effective_bulk_modulus(-1e5 + k as f64 * 1e5, 1.5e9, 0.025, 1.4);
+            assert!(b > last && b < 1.5e9);
+            last = b;
+        }
+        // At atmospheric pressure a 2.5 % air fraction is soft: β ≈ n·p_atm·(1+α)/α.
+        let b0 = effective_bulk_modulus(0.0, 1.5e9, 0.025, 1.4);
+        let hand = (1.025) / (1.0 / 1.5e9 + 0.025 / (1.4 * P_ATM));
+        assert!((b0 - hand).abs() < 1e-6 * hand);
+    }
+
+    #[test]
+    fn orifice_is_turbulent_far_from_zero_and_finite_slope_at_zero() {
+        // Q = Cd A sqrt(2 Δp/ρ): 0.65 · 10 mm² · sqrt(2 · 50 bar / 870 kg/m³) = 6.969e-4 m³/s.
+        let q = orifice_flow(0.65, 10e-6, 50e5, 870.0, 5e3);
+        let hand = 0.65 * 10e-6 * (2.0 * 50e5 / 870.0f64).sqrt();
+        assert!((q - hand).abs() < 1e-6 * hand, "{q} vs {hand}");
+        assert_eq!(orifice_flow(0.65, 10e-6, -50e5, 870.0, 5e3), -q);
+        let slope = orifice_flow(0.65, 10e-6, 1e-3, 870.0, 5e3) / 1e-3;
+        let hand_slope = 0.65 * 10e-6 * (2.0 / 870.0f64).sqrt() / 5e3f64.sqrt();
+        assert!((slope - hand_slope).abs() < 1e-6 * hand_slope);
+    }
+
+    #[test]
+    fn smoothstep_ends_and_middle() {
+        assert_eq!(smoothstep(-1.0), 0.0);
+        assert_eq!(smoothstep(2.0), 1.0);
+        assert_eq!(smoothstep(0.5), 0.5);
+    }
+}

@@ -1,0 +1,182 @@
+//! Model parameters in SI units. The defaults are the start values of `modelDescription.xml`
+//! (see `crate::variables::default_parameters`), where every value carries its unit, description
+//! and source; this struct only gives them names and the derived quantities.
+
+use super::hydraulics::Cylinder;
+use super::mount::CubicMount;
+use super::valve::ValvePorts;
+
+/// Longest amplifier delay line, in controller samples.
+pub const MAX_DELAY_SAMPLES: usize = 200;
+
+/// Outer force-loop law.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ForceController {
+    /// Inverse-valve feedforward + PI on ln(valve area) (PHYSICS.md §4).
+    FeedforwardLogArea,
+    /// The paper's plain PID from relative force error to spool position.
+    PaperPid,
+}
+
+/// Flow-force compensation current of the inner loop.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FlowForceCompensation {
+    None,
+    /// Proportional to the estimated flow at a fixed pressure drop (the paper's wording).
+    FixedGain,
+    /// Proportional to flow × sqrt(estimated pressure drop): cancels the flow-force stiffness.
+    Scheduled,
+}
+
+/// What the digital controller regulates.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ControlMode {
+    /// Outer force loop + inner spool loop.
+    Force,
+    /// Inner spool loop only; the spool demand is an input.
+    SpoolPosition,
+}
+
+/// All parameters; field names follow `modelDescription.xml`, units in the docs there.
+#[derive(Clone, Copy, Debug, Default)]
+#[allow(missing_docs)]
+pub struct Parameters {
+    pub control_mode: i32,
+    pub force_controller: i32,
+    pub fc_mode: i32,
+    pub rho: f64,
+    pub beta_oil: f64,
+    pub air_fraction: f64,
+    pub n_polytropic: f64,
+    pub p_transition: f64,
+    pub d_piston: f64,
+    pub d_rod: f64,
+    pub l_half_stroke: f64,
+    pub l_dead: f64,
+    pub v_hose: f64,
+    pub p_reservoir0: f64,
+    pub v_gas0: f64,
+    pub a_cv_max: f64,
+    pub cd_cv: f64,
+    pub p_cv_crack: f64,
+    pub p_cv_full: f64,
+    pub a_cv_leak: f64,
+    pub p_relief: f64,
+    pub dp_relief: f64,
+    pub a_relief: f64,
+    pub n_ports: i32,
+    pub r_port: f64,
+    pub x_lap: f64,
+    pub a_valve_leak: f64,
+    pub cd_valve: f64,
+    pub cv_valve: f64,
+    pub theta_jet: f64,
+    pub m_spool: f64,
+    pub k_spool: f64,
+    pub c_spool: f64,
+    pub x_spool_min: f64,
+    pub x_spool_max: f64,
+    pub k_stop: f64,
+    pub c_stop: f64,
+    pub k_sol: f64,
+    pub kappa_sol: f64,
+    pub i_max: f64,
+    pub tau_amp: f64,
+    pub tau_coil: f64,
+    pub k1_mount: f64,
+    pub k3_mount: f64,
+    pub f_coulomb: f64,
+    pub v_friction: f64,
+    pub g_leak: f64,
+    pub t_sample: f64,
+    pub kp_x: f64,
+    pub ki_x: f64,
+    pub kd_x: f64,
+    pub tau_dx: f64,
+    pub dp_fc_nominal: f64,
+    pub kp_f: f64,
+    pub ki_f: f64,
+    pub kd_f: f64,
+    pub tau_df: f64,
+    pub f_ref_min: f64,
+    pub kp_f_pid: f64,
+    pub ki_f_pid: f64,
+    pub kd_f_pid: f64,
+    pub x_spool_bias: f64,
+    pub h_max: f64,
+    pub x_damper_start: f64,
+    pub x_spool_start: f64,
+}
+
+/// Quantities derived once from the parameters.
+#[derive(Clone, Copy, Debug)]
+pub struct Derived {
+    pub cylinder: Cylinder,
+    pub ports: ValvePorts,
+    pub mount: CubicMount,
+    /// Upper spool demand: 0.5 mm short of the end stop [m].
+    pub x_demand_max: f64,
+    /// Valve area at `x_demand_max` [m²].
+    pub a_demand_max: f64,
+    /// Amplifier delay in controller samples.
+    pub delay_samples: usize,
+    /// Internal integration steps per controller sample.
+    pub substeps: usize,
+    pub control_mode: ControlMode,
+    pub force_controller: ForceController,
+    pub fc_mode: FlowForceCompensation,
+}
+
+impl Parameters {
+    /// Checks the relations between parameters that single-variable ranges cannot express.
+    pub fn validate(&self) -> Result<(), String> {
+        let checks: [(bool, &str); 9] = [
+            (self.d_rod < self.d_piston, "D_rod must be smaller than D_piston"),
+            (self.p_cv_full > self.p_cv_crack, "p_cv_full must exceed p_cv_crack"),
+            (self.x_spool_max > self.x_spool_min, "x_spool_max must exceed x_spool_min"),
+            (self.x_spool_max - 0.5e-3 > self.x_lap, "x_spool_max - 0.5 mm must exceed x_lap (the valve must be able to open)"),
+            (self.tau_amp / self.t_sample <= MAX_DELAY_SAMPLES as f64, "tau_amp/T_sample exceeds the 200-sample delay line"),
+            (self.t_sample / self.h_max <= 10_000.0, "T_sample/h_max exceeds 10000 internal steps per sample"),
+            (self.control_mode == 0 || self.control_mode == 1, "control_mode must be 0 or 1"),
+            (self.force_controller == 0 || self.force_controller == 1, "force_controller must be 0 or 1"),
+            ((0..=2).contains(&self.fc_mode), "fc_mode must be 0, 1 or 2"),
+        ];
+        for (ok, msg) in checks {
+            if !ok {
+                return Err(msg.to_string());
+            }
+        }
+        let l = self.l_half_stroke + self.l_dead;
+        if self.x_damper_start.abs() >= l {
+            return Err(format!("|x_damper_start| must be below L_half_stroke + L_dead = {l} m"));
+        }
+        Ok(())
+    }
+
+    /// Derived quantities; call after `validate`.
+    pub fn derive(&self) -> Derived {
+        let cylinder = Cylinder::new(self.d_piston, self.d_rod, self.l_half_stroke, self.l_dead, self.v_hose);
+        let ports = ValvePorts { n_ports: self.n_ports as f64, r_port: self.r_port, x_lap: self.x_lap };
+        let x_demand_max = self.x_spool_max - 0.5e-3;
+        Derived {
+            cylinder,
+            ports,
+            mount: CubicMount { k1: self.k1_mount, k3: self.k3_mount },
+            x_demand_max,
+            a_demand_max: ports.area(x_demand_max),
+            delay_samples: (self.tau_amp / self.t_sample).round() as usize,
+            substeps: ((self.t_sample / self.h_max) - 1e-9).ceil().max(1.0) as usize,
+            control_mode: if self.control_mode == 1 { ControlMode::SpoolPosition } else { ControlMode::Force },
+            force_controller: if self.force_controller == 1 {
+                ForceController::PaperPid
+            } else {
+                ForceController::FeedforwardLogArea
+            },
+            fc_mode: match self.fc_mode {
+                0 => FlowForceCompensation::None,
+                1 => FlowForceCompensation::FixedGain,
+                _ => FlowForceCompensation::Scheduled,
+            },
+        }
+    }
+}

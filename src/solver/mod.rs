@@ -1,0 +1,44 @@
+//! Stiff integration: a linearly-implicit, L-stable Rosenbrock method on fixed-size nalgebra
+//! vectors (no heap allocation, fixed operation sequence, hence bitwise deterministic).
+mod rodas3;
+
+pub use rodas3::rodas3_step;
+
+use nalgebra::{SMatrix, SVector};
+
+/// An autonomous ODE system y' = f(y) of dimension N.
+pub trait OdeSystem<const N: usize> {
+    /// The right-hand side f(y).
+    fn rhs(&self, y: &SVector<f64, N>) -> SVector<f64, N>;
+
+    /// The Jacobian ∂f/∂y at `y`, where `f0 = f(y)`. Default: forward differences, with an
+    /// increment scaled per component.
+    fn jacobian(&self, y: &SVector<f64, N>, f0: &SVector<f64, N>) -> SMatrix<f64, N, N> {
+        let mut j = SMatrix::<f64, N, N>::zeros();
+        for col in 0..N {
+            let mut yp = *y;
+            yp[col] += 1.5e-8 * y[col].abs().max(1e-6);
+            let step = yp[col] - y[col];
+            j.set_column(col, &((self.rhs(&yp) - f0) / step));
+        }
+        j
+    }
+}
+
+/// Why an integration step failed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SolverError {
+    /// The iteration matrix (I/(γh) − J) could not be factorised.
+    Singular,
+    /// The step produced NaN or infinity.
+    NonFinite,
+}
+
+impl std::fmt::Display for SolverError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            SolverError::Singular => write!(f, "singular iteration matrix"),
+            SolverError::NonFinite => write!(f, "non-finite state"),
+        }
+    }
+}
