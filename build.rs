@@ -78,12 +78,6 @@ fn camel(name: &str) -> String {
 fn main() {
     println!("cargo:rerun-if-changed={XML}");
     println!("cargo:rerun-if-changed=build.rs");
-    // Export only the fmi2* entry points from the shared library (like -fvisibility=hidden in the
-    // Reference FMUs); fmi-sys defines a #[no_mangle] logger helper that must not leak out.
-    let version_script = PathBuf::from(std::env::var("OUT_DIR").unwrap()).join("exports.map");
-    std::fs::write(&version_script, "{ global: fmi2*; local: *; };\n").unwrap();
-    println!("cargo:rustc-cdylib-link-arg=-Wl,--version-script={}", version_script.display());
-
     let src = std::fs::read_to_string(XML).unwrap_or_else(|e| panic!("{XML}: cannot read: {e}"));
     let mut reader = Reader::from_str(&src);
     let mut guid = None;

@@ -116,6 +116,14 @@ impl Slave {
         self.damper.as_ref().map(|d| d.state.time)
     }
 
+    /// Sets the damper's clock to the master's communication point `t` [s] (equal to within
+    /// rounding), so the master's time grid, not the sum of step sizes, is the reference.
+    pub fn align_time(&mut self, t: f64) {
+        if let Some(d) = self.damper.as_mut() {
+            d.state.time = t;
+        }
+    }
+
     /// Advances by `h` [s] with the present inputs held. The damper must be initialised.
     pub fn do_step(&mut self, h: f64) -> Result<StepStats, SolverError> {
         let damper = self.damper.as_mut().expect("do_step after initialisation");

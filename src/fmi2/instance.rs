@@ -1,0 +1,289 @@
+//! One FMU instance behind the C API: the slave, the FMI state, the experiment's times and the
+//! logger. Methods take Rust types (slices, options); pointer handling is in `mod.rs`.
+
+use super::logger::{Logger, LOG_EVENTS};
+use super::state_machine::{allowed, Api, Phase};
+use crate::model_description::{BooleanVar, Causality, IntegerVar, RealVar};
+use crate::slave::{Slave, SlaveState};
+use fmi_sys::fmi2::*;
+use std::fmt;
+
+/// Why a call did not succeed (fmi2Fatal only comes from caught panics).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Failure {
+    Discard,
+    Error,
+}
+
+pub type Outcome = Result<(), Failure>;
+
+/// The C status of an outcome.
+pub fn status(outcome: Outcome) -> fmi2Status {
+    match outcome {
+        Ok(()) => fmi2Status_fmi2OK,
+        Err(Failure::Discard) => fmi2Status_fmi2Discard,
+        Err(Failure::Error) => fmi2Status_fmi2Error,
+    }
+}
+
+/// Log categories by status.
+const CAT_WARNING: usize = 1;
+const CAT_DISCARD: usize = 2;
+const CAT_ERROR: usize = 3;
+const CAT_FATAL: usize = 4;
+
+pub struct Instance {
+    pub logger: Logger,
+    pub phase: Phase,
+    slave: Slave,
+    start_time: f64,
+    stop_time: Option<f64>,
+    last_successful_time: f64,
+}
+
+impl Instance {
+    pub fn new(logger: Logger) -> Self {
+        Instance {
+            logger,
+            phase: Phase::Instantiated,
+            slave: Slave::default(),
+            start_time: 0.0,
+            stop_time: None,
+            last_successful_time: 0.0,
+        }
+    }
+
+    /// Logs an error and returns it.
+    pub fn error(&self, args: fmt::Arguments) -> Failure {
+        self.logger.log(fmi2Status_fmi2Error, CAT_ERROR, args);
+        Failure::Error
+    }
+
+    pub fn warning(&self, args: fmt::Arguments) {
+        self.logger.log(fmi2Status_fmi2Warning, CAT_WARNING, args);
+    }
+
+    pub fn event(&self, args: fmt::Arguments) {
+        self.logger.log(fmi2Status_fmi2OK, LOG_EVENTS, args);
+    }
+
+    /// Marks the instance unusable after a caught panic.
+    pub fn fatal(&mut self, function: &str, message: &str) {
+        self.phase = Phase::Fatal;
+        self.logger.log(
+            fmi2Status_fmi2Fatal,
+            CAT_FATAL,
+            format_args!("{function}: internal error (panic: {message}); only fmi2FreeInstance is possible now"),
+        );
+    }
+
+    /// Refuses `function` when the state machine does not allow `api` now.
+    pub fn check(&self, api: Api, function: &str) -> Outcome {
+        if allowed(self.phase, api) {
+            Ok(())
+        } else {
+            Err(self.error(format_args!("{function}: illegal call sequence: not allowed in state {:?}", self.phase)))
+        }
+    }
+
+    pub fn setup_experiment(&mut self, tolerance: Option<f64>, start: f64, stop: Option<f64>) -> Outcome {
+        self.check(Api::SetupExperiment, "fmi2SetupExperiment")?;
+        if !start.is_finite() || stop.is_some_and(|s| !s.is_finite() || s < start) {
+            return Err(self.error(format_args!(
+                "fmi2SetupExperiment: startTime {start} and stopTime {stop:?} must be finite with stopTime >= startTime"
+            )));
+        }
+        if let Some(tol) = tolerance {
+            self.event(format_args!("tolerance {tol} ignored: fixed internal steps (parameter h_max)"));
+        }
+        self.start_time = start;
+        self.stop_time = stop;
+        Ok(())
+    }
+
+    pub fn enter_initialization_mode(&mut self) -> Outcome {
+        self.check(Api::EnterInitializationMode, "fmi2EnterInitializationMode")?;
+        self.phase = Phase::InitializationMode;
+        Ok(())
+    }
+
+    pub fn exit_initialization_mode(&mut self) -> Outcome {
+        self.check(Api::ExitInitializationMode, "fmi2ExitInitializationMode")?;
+        if let Err(e) = self.slave.initialize(self.start_time) {
+            return Err(self.error(format_args!("fmi2ExitInitializationMode: invalid parameters: {e}")));
+        }
+        self.last_successful_time = self.start_time;
+        self.phase = Phase::StepComplete;
+        self.event(format_args!("initialised at t = {} s", self.start_time));
+        Ok(())
+    }
+
+    pub fn terminate(&mut self) -> Outcome {
+        self.check(Api::Terminate, "fmi2Terminate")?;
+        self.phase = Phase::Terminated;
+        Ok(())
+    }
+
+    pub fn reset(&mut self) -> Outcome {
+        self.check(Api::Reset, "fmi2Reset")?;
+        self.slave.reset();
+        self.phase = Phase::Instantiated;
+        self.start_time = 0.0;
+        self.stop_time = None;
+        Ok(())
+    }
+
+    fn unknown(&self, function: &str, vr: u32, ty: &str) -> Failure {
+        self.error(format_args!("{function}: unknown value reference {vr} for type {ty}"))
+    }
+
+    pub fn get_real(&self, vrs: &[u32], values: &mut [f64]) -> Outcome {
+        self.check(Api::Get, "fmi2GetReal")?;
+        for (vr, value) in vrs.iter().zip(values) {
+            let v = RealVar::from_vr(*vr).ok_or_else(|| self.unknown("fmi2GetReal", *vr, "Real"))?;
+            *value = self.slave.get_real(v).map_err(|e| self.error(format_args!("fmi2GetReal: {e}")))?;
+        }
+        Ok(())
+    }
+
+    pub fn get_integer(&self, vrs: &[u32], values: &mut [i32]) -> Outcome {
+        self.check(Api::Get, "fmi2GetInteger")?;
+        for (vr, value) in vrs.iter().zip(values) {
+            let v = IntegerVar::from_vr(*vr).ok_or_else(|| self.unknown("fmi2GetInteger", *vr, "Integer"))?;
+            *value = self.slave.get_integer(v);
+        }
+        Ok(())
+    }
+
+    pub fn get_boolean(&self, vrs: &[u32], values: &mut [i32]) -> Outcome {
+        self.check(Api::Get, "fmi2GetBoolean")?;
+        for (vr, value) in vrs.iter().zip(values) {
+            let v = BooleanVar::from_vr(*vr).ok_or_else(|| self.unknown("fmi2GetBoolean", *vr, "Boolean"))?;
+            *value = self.slave.get_boolean(v) as i32;
+        }
+        Ok(())
+    }
+
+    /// May a variable of `causality` be set now?
+    fn check_set(&self, function: &str, name: &str, causality: Causality) -> Outcome {
+        let api = match causality {
+            Causality::Parameter => Api::SetFixed,
+            Causality::Input => Api::SetInput,
+            Causality::Output => return Err(self.error(format_args!("{function}: {name} is an output and cannot be set"))),
+        };
+        if allowed(self.phase, api) {
+            Ok(())
+        } else {
+            Err(self.error(format_args!("{function}: {name} ({causality:?}) cannot be set in state {:?}", self.phase)))
+        }
+    }
+
+    /// Applies all values or none: they are set on a copy that replaces the slave on success.
+    fn set_all<T: Copy>(
+        &mut self,
+        function: &str,
+        vrs: &[u32],
+        values: &[T],
+        mut set: impl FnMut(&mut Slave, u32, T) -> Result<Result<(), String>, ()>,
+    ) -> Outcome {
+        if self.phase == Phase::Fatal {
+            return self.check(Api::SetInput, function);
+        }
+        let mut next = self.slave.clone();
+        for (vr, value) in vrs.iter().zip(values) {
+            match set(&mut next, *vr, *value) {
+                Err(()) => return Err(self.error(format_args!("{function}: unknown value reference {vr}"))),
+                Ok(Err(e)) => return Err(self.error(format_args!("{function}: {e}"))),
+                Ok(Ok(())) => {}
+            }
+        }
+        self.slave = next;
+        Ok(())
+    }
+
+    pub fn set_real(&mut self, vrs: &[u32], values: &[f64]) -> Outcome {
+        for vr in vrs {
+            let v = RealVar::from_vr(*vr).ok_or_else(|| self.unknown("fmi2SetReal", *vr, "Real"))?;
+            self.check_set("fmi2SetReal", v.name(), v.causality())?;
+        }
+        self.set_all("fmi2SetReal", vrs, values, |s, vr, x| Ok(s.set_real(RealVar::from_vr(vr).ok_or(())?, x)))
+    }
+
+    pub fn set_integer(&mut self, vrs: &[u32], values: &[i32]) -> Outcome {
+        for vr in vrs {
+            let v = IntegerVar::from_vr(*vr).ok_or_else(|| self.unknown("fmi2SetInteger", *vr, "Integer"))?;
+            self.check_set("fmi2SetInteger", v.name(), v.causality())?;
+        }
+        self.set_all("fmi2SetInteger", vrs, values, |s, vr, x| Ok(s.set_integer(IntegerVar::from_vr(vr).ok_or(())?, x)))
+    }
+
+    pub fn set_boolean(&mut self, vrs: &[u32], values: &[i32]) -> Outcome {
+        for vr in vrs {
+            let v = BooleanVar::from_vr(*vr).ok_or_else(|| self.unknown("fmi2SetBoolean", *vr, "Boolean"))?;
+            self.check_set("fmi2SetBoolean", v.name(), v.causality())?;
+        }
+        self.set_all("fmi2SetBoolean", vrs, values, |s, vr, x| {
+            Ok(s.set_boolean(BooleanVar::from_vr(vr).ok_or(())?, x != 0))
+        })
+    }
+
+    pub fn do_step(&mut self, t: f64, h: f64) -> Outcome {
+        self.check(Api::DoStep, "fmi2DoStep")?;
+        let now = self.slave.time().expect("initialised in StepComplete");
+        if !(h > 0.0 && h.is_finite() && t.is_finite()) {
+            return Err(self.error(format_args!(
+                "fmi2DoStep: communicationStepSize {h} must be positive and finite (currentCommunicationPoint {t})"
+            )));
+        }
+        let tol = 1e-9 * (1.0 + now.abs());
+        if (t - now).abs() > tol {
+            return Err(self.error(format_args!(
+                "fmi2DoStep: currentCommunicationPoint {t} s does not match the FMU's time {now} s"
+            )));
+        }
+        if let Some(stop) = self.stop_time {
+            if t + h > stop + tol {
+                return Err(self.error(format_args!("fmi2DoStep: step to {} s passes stopTime {stop} s", t + h)));
+            }
+        }
+        self.slave.align_time(t);
+        match self.slave.do_step(h) {
+            Ok(_) => {
+                self.last_successful_time = t + h;
+                Ok(())
+            }
+            Err(e) => {
+                self.phase = Phase::StepFailed;
+                self.last_successful_time = t;
+                self.logger.log(
+                    fmi2Status_fmi2Discard,
+                    CAT_DISCARD,
+                    format_args!("fmi2DoStep: step from {t} s by {h} s discarded: {e}; state kept at {t} s"),
+                );
+                Err(Failure::Discard)
+            }
+        }
+    }
+
+    pub fn get_fmu_state(&self) -> Result<SlaveState, Failure> {
+        self.check(Api::FmuState, "fmi2GetFMUstate")?;
+        Ok(self.slave.state())
+    }
+
+    pub fn set_fmu_state(&mut self, state: &SlaveState) -> Outcome {
+        self.check(Api::FmuState, "fmi2SetFMUstate")?;
+        self.slave.set_state(state).map_err(|e| self.error(format_args!("fmi2SetFMUstate: {e}")))?;
+        if let Some(d) = &state.damper {
+            self.phase = Phase::StepComplete;
+            self.last_successful_time = d.time;
+        } else if !matches!(self.phase, Phase::Instantiated | Phase::InitializationMode) {
+            self.phase = Phase::Instantiated;
+        }
+        Ok(())
+    }
+
+    pub fn last_successful_time(&self) -> Result<f64, Failure> {
+        self.check(Api::GetStatus, "fmi2GetRealStatus")?;
+        Ok(self.last_successful_time)
+    }
+}
