@@ -125,12 +125,13 @@ impl Damper {
                 continue;
             }
             let t_next = if t_sample < t_end - tol { t_sample } else { t_end };
-            let n = if (t_next - t - ts).abs() <= tol {
-                self.derived.substeps
+            // A whole sample interval always uses the same step, whatever the communication grid.
+            let (n, dt) = if (t_next - t - ts).abs() <= tol {
+                (self.derived.substeps, ts / self.derived.substeps as f64)
             } else {
-                (((t_next - t) / self.params.h_max) - 1e-9).ceil().max(1.0) as usize
+                let n = (((t_next - t) / self.params.h_max) - 1e-9).ceil().max(1.0) as usize;
+                (n, (t_next - t) / n as f64)
             };
-            let dt = (t_next - t) / n as f64;
             for _ in 0..n {
                 let (y, _) = rodas3_step(&self.plant(), &self.state.y, dt)?;
                 self.state.y = y;

@@ -1,0 +1,184 @@
+//! The FMI 2.0 C API in-process: lifecycle, the state machine, bad arguments, FMU state.
+mod common;
+
+use common::*;
+use fmi_sys::fmi2::*;
+use semi_active_damper::fmi2::*;
+use semi_active_damper::model_description::{IntegerVar, RealVar};
+use std::ffi::CString;
+
+#[test]
+fn version_and_platform() {
+    assert_eq!(unsafe { std::ffi::CStr::from_ptr(fmi2GetVersion()) }, c"2.0");
+    assert_eq!(unsafe { std::ffi::CStr::from_ptr(fmi2GetTypesPlatform()) }, c"default");
+}
+
+#[test]
+fn instantiate_refuses_wrong_guid_type_and_name() {
+    let name = CString::new("bad").unwrap();
+    let guid = c"{00000000-0000-0000-0000-000000000000}";
+    let null = std::ptr::null();
+    let no_callbacks: *const fmi2CallbackFunctions = std::ptr::null();
+    unsafe {
+        assert!(fmi2Instantiate(name.as_ptr(), fmi2Type_fmi2CoSimulation, guid.as_ptr(), null, no_callbacks, 0, 0).is_null());
+        let good = CString::new(semi_active_damper::model_description::GUID).unwrap();
+        assert!(fmi2Instantiate(name.as_ptr(), fmi2Type_fmi2ModelExchange, good.as_ptr(), null, no_callbacks, 0, 0).is_null());
+        assert!(fmi2Instantiate(null, fmi2Type_fmi2CoSimulation, good.as_ptr(), null, no_callbacks, 0, 0).is_null());
+        // a null instance is an error, not a crash
+        assert_eq!(fmi2DoStep(std::ptr::null_mut(), 0.0, 1e-3, 0), ERROR);
+        fmi2FreeInstance(std::ptr::null_mut());
+    }
+}
+
+#[test]
+fn illegal_call_sequences_are_refused_and_logged() {
+    let f = Fmu::new("sequence");
+    assert_eq!(f.step(0.0, 1e-3), ERROR, "doStep before initialisation");
+    let mut x = 0.0;
+    assert_eq!(unsafe { fmi2GetReal(f.c, &RealVar::FDamper.vr(), 1, &mut x) }, ERROR, "get in Instantiated");
+    assert_eq!(fmi2ExitInitializationMode(f.c), ERROR);
+    assert_eq!(fmi2SetupExperiment(f.c, 0, 0.0, 0.0, 0, 0.0), OK);
+    assert_eq!(fmi2EnterInitializationMode(f.c), OK);
+    assert_eq!(fmi2EnterInitializationMode(f.c), ERROR);
+    assert_eq!(fmi2ExitInitializationMode(f.c), OK);
+    assert_eq!(fmi2SetupExperiment(f.c, 0, 0.0, 0.0, 0, 0.0), ERROR);
+    assert_eq!(f.set(RealVar::AirFraction, 0.03), ERROR, "fixed parameter after initialisation");
+    assert_eq!(f.step(0.0, 1e-3), OK);
+    assert_eq!(fmi2Terminate(f.c), OK);
+    assert_eq!(f.step(1e-3, 1e-3), ERROR, "doStep after terminate");
+    assert_eq!(fmi2Reset(f.c), OK);
+    assert_eq!(f.set(RealVar::AirFraction, 0.03), OK, "parameters settable again after reset");
+    let log = logged("sequence");
+    assert!(log.iter().filter(|m| m.contains("illegal call sequence")).count() >= 5, "{log:#?}");
+    assert!(log.iter().any(|m| m.contains("air_fraction") && m.contains("cannot be set")), "{log:#?}");
+}
+
+#[test]
+fn bad_values_are_refused_and_change_nothing() {
+    let f = Fmu::initialised("values", |_| {});
+    assert_eq!(f.set(RealVar::VDamper, 0.1), OK);
+    assert_eq!(f.set(RealVar::VDamper, f64::NAN), ERROR);
+    assert_eq!(f.set(RealVar::VDamper, f64::INFINITY), ERROR);
+    assert_eq!(f.get(RealVar::VDamper), 0.1, "a refused value leaves the old one");
+    assert_eq!(f.set(RealVar::FDamper, 1.0), ERROR, "outputs cannot be set");
+    // all-or-nothing: a batch with one bad value changes none
+    let vrs = [RealVar::VDamper.vr(), RealVar::FDemand.vr()];
+    assert_eq!(unsafe { fmi2SetReal(f.c, vrs.as_ptr(), 2, [0.2, f64::NAN].as_ptr()) }, ERROR);
+    assert_eq!(f.get(RealVar::VDamper), 0.1);
+    let mut x = 0.0;
+    assert_eq!(unsafe { fmi2GetReal(f.c, &9999, 1, &mut x) }, ERROR, "unknown value reference");
+    assert_eq!(unsafe { fmi2GetReal(f.c, std::ptr::null(), 1, &mut x) }, ERROR, "null vr array");
+    assert_eq!(f.step(0.0, 0.0), ERROR, "zero step");
+    assert_eq!(f.step(0.0, -1e-3), ERROR, "negative step");
+    assert_eq!(f.step(0.0, f64::NAN), ERROR, "NaN step");
+    assert_eq!(f.step(0.5, 1e-3), ERROR, "wrong communication point");
+    assert_eq!(f.step(0.0, 1e-3), OK, "still usable after refused calls");
+    let log = logged("values");
+    for needle in ["not a finite number", "unknown value reference 9999", "does not match the FMU's time", "must be positive"] {
+        assert!(log.iter().any(|m| m.contains(needle)), "no message with {needle:?}: {log:#?}");
+    }
+}
+
+#[test]
+fn out_of_range_and_inconsistent_parameters_are_refused() {
+    let f = Fmu::new("ranges");
+    assert_eq!(f.set(RealVar::AirFraction, -1.0), ERROR);
+    let mode = IntegerVar::ControlMode.vr();
+    assert_eq!(unsafe { fmi2SetInteger(f.c, &mode, 1, &7) }, ERROR);
+    // each value in range, but the rod would be wider than the bore
+    assert_eq!(f.set(RealVar::DRod, 0.08), OK);
+    assert_eq!(fmi2SetupExperiment(f.c, 0, 0.0, 0.0, 0, 0.0), OK);
+    assert_eq!(fmi2EnterInitializationMode(f.c), OK);
+    assert_eq!(fmi2ExitInitializationMode(f.c), ERROR);
+    assert!(logged("ranges").iter().any(|m| m.contains("D_rod must be smaller than D_piston")));
+}
+
+#[test]
+fn stop_time_is_respected() {
+    let f = Fmu::new("stop");
+    assert_eq!(fmi2SetupExperiment(f.c, 0, 0.0, 0.0, 1, 2e-3), OK);
+    assert_eq!(fmi2EnterInitializationMode(f.c), OK);
+    assert_eq!(fmi2ExitInitializationMode(f.c), OK);
+    assert_eq!(f.step(0.0, 1e-3), OK);
+    assert_eq!(f.step(1e-3, 1e-3), OK);
+    assert_eq!(f.step(2e-3, 1e-3), ERROR);
+}
+
+fn run(f: &Fmu, t0: f64, n: usize) -> Vec<u64> {
+    (0..n)
+        .map(|k| {
+            let t = t0 + k as f64 * 1e-3;
+            f.set(RealVar::VDamper, 0.3 * (20.0 * t).sin());
+            f.set(RealVar::FDemand, 8e3 * (7.0 * t).cos());
+            assert_eq!(f.step(t, 1e-3), OK);
+            f.get(RealVar::FDamper).to_bits()
+        })
+        .collect()
+}
+
+#[test]
+fn fmu_state_round_trip_is_bitwise() {
+    let f = Fmu::initialised("state", |_| {});
+    run(&f, 0.0, 100);
+    let mut s: fmi2FMUstate = std::ptr::null_mut();
+    assert_eq!(unsafe { fmi2GetFMUstate(f.c, &mut s) }, OK);
+    let first = run(&f, 0.1, 100);
+    assert_eq!(unsafe { fmi2SetFMUstate(f.c, s) }, OK);
+    assert_eq!(run(&f, 0.1, 100), first, "get/set state");
+
+    // serialise, restore into a fresh instance
+    let mut size = 0usize;
+    assert_eq!(unsafe { fmi2SerializedFMUstateSize(f.c, s, &mut size) }, OK);
+    let mut bytes = vec![0 as fmi2Byte; size];
+    assert_eq!(unsafe { fmi2SerializeFMUstate(f.c, s, bytes.as_mut_ptr(), size) }, OK);
+    let g = Fmu::new("state-copy");
+    let mut s2: fmi2FMUstate = std::ptr::null_mut();
+    assert_eq!(unsafe { fmi2DeSerializeFMUstate(g.c, bytes.as_ptr(), size, &mut s2) }, OK);
+    assert_eq!(unsafe { fmi2SetFMUstate(g.c, s2) }, OK);
+    assert_eq!(run(&g, 0.1, 100), first, "serialised state in a fresh instance");
+
+    // corrupted or truncated blobs are refused
+    bytes[0] ^= 1;
+    let mut s3: fmi2FMUstate = std::ptr::null_mut();
+    assert_eq!(unsafe { fmi2DeSerializeFMUstate(g.c, bytes.as_ptr(), size, &mut s3) }, ERROR);
+    bytes[0] ^= 1;
+    assert_eq!(unsafe { fmi2DeSerializeFMUstate(g.c, bytes.as_ptr(), size - 8, &mut s3) }, ERROR);
+    assert!(s3.is_null());
+    unsafe {
+        assert_eq!(fmi2FreeFMUstate(f.c, &mut s), OK);
+        assert_eq!(fmi2FreeFMUstate(g.c, &mut s2), OK);
+    }
+    assert!(s.is_null());
+}
+
+#[test]
+fn instances_are_independent() {
+    let a = Fmu::initialised("a", |_| {});
+    let b = Fmu::initialised("b", |f| {
+        f.set(RealVar::AirFraction, 0.05);
+    });
+    let alone = Fmu::initialised("alone", |_| {});
+    let reference = run(&alone, 0.0, 200);
+    // interleave a and b step by step; b has other parameters and inputs
+    let mut out_a = Vec::new();
+    for k in 0..200 {
+        let t = k as f64 * 1e-3;
+        b.set(RealVar::VDamper, -0.5);
+        assert_eq!(b.step(t, 1e-3), OK);
+        out_a.extend(run(&a, t, 1));
+    }
+    assert_eq!(out_a, reference);
+}
+
+#[test]
+fn debug_logging_categories() {
+    let f = Fmu::new("categories");
+    let cats = [c"logEvents".as_ptr()];
+    assert_eq!(unsafe { fmi2SetDebugLogging(f.c, 1, 1, cats.as_ptr()) }, OK);
+    let bad = [c"logNonsense".as_ptr()];
+    assert_eq!(unsafe { fmi2SetDebugLogging(f.c, 1, 1, bad.as_ptr()) }, ERROR);
+    assert_eq!(fmi2SetupExperiment(f.c, 0, 0.0, 0.0, 0, 0.0), OK);
+    assert_eq!(fmi2EnterInitializationMode(f.c), OK);
+    assert_eq!(fmi2ExitInitializationMode(f.c), OK);
+    assert!(logged("categories").iter().any(|m| m.contains("initialised at t = 0 s")));
+}

@@ -1,0 +1,84 @@
+//! Rodas3 against problems with known answers: order of convergence, L-stability, stiff Van der Pol.
+
+use nalgebra::{SMatrix, SVector};
+use semi_active_damper::solver::{rodas3_step, OdeSystem};
+
+struct Linear(f64);
+impl OdeSystem<1> for Linear {
+    fn rhs(&self, y: &SVector<f64, 1>) -> SVector<f64, 1> {
+        y * self.0
+    }
+}
+
+/// y1' = y2, y2' = −y1 − 0.1 y2 (damped oscillator) plus a cubic term: smooth and nonlinear.
+struct Nonlinear;
+impl OdeSystem<2> for Nonlinear {
+    fn rhs(&self, y: &SVector<f64, 2>) -> SVector<f64, 2> {
+        SVector::from([y[1], -y[0] - 0.1 * y[1] - 0.5 * y[0] * y[0] * y[0]])
+    }
+}
+
+fn integrate<const N: usize, S: OdeSystem<N>>(sys: &S, y0: SVector<f64, N>, t: f64, n: usize) -> SVector<f64, N>
+where
+    nalgebra::Const<N>: nalgebra::DimMin<nalgebra::Const<N>, Output = nalgebra::Const<N>>,
+{
+    let mut y = y0;
+    for _ in 0..n {
+        y = rodas3_step(sys, &y, t / n as f64).unwrap().0;
+    }
+    y
+}
+
+#[test]
+fn third_order_convergence() {
+    // Error ratio for halved steps → 2³ = 8 for a third-order method.
+    let exact = (-1.0f64).exp();
+    let err = |n| (integrate(&Linear(-1.0), SVector::from([1.0]), 1.0, n)[0] - exact).abs();
+    let (e1, e2, e3) = (err(10), err(20), err(40));
+    for ratio in [e1 / e2, e2 / e3] {
+        assert!((7.0..9.5).contains(&ratio), "linear: error ratio {ratio}");
+    }
+    let reference = integrate(&Nonlinear, SVector::from([1.0, 0.0]), 2.0, 20_000);
+    let err = |n| (integrate(&Nonlinear, SVector::from([1.0, 0.0]), 2.0, n) - reference).norm();
+    let ratio = err(20) / err(40);
+    assert!((7.0..9.5).contains(&ratio), "nonlinear: error ratio {ratio}");
+}
+
+#[test]
+fn l_stable_stiff_decay_is_damped_in_one_step() {
+    // y' = −1e8 y with h = 1e-4 (λh = −1e4): an L-stable method gives |y1| ≪ |y0|; the
+    // trapezoidal rule would return ≈ −y0.
+    let y1 = rodas3_step(&Linear(-1e8), &SVector::from([1.0]), 1e-4).unwrap().0[0];
+    assert!(y1.abs() < 1e-3, "y1 = {y1}");
+}
+
+struct VanDerPol;
+impl OdeSystem<2> for VanDerPol {
+    fn rhs(&self, y: &SVector<f64, 2>) -> SVector<f64, 2> {
+        SVector::from([y[1], ((1.0 - y[0] * y[0]) * y[1] - y[0]) / 1e-6])
+    }
+    fn jacobian(&self, y: &SVector<f64, 2>, _f0: &SVector<f64, 2>) -> SMatrix<f64, 2, 2> {
+        SMatrix::<f64, 2, 2>::new(0.0, 1.0, (-2.0 * y[0] * y[1] - 1.0) / 1e-6, (1.0 - y[0] * y[0]) / 1e-6)
+    }
+}
+
+#[test]
+fn stiff_van_der_pol_matches_radau5() {
+    // Hairer's stiff Van der Pol, ε = 1e-6, y(0) = (2, −0.6), t = 2; reference y(2) from radau5.f
+    // (as quoted by russell_ode's tests): (1.706163410178079, −0.8927971289301175).
+    // Step-size control with the embedded error estimate (rtol = atol = 1e-7).
+    let (mut t, mut h, mut y): (f64, f64, SVector<f64, 2>) = (0.0, 1e-6, SVector::from([2.0, -0.6]));
+    let mut steps = 0;
+    while t < 2.0 {
+        h = h.min(2.0 - t);
+        let (y1, e) = rodas3_step(&VanDerPol, &y, h).unwrap();
+        let err = e.iter().zip(y1.iter()).map(|(e, y)| (e / (1e-7 + 1e-7 * y.abs())).powi(2)).sum::<f64>().sqrt() / 2f64.sqrt();
+        if err <= 1.0 {
+            t += h;
+            y = y1;
+            steps += 1;
+        }
+        h *= (0.9 * err.max(1e-10).powf(-1.0 / 3.0)).clamp(0.2, 5.0);
+    }
+    assert!((y[0] - 1.706163410178079).abs() < 1e-4 && (y[1] + 0.8927971289301175).abs() < 1e-4, "y(2) = {y:?} after {steps} steps");
+}
