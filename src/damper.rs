@@ -1,12 +1,22 @@
-//! The damper as a co-simulation unit, with no FMI types: the plant integrated by Rodas3 on a
-//! fixed internal grid, the controller sampled every `T_sample` on the grid
-//! `t_start + k·T_sample`, whatever the communication steps are. A communication step may be any
-//! positive length; sample instants inside it split it. All state is plain `Copy` data.
+//! The damper as a co-simulation unit, with no FMI types. The controller is sampled every
+//! `T_sample` on the grid `t_start + k·T_sample`, whatever the communication steps are; between
+//! samples the plant is integrated by Rodas3 with step-size control (embedded error estimate,
+//! steps ≤ `h_max`), so a smooth stretch costs one step per sample and a check valve switching
+//! gets small steps. The step sequence depends only on the sample grid and the inputs, so results
+//! are deterministic and do not depend on the communication step when it is a multiple of
+//! `T_sample`. A communication step may be any positive length; sample instants inside it split
+//! it. All state is plain `Copy` data.
 
 use crate::control::{Controller, Demands, Measurements};
 use crate::physics::params::{Derived, Parameters};
 use crate::physics::plant::{idx, rest_current, Plant, PlantOutputs, State};
 use crate::solver::{rodas3_step, SolverError};
+
+/// Typical magnitude of each state, for the error weights: p_A, p_B [Pa], V_g [m³], x_s [m],
+/// v_s [m/s], i [A], x [m].
+const STATE_SCALE: [f64; 7] = [1e6, 1e6, 1e-4, 1e-3, 0.1, 1.0, 1e-3];
+/// Most integration steps in one controller sample before the step is given up.
+const MAX_STEPS_PER_SAMPLE: u32 = 5000;
 
 /// Inputs from the master, held over a communication step.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -33,6 +43,8 @@ pub struct DamperState {
     pub start_time: f64,
     /// Index of the next controller sample on that grid.
     pub next_sample: u64,
+    /// Step size proposed by the step-size control for the next integration step [s].
+    pub h_next: f64,
 }
 
 /// Work done by one communication step.
@@ -73,7 +85,8 @@ impl Damper {
         let i0 = rest_current(&params, params.x_spool_start);
         let mut controller = Controller::at_rest(&derived, params.x_spool_start, i0);
         controller.x_spool_demand = params.x_spool_start;
-        let state = DamperState { y, controller, i_command: i0, time: start_time, start_time, next_sample: 0 };
+        let h_next = params.h_max.min(params.t_sample);
+        let state = DamperState { y, controller, i_command: i0, time: start_time, start_time, next_sample: 0, h_next };
         Ok(Damper { params, derived, state, inputs })
     }
 
@@ -125,18 +138,9 @@ impl Damper {
                 continue;
             }
             let t_next = if t_sample < t_end - tol { t_sample } else { t_end };
-            // A whole sample interval always uses the same step, whatever the communication grid.
-            let (n, dt) = if (t_next - t - ts).abs() <= tol {
-                (self.derived.substeps, ts / self.derived.substeps as f64)
-            } else {
-                let n = (((t_next - t) / self.params.h_max) - 1e-9).ceil().max(1.0) as usize;
-                (n, (t_next - t) / n as f64)
-            };
-            for _ in 0..n {
-                let (y, _) = rodas3_step(&self.plant(), &self.state.y, dt)?;
-                self.state.y = y;
-            }
-            stats.substeps += n as u32;
+            // a whole sample interval is exactly T_sample, whatever the communication grid
+            let span = if (t_next - t - ts).abs() <= tol { ts } else { t_next - t };
+            stats.substeps += self.integrate(span)?;
             t = t_next;
             if t >= t_end - tol {
                 break;
@@ -144,6 +148,44 @@ impl Damper {
         }
         self.state.time = t_end;
         Ok(stats)
+    }
+
+    /// Integrates over `span` [s] with step-size control; returns the number of steps taken.
+    fn integrate(&mut self, span: f64) -> Result<u32, SolverError> {
+        let p = &self.params;
+        let (mut done, mut steps, mut attempts) = (0.0, 0u32, 0u32);
+        let mut h = self.state.h_next.min(p.h_max);
+        while done < span {
+            let last = h >= (span - done) * (1.0 - 1e-9);
+            let step = if last { span - done } else { h };
+            let (y, error) = rodas3_step(&self.plant(), &self.state.y, step)?;
+            let norm = (0..7)
+                .map(|i| {
+                    let w = p.rtol * (STATE_SCALE[i] + self.state.y[i].abs().max(y[i].abs()));
+                    (error[i] / w).powi(2)
+                })
+                .sum::<f64>()
+                .sqrt()
+                / 7f64.sqrt();
+            let factor = (0.9 * norm.max(1e-12).powf(-1.0 / 3.0)).clamp(0.2, 4.0);
+            attempts += 1;
+            if norm <= 1.0 {
+                self.state.y = y;
+                done = if last { span } else { done + step };
+                steps += 1;
+                // a short last step to land on the sample does not shrink the next proposal
+                if !last || factor < 1.0 {
+                    h = (step * factor).min(p.h_max);
+                }
+            } else {
+                h = step * factor;
+                if h < 1e-10 || attempts > MAX_STEPS_PER_SAMPLE {
+                    return Err(SolverError::StepSizeTooSmall);
+                }
+            }
+        }
+        self.state.h_next = h;
+        Ok(steps)
     }
 
     fn sample_controller(&mut self) {

@@ -49,7 +49,7 @@ impl Visit for Parameters {
             cv_valve, theta_jet, m_spool, k_spool, c_spool, x_spool_min, x_spool_max, k_stop, c_stop, k_sol,
             kappa_sol, i_max, tau_amp, tau_coil, k1_mount, k3_mount, f_coulomb, v_friction, g_leak, t_sample,
             kp_x, ki_x, kd_x, tau_dx, dp_fc_nominal, kp_f, ki_f, kd_f, tau_df, f_ref_min, kp_f_pid, ki_f_pid,
-            kd_f_pid, x_spool_bias, h_max, x_damper_start, x_spool_start,
+            kd_f_pid, x_spool_bias, h_max, rtol, x_damper_start, x_spool_start,
         } = self;
         for x in [control_mode, force_controller, fc_mode, n_ports] {
             int32(v, x);
@@ -60,7 +60,7 @@ impl Visit for Parameters {
             r_port, x_lap, a_valve_leak, cd_valve, cv_valve, theta_jet, m_spool, k_spool, c_spool, x_spool_min,
             x_spool_max, k_stop, c_stop, k_sol, kappa_sol, i_max, tau_amp, tau_coil, k1_mount, k3_mount, f_coulomb,
             v_friction, g_leak, t_sample, kp_x, ki_x, kd_x, tau_dx, dp_fc_nominal, kp_f, ki_f, kd_f, tau_df,
-            f_ref_min, kp_f_pid, ki_f_pid, kd_f_pid, x_spool_bias, h_max, x_damper_start, x_spool_start,
+            f_ref_min, kp_f_pid, ki_f_pid, kd_f_pid, x_spool_bias, h_max, rtol, x_damper_start, x_spool_start,
         ] {
             v.real(x);
         }
@@ -98,7 +98,7 @@ impl Visit for DelayLine {
 
 impl Visit for DamperState {
     fn visit<V: Visitor>(&mut self, v: &mut V) {
-        let DamperState { y, controller, i_command, time, start_time, next_sample } = self;
+        let DamperState { y, controller, i_command, time, start_time, next_sample, h_next } = self;
         for x in y.iter_mut() {
             v.real(x);
         }
@@ -110,7 +110,7 @@ impl Visit for DamperState {
         v.real(integral);
         velocity.visit(v);
         delay.visit(v);
-        for x in [x_spool_demand, force_demand_clipped, i_command, time, start_time] {
+        for x in [x_spool_demand, force_demand_clipped, i_command, time, start_time, h_next] {
             v.real(x);
         }
         let mut n = *next_sample as i64;

@@ -99,6 +99,7 @@ pub fn real_parameter(p: &mut Parameters, v: RealVar) -> Option<&mut f64> {
         KdFPid => &mut p.kd_f_pid,
         XSpoolBias => &mut p.x_spool_bias,
         HMax => &mut p.h_max,
+        Rtol => &mut p.rtol,
         XDamperStart => &mut p.x_damper_start,
         XSpoolStart => &mut p.x_spool_start,
     })

@@ -104,6 +104,7 @@ pub struct Parameters {
     pub kd_f_pid: f64,
     pub x_spool_bias: f64,
     pub h_max: f64,
+    pub rtol: f64,
     pub x_damper_start: f64,
     pub x_spool_start: f64,
 }
@@ -120,8 +121,6 @@ pub struct Derived {
     pub a_demand_max: f64,
     /// Amplifier delay in controller samples.
     pub delay_samples: usize,
-    /// Internal integration steps per controller sample.
-    pub substeps: usize,
     pub control_mode: ControlMode,
     pub force_controller: ForceController,
     pub fc_mode: FlowForceCompensation,
@@ -130,13 +129,12 @@ pub struct Derived {
 impl Parameters {
     /// Checks the relations between parameters that single-variable ranges cannot express.
     pub fn validate(&self) -> Result<(), String> {
-        let checks: [(bool, &str); 9] = [
+        let checks: [(bool, &str); 8] = [
             (self.d_rod < self.d_piston, "D_rod must be smaller than D_piston"),
             (self.p_cv_full > self.p_cv_crack, "p_cv_full must exceed p_cv_crack"),
             (self.x_spool_max > self.x_spool_min, "x_spool_max must exceed x_spool_min"),
             (self.x_spool_max - 0.5e-3 > self.x_lap, "x_spool_max - 0.5 mm must exceed x_lap (the valve must be able to open)"),
             (self.tau_amp / self.t_sample <= MAX_DELAY_SAMPLES as f64, "tau_amp/T_sample exceeds the 200-sample delay line"),
-            (self.t_sample / self.h_max <= 10_000.0, "T_sample/h_max exceeds 10000 internal steps per sample"),
             (self.control_mode == 0 || self.control_mode == 1, "control_mode must be 0 or 1"),
             (self.force_controller == 0 || self.force_controller == 1, "force_controller must be 0 or 1"),
             ((0..=2).contains(&self.fc_mode), "fc_mode must be 0, 1 or 2"),
@@ -165,7 +163,6 @@ impl Parameters {
             x_demand_max,
             a_demand_max: ports.area(x_demand_max),
             delay_samples: (self.tau_amp / self.t_sample).round() as usize,
-            substeps: ((self.t_sample / self.h_max) - 1e-9).ceil().max(1.0) as usize,
             control_mode: if self.control_mode == 1 { ControlMode::SpoolPosition } else { ControlMode::Force },
             force_controller: if self.force_controller == 1 {
                 ForceController::PaperPid

@@ -109,7 +109,7 @@ mod tests {
         assert!((half - PI * 9e-6).abs() < 1e-15);
         assert!((PORTS.area(10e-3) - 2.0 * PI * 9e-6).abs() < 1e-18);
         // small openings follow n (4/3) sqrt(2r) h^1.5
-        let h = 1e-6;
+        let h: f64 = 1e-6;
         let small = 2.0 * 4.0 / 3.0 * (6e-3f64).sqrt() * h.powf(1.5);
         assert!((PORTS.area(0.3e-3 + h) - small).abs() < 1e-3 * small);
     }

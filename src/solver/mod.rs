@@ -32,6 +32,8 @@ pub enum SolverError {
     Singular,
     /// The step produced NaN or infinity.
     NonFinite,
+    /// The step-size control could not meet the tolerance.
+    StepSizeTooSmall,
 }
 
 impl std::fmt::Display for SolverError {
@@ -39,6 +41,7 @@ impl std::fmt::Display for SolverError {
         match self {
             SolverError::Singular => write!(f, "singular iteration matrix"),
             SolverError::NonFinite => write!(f, "non-finite state"),
+            SolverError::StepSizeTooSmall => write!(f, "step size too small for the tolerance rtol"),
         }
     }
 }
