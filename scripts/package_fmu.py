@@ -1,0 +1,300 @@
+#!/usr/bin/env python3
+"""Package the damper as an FMI 2.0 Co-Simulation FMU (standard library only).
+
+    python3 scripts/package_fmu.py              # cargo build --release, then zip
+    python3 scripts/package_fmu.py --no-build   # zip what target/release already holds
+
+The FMU (target/fmu/SemiActiveDamper.fmu) holds
+
+    modelDescription.xml
+    binaries/linux64/SemiActiveDamper.so      (copy of target/release/libsemi_active_damper.so)
+    documentation/index.html                  (generated here from modelDescription.xml)
+
+Entries are written with forward slashes and a fixed time stamp, so that the same inputs give
+the same bytes.
+"""
+
+import argparse
+import html
+import math
+import os
+import re
+import subprocess
+import sys
+import xml.etree.ElementTree as ET
+import zipfile
+from pathlib import Path
+
+REPO = Path(__file__).resolve().parent.parent
+LIBRARY_NAME = "libsemi_active_damper.so"
+PLATFORM = "linux64"
+ZIP_DATE = (1980, 1, 1, 0, 0, 0)
+REQUIRED_SYMBOLS = ("fmi2Instantiate", "fmi2DoStep", "fmi2GetReal", "fmi2SetReal", "fmi2FreeInstance")
+
+
+def target_dir():
+    """Cargo's target directory (CARGO_TARGET_DIR if set)."""
+    return Path(os.environ.get("CARGO_TARGET_DIR", REPO / "target"))
+
+
+def cargo_build():
+    print("+ cargo build --release", flush=True)
+    subprocess.run(["cargo", "build", "--release"], cwd=REPO, check=True)
+
+
+def check_library(path):
+    """Fails unless the shared library exists and names the FMI 2.0 functions (a byte search of its
+    symbol strings; the library is not loaded)."""
+    if not path.is_file():
+        sys.exit(f"package_fmu: {path} not found (run cargo build --release)")
+    data = path.read_bytes()
+    missing = [name for name in REQUIRED_SYMBOLS if name.encode() + b"\0" not in data]
+    if missing:
+        sys.exit(f"package_fmu: {path} does not define {', '.join(missing)}")
+
+
+def read_model(xml_path):
+    """The parts of modelDescription.xml the documentation needs."""
+    root = ET.parse(xml_path).getroot()
+    cs = root.find("CoSimulation")
+    variables = []
+    for sv in root.find("ModelVariables"):
+        typ = next(iter(sv))
+        variables.append({
+            "name": sv.get("name"),
+            "valueReference": sv.get("valueReference"),
+            "causality": sv.get("causality", "local"),
+            "variability": sv.get("variability", "continuous"),
+            "type": typ.tag,
+            "unit": typ.get("unit", ""),
+            "start": typ.get("start", ""),
+            "min": typ.get("min", ""),
+            "max": typ.get("max", ""),
+            "description": sv.get("description", ""),
+        })
+    return {
+        "modelName": root.get("modelName"),
+        "description": root.get("description", ""),
+        "version": root.get("version", ""),
+        "guid": root.get("guid"),
+        "fmiVersion": root.get("fmiVersion"),
+        "modelIdentifier": cs.get("modelIdentifier"),
+        "cs_flags": {k: v for k, v in cs.attrib.items() if k != "modelIdentifier"},
+        "defaultExperiment": dict(root.find("DefaultExperiment").attrib) if root.find("DefaultExperiment") is not None else {},
+        "variables": variables,
+    }
+
+
+def start_value(model, name):
+    for v in model["variables"]:
+        if v["name"] == name:
+            return float(v["start"])
+    raise KeyError(name)
+
+
+def format_number(text):
+    """Compact display of a number given as text in the XML."""
+    if text == "":
+        return ""
+    try:
+        x = float(text)
+    except ValueError:
+        return html.escape(text)
+    if x != 0 and (abs(x) >= 1e5 or abs(x) < 1e-3):
+        mantissa, exponent = f"{x:.6e}".split("e")
+        return f"{mantissa.rstrip('0').rstrip('.')}e{int(exponent)}"
+    return f"{x:.6g}"
+
+
+def tag_description(text):
+    """Escapes a description and highlights the provenance tags [P], [S], [A]."""
+    escaped = html.escape(text)
+    return re.sub(r"\[([PSA])\]", r'<span class="tag tag-\1">[\1]</span>', escaped)
+
+
+def variable_rows(model, causality):
+    rows = []
+    for v in model["variables"]:
+        if v["causality"] != causality:
+            continue
+        rows.append(
+            "<tr>"
+            f"<td><code>{html.escape(v['name'])}</code></td>"
+            f"<td>{v['valueReference']}</td>"
+            f"<td>{v['type']}</td>"
+            f"<td>{v['causality']}</td>"
+            f"<td>{html.escape(v['unit'])}</td>"
+            f"<td class=num>{format_number(v['start'])}</td>"
+            f"<td class=num>{format_number(v['min'])}</td>"
+            f"<td class=num>{format_number(v['max'])}</td>"
+            f"<td>{tag_description(v['description'])}</td>"
+            "</tr>"
+        )
+    return "\n".join(rows)
+
+
+def documentation_html(model):
+    """documentation/index.html: self-contained description of the model."""
+    p_r0 = start_value(model, "p_reservoir0")
+    d_rod = start_value(model, "D_rod")
+    d_piston = start_value(model, "D_piston")
+    l_half = start_value(model, "L_half_stroke")
+    l_dead = start_value(model, "L_dead")
+    v_hose = start_value(model, "V_hose")
+    a_rod = math.pi * d_rod ** 2 / 4
+    a_piston = math.pi * d_piston ** 2 / 4
+    a_annulus = a_piston - a_rod
+    gas_force = p_r0 * a_rod
+    v_ext = a_annulus * (l_half + l_dead) + v_hose
+    v_comp = v_ext + a_piston * (l_half + l_dead)
+    header = ("<tr><th>name</th><th>vr</th><th>type</th><th>causality</th><th>unit</th>"
+              "<th>start</th><th>min</th><th>max</th><th>description</th></tr>")
+    sections = []
+    for causality, title in (("input", "Inputs"), ("output", "Outputs"), ("parameter", "Parameters")):
+        sections.append(f"<h3>{title}</h3>\n<table>\n{header}\n{variable_rows(model, causality)}\n</table>")
+    flags = ", ".join(f"{k}={v}" for k, v in model["cs_flags"].items())
+    experiment = ", ".join(f"{k}={v}" for k, v in model["defaultExperiment"].items())
+    return f"""<!DOCTYPE html>
+<html lang="en">
+<head>
+<meta charset="utf-8">
+<title>{html.escape(model['modelName'])} — FMI 2.0 Co-Simulation FMU</title>
+<style>
+body {{ font-family: sans-serif; max-width: 75em; margin: 1em auto; padding: 0 1em; line-height: 1.4; }}
+table {{ border-collapse: collapse; margin: 0.5em 0 1.5em 0; font-size: 0.9em; }}
+th, td {{ border: 1px solid #bbb; padding: 0.2em 0.4em; vertical-align: top; text-align: left; }}
+th {{ background: #eee; }}
+td.num {{ text-align: right; white-space: nowrap; }}
+pre {{ background: #f6f6f6; padding: 0.6em; overflow-x: auto; }}
+.tag {{ font-weight: bold; }}
+.tag-P {{ color: #1a6b1a; }} .tag-S {{ color: #1a4d8f; }} .tag-A {{ color: #8f5a1a; }}
+</style>
+</head>
+<body>
+<h1>{html.escape(model['modelName'])}</h1>
+<p>FMI {model['fmiVersion']} Co-Simulation FMU, version {html.escape(model['version'])},
+model identifier <code>{html.escape(model['modelIdentifier'])}</code>, GUID <code>{html.escape(model['guid'])}</code>.</p>
+<p>{html.escape(model['description'])}</p>
+
+<h2>What it is</h2>
+<p>A continuously-variable semi-active damper for heavy trucks after Kitching, Cole and Cebon,
+<i>The development of a semi-active truck damper</i>. A high-speed proportional spool valve sets the
+pressure drop of a "uniflow" circuit: check valves route the oil one way through the valve in both
+directions of motion, and a gas-charged reservoir takes the rod volume. A digital cascade controller
+(2 kHz by default) closes an inner loop on spool position (PID plus a flow-force compensation current)
+and an outer loop on damper force. The master gives the damper velocity and a force demand; the FMU
+returns the force measured by the load cell and the internal signals of the valve and the chambers.
+The plant is integrated inside every <code>fmi2DoStep</code> by a stiff Rosenbrock method (Rodas3)
+with step-size control inside each controller sample (tolerance <code>rtol</code>, steps of at most
+<code>h_max</code>); the controller samples on the grid start time + k·<code>T_sample</code>, whatever
+the communication steps are.</p>
+
+<h2>Equations in brief</h2>
+<pre>
+Geometry      A_p = π D_piston²/4,  A_r = π D_rod²/4,  A_a = A_p − A_r
+              V_A = A_a (L_half + L_dead − x_p) + V_hose   (annulus, rod side: p_ext)
+              V_B = A_p (L_half + L_dead + x_p)            (full bore: p_comp)
+Oil + air     β_e(p) = (1 + α₀ r) / (1/β_oil + α₀ r / (n (p + p_a))),  r = (p_a/(p + p_a))^(1/n)
+Orifices      Q(A, Δp) = C_d A sqrt(2/ρ) Δp / (Δp² + p_transition²)^(1/4)
+Valve ports   n_ports circular ports of radius r_port uncovered by the spool edge beyond x_lap
+Chambers      dp_A/dt = β_e(p_A)/V_A (A_a dx_p/dt + Q_cv1 − Q_valve − Q_relief − Q_leak)
+              dp_B/dt = β_e(p_B)/V_B (−A_p dx_p/dt − Q_cv1 + Q_cv2 + Q_leak)
+Reservoir     p_r = (p_reservoir0 + p_a)(V_gas0/V_g)^n − p_a
+Force         F_h = p_A A_a − p_B A_p  (+ friction);  mount in series: k1 δ + k3 δ³ = F_h,  F_damper = F_h
+Spool         m ẍ_s = K_sol i_sol − k_spool x_s − c_spool ẋ_s − F_flow − F_stop
+              F_flow = 2 C_d C_v cos θ_jet · A(x_s) · max(p_A − p_r, 0)   (closes the valve)
+Coil          di_sol/dt = (i_cmd(t − tau_amp) − i_sol)/tau_coil,   i_cmd ∈ [0, I_max]
+Spool loop    i_cmd = Kp_x e + Ki_x ∫e − Kd_x ẋ_s,filtered + i_flow-force-compensation
+Force loop    force_controller 0: inverse-valve feedforward area × exp(−PI on the relative force error)
+              force_controller 1: the paper's PID from relative force error to spool position
+</pre>
+
+<h2>Sign conventions</h2>
+<ul>
+<li><code>v_damper</code> &gt; 0: extension (rod moving out of the body); <code>x_damper</code> is its integral, 0 = mid-stroke.</li>
+<li><code>F_damper</code>, <code>F_demand</code> &gt; 0: tension, i.e. a force resisting extension.
+A dissipative demand has the sign of <code>v_damper</code>; the other sign cannot be delivered and is
+clipped to 0 (<code>F_demand_clipped</code>).</li>
+<li>Pressures are gauge pressures [Pa]. <code>x_spool</code> = 0 is the spring-centred spool; the ports open above <code>x_lap</code>.</li>
+<li><code>control_mode</code> 0: the force loop computes the spool demand (<code>x_spool_ref</code>);
+1: <code>x_spool_demand</code> is the spool demand and <code>F_demand</code> is ignored.</li>
+</ul>
+
+<h2>Variables</h2>
+<p>Source tags in the descriptions: <span class="tag tag-P">[P]</span> stated in the paper,
+<span class="tag tag-S">[S]</span> from another public source, <span class="tag tag-A">[A]</span> an engineering
+assumption chosen so that the model is coherent and meets the paper's figures.</p>
+{chr(10).join(sections)}
+
+<h2>Capabilities</h2>
+<p>{html.escape(flags)}.<br>Default experiment: {html.escape(experiment)}.</p>
+
+<h2>Limits</h2>
+<ul>
+<li>Gas force offset: at rest both chambers are at the reservoir pressure, so the damper pushes out with
+−p_reservoir0·A_r = −{gas_force / 1e3:.2f} kN with the default parameters. <code>F_damper</code> includes it,
+like the load cell of the rig.</li>
+<li>Semi-active: only dissipative forces can be produced. With the valve wide open the force cannot go below
+a velocity-dependent minimum (≈0.1 kN at 0.15 m/s, ≈3–4 kN at 1 m/s); the relief valve caps it near 37 kN.</li>
+<li>Velocity range: the input accepts |v_damper| ≤ 5 m/s, but the valve is well behaved up to about 0.6 m/s.
+Above ~0.6–1 m/s at high force, flow forces make the spool show small limit cycles (≈0.1 mm, a few % of force).</li>
+<li>Stroke: there are no end stops. Keep |x_damper| below L_half_stroke = {l_half * 1e3:.0f} mm; beyond it the
+chamber volumes are floored and the result is not physical.</li>
+<li>Compression is slower than extension: the compressed oil volume at mid-stroke is
+{v_comp * 1e6:.0f} cm³ against {v_ext * 1e6:.0f} cm³ in extension (ratio {v_comp / v_ext:.2f}).</li>
+<li>The paper's 15 Hz peak of the Hardware-in-the-Loop force spectrum is not a property of the damper alone:
+with the quarter truck of the paper it needs 4–5 ms of extra force-path latency of the rig.</li>
+<li>Parameters have variability "fixed": they can be set before <code>fmi2ExitInitializationMode</code> only;
+later changes are refused with fmi2Error. Inputs are held constant over a communication step
+(<code>canInterpolateInputs=false</code>).</li>
+<li>Not modelled: temperature and viscosity changes, air release and dissolution, check-valve dynamics,
+solenoid hysteresis and spool stiction, pipe fluid inertia, load-cell filtering.</li>
+</ul>
+</body>
+</html>
+"""
+
+
+def write_zip(fmu_path, files):
+    """Writes (archive name, bytes) pairs into a deflated zip with fixed time stamps."""
+    fmu_path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = fmu_path.with_suffix(".fmu.tmp")
+    with zipfile.ZipFile(tmp, "w", compression=zipfile.ZIP_DEFLATED) as z:
+        for name, data in files:
+            assert "\\" not in name
+            info = zipfile.ZipInfo(name, date_time=ZIP_DATE)
+            info.compress_type = zipfile.ZIP_DEFLATED
+            info.external_attr = (0o755 if name.endswith(".so") else 0o644) << 16
+            z.writestr(info, data)
+    tmp.replace(fmu_path)
+
+
+def package(library, xml_path, fmu_path):
+    model = read_model(xml_path)
+    files = [
+        ("modelDescription.xml", xml_path.read_bytes()),
+        (f"binaries/{PLATFORM}/{model['modelIdentifier']}.so", library.read_bytes()),
+        ("documentation/index.html", documentation_html(model).encode("utf-8")),
+    ]
+    write_zip(fmu_path, files)
+    return fmu_path
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--no-build", action="store_true", help="do not run cargo build --release")
+    parser.add_argument("--library", type=Path, default=None,
+                        help=f"shared library to package (default: <target>/release/{LIBRARY_NAME})")
+    parser.add_argument("--output", type=Path, default=REPO / "target" / "fmu" / "SemiActiveDamper.fmu",
+                        help="FMU to write (default: target/fmu/SemiActiveDamper.fmu)")
+    args = parser.parse_args(argv)
+    if not args.no_build:
+        cargo_build()
+    library = args.library or target_dir() / "release" / LIBRARY_NAME
+    check_library(library)
+    fmu = package(library, REPO / "modelDescription.xml", args.output)
+    print(f"package_fmu: wrote {fmu} ({fmu.stat().st_size / 1e6:.1f} MB)")
+
+
+if __name__ == "__main__":
+    main()
