@@ -55,3 +55,61 @@ pub fn flow_force_compensation(p: &Parameters, d: &Derived, m: Measurements) -> 
     };
     p.cv_valve * p.theta_jet.cos() * (2.0 * p.rho * dp_est).sqrt() * q_est / p.k_sol
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::variables::default_parameters;
+
+    fn at(x_spool: f64, v: f64) -> Measurements {
+        Measurements { force: 0.0, x_spool, v_damper: v }
+    }
+
+    #[test]
+    fn pid_terms_by_hand() {
+        let mut p = default_parameters();
+        p.fc_mode = 0;
+        let d = p.derive();
+        let mut pid = SpoolLoop::at_rest(1.0);
+        // first sample: no derivative kick; i = Kp e + (I0 + Ki e T)
+        let e = 0.1e-3;
+        let i1 = pid.step(&p, &d, 2.0e-3 + e, at(2.0e-3, 0.0));
+        assert!((i1 - (p.kp_x * e + 1.0 + p.ki_x * e * p.t_sample)).abs() < 1e-12);
+        // spool moved by dx: the filtered derivative term subtracts Kd·a·dx/T
+        let dx = 0.05e-3;
+        let i2 = pid.step(&p, &d, 2.0e-3 + e, at(2.0e-3 + dx, 0.0));
+        let a = p.t_sample / (p.tau_dx + p.t_sample);
+        let integral = 1.0 + p.ki_x * e * p.t_sample + p.ki_x * (e - dx) * p.t_sample;
+        let hand = p.kp_x * (e - dx) + integral - p.kd_x * a * dx / p.t_sample;
+        assert!((i2 - hand).abs() < 1e-12, "{i2} vs {hand}");
+    }
+
+    #[test]
+    fn clamped_command_freezes_the_integrator() {
+        let mut p = default_parameters();
+        p.fc_mode = 0;
+        let d = p.derive();
+        let mut pid = SpoolLoop::at_rest(1.0);
+        for _ in 0..1000 {
+            // a demand far beyond reach saturates the amplifier
+            assert_eq!(pid.step(&p, &d, 0.05, at(0.0, 0.0)), p.i_max);
+        }
+        assert!(pid.integral < p.i_max, "integrator wound up to {}", pid.integral);
+        // back in range, the command leaves saturation at once
+        assert!(pid.step(&p, &d, 0.0, at(0.0, 0.0)) < p.i_max);
+    }
+
+    #[test]
+    fn flow_force_compensation_modes() {
+        let mut p = default_parameters();
+        let m = Measurements { force: 10e3, x_spool: 1e-3, v_damper: 0.5 };
+        p.fc_mode = 0;
+        assert_eq!(flow_force_compensation(&p, &p.derive(), m), 0.0);
+        // scheduled: Cv cos θ sqrt(2ρ Δp) Q / K with Δp = F/A_a, Q = A_a v
+        p.fc_mode = 2;
+        let d = p.derive();
+        let a = d.cylinder.a_annulus;
+        let hand = p.cv_valve * p.theta_jet.cos() * (2.0 * p.rho * 10e3 / a).sqrt() * a * 0.5 / p.k_sol;
+        assert!((flow_force_compensation(&p, &d, m) - hand).abs() < 1e-12);
+    }
+}

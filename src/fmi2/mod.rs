@@ -270,16 +270,25 @@ unsafe fn state_ref<'a>(s: fmi2FMUstate) -> Option<&'a mut StateBox> {
 pub unsafe extern "C" fn fmi2GetFMUstate(c: fmi2Component, FMUstate: *mut fmi2FMUstate) -> fmi2Status {
     with_instance(c, "fmi2GetFMUstate", |inst| {
         let state = inst.get_fmu_state()?;
-        // SAFETY: the importer supplies a writable pointer slot.
-        let slot = unsafe { FMUstate.as_mut() }.ok_or_else(|| null_arg(inst, "fmi2GetFMUstate", "FMUstate"))?;
-        // SAFETY: a non-null *slot is a state this library returned earlier (FMI 2.0 §2.1.8).
-        match unsafe { state_ref(*slot) } {
-            Some(existing) => existing.state = state,
-            None if slot.is_null() => *slot = Box::into_raw(Box::new(StateBox { tag: STATE_TAG, state })) as fmi2FMUstate,
-            None => return Err(inst.error(format_args!("fmi2GetFMUstate: *FMUstate is not a state of this FMU"))),
-        }
-        Ok(())
+        // SAFETY: see the function's safety section.
+        unsafe { store_state(inst, "fmi2GetFMUstate", FMUstate, state) }
     })
+}
+
+/// Stores `state` in the importer's slot: a new box when `*slot` is NULL, else the state it points
+/// to is overwritten (FMI 2.0 §2.1.8).
+///
+/// # Safety
+/// `slot` must be NULL or writable; a non-null `*slot` must be a state this library returned.
+unsafe fn store_state(inst: &Instance, function: &str, slot: *mut fmi2FMUstate, state: SlaveState) -> Outcome {
+    // SAFETY: see above.
+    let slot = unsafe { slot.as_mut() }.ok_or_else(|| null_arg(inst, function, "FMUstate"))?;
+    match unsafe { state_ref(*slot) } {
+        Some(existing) => existing.state = state,
+        None if slot.is_null() => *slot = Box::into_raw(Box::new(StateBox { tag: STATE_TAG, state })) as fmi2FMUstate,
+        None => return Err(inst.error(format_args!("{function}: *FMUstate is not a state of this FMU"))),
+    }
+    Ok(())
 }
 
 /// # Safety
@@ -372,13 +381,7 @@ pub unsafe extern "C" fn fmi2DeSerializeFMUstate(
         let bytes = unsafe { slice(serializedState as *const u8, size) }
             .ok_or_else(|| null_arg(inst, "fmi2DeSerializeFMUstate", "serializedState"))?;
         let state = SlaveState::from_bytes(bytes).map_err(|e| inst.error(format_args!("fmi2DeSerializeFMUstate: {e}")))?;
-        let slot = unsafe { FMUstate.as_mut() }.ok_or_else(|| null_arg(inst, "fmi2DeSerializeFMUstate", "FMUstate"))?;
-        match unsafe { state_ref(*slot) } {
-            Some(existing) => existing.state = state,
-            None if slot.is_null() => *slot = Box::into_raw(Box::new(StateBox { tag: STATE_TAG, state })) as fmi2FMUstate,
-            None => return Err(inst.error(format_args!("fmi2DeSerializeFMUstate: *FMUstate is not a state of this FMU"))),
-        }
-        Ok(())
+        unsafe { store_state(inst, "fmi2DeSerializeFMUstate", FMUstate, state) }
     })
 }
 
