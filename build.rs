@@ -147,9 +147,7 @@ fn main() {
                 current = Some(var);
             }
             "Real" | "Integer" | "Boolean" | "String" | "Enumeration" => {
-                let var = current
-                    .as_mut()
-                    .unwrap_or_else(|| fail(line, format!("<{tag}> outside a ScalarVariable")));
+                let var = current.as_mut().unwrap_or_else(|| fail(line, format!("<{tag}> outside a ScalarVariable")));
                 if tag == "String" || tag == "Enumeration" {
                     fail(line, format!("{}: type {tag} is not supported by this FMU", var.name));
                 }
@@ -213,7 +211,10 @@ fn main() {
         if v.ty == "Real" && v.unit.is_none() {
             fail(v.line, format!("{}: a Real needs a unit", v.name));
         }
-        let num = |s: &Option<String>| s.as_ref().map(|x| x.parse::<f64>().unwrap_or_else(|_| fail(v.line, format!("{}: {x} is not a number", v.name))));
+        let num = |s: &Option<String>| {
+            s.as_ref()
+                .map(|x| x.parse::<f64>().unwrap_or_else(|_| fail(v.line, format!("{}: {x} is not a number", v.name))))
+        };
         if let (Some(s), Some(lo)) = (num(&v.start), num(&v.min)) {
             if s < lo {
                 fail(v.line, format!("{}: start {s} below min {lo}", v.name));
@@ -228,10 +229,16 @@ fn main() {
     let output_indices: Vec<usize> = vars.iter().filter(|v| v.causality == "output").map(|v| v.index).collect();
     let listed: Vec<usize> = outputs.iter().map(|o| o.0).collect();
     if listed != output_indices {
-        fail(outputs.first().map_or(1, |o| o.1), format!("ModelStructure/Outputs lists {listed:?}, the outputs are {output_indices:?}"));
+        fail(
+            outputs.first().map_or(1, |o| o.1),
+            format!("ModelStructure/Outputs lists {listed:?}, the outputs are {output_indices:?}"),
+        );
     }
     if initial_unknowns != output_indices {
-        fail(1, format!("ModelStructure/InitialUnknowns lists {initial_unknowns:?}, the outputs are {output_indices:?}"));
+        fail(
+            1,
+            format!("ModelStructure/InitialUnknowns lists {initial_unknowns:?}, the outputs are {output_indices:?}"),
+        );
     }
 
     // GUID = fingerprint of the interface (names, types, value references, causality, variability).
@@ -279,7 +286,7 @@ fn main() {
             let _ = writeln!(out, "    /// `{}` (vr {}, {}, {})", v.name, v.vr, v.causality, v.variability);
             let _ = writeln!(out, "    {},", camel(&v.name));
         }
-        let _ = writeln!(out, "}}\n\n#[allow(dead_code, unreachable_patterns)]\nimpl {enum_name} {{");
+        let _ = writeln!(out, "}}\n\n#[allow(dead_code, unreachable_patterns, clippy::approx_constant, clippy::match_single_binding)]\nimpl {enum_name} {{");
         let _ = writeln!(out, "    /// Every variable of this type, in XML order.");
         let _ = write!(out, "    pub const ALL: [{enum_name}; {}] = [", vs.len());
         for v in &vs {

@@ -80,7 +80,10 @@ fn main() {
     let v_rms = rms(inputs.iter().map(|x| x.0));
     let converged = run(5e-6, 1e-9, &inputs);
     let f_rms = rms(converged.force.iter().copied());
-    println!("scenario: {T_END} s, v_rms {v_rms:.3} m/s, converged F_rms {:.2} kN (h_max 5 us, rtol 1e-9)", f_rms / 1e3);
+    println!(
+        "scenario: {T_END} s, v_rms {v_rms:.3} m/s, converged F_rms {:.2} kN (h_max 5 us, rtol 1e-9)",
+        f_rms / 1e3
+    );
     println!("| rtol | h_max [us] | real-time factor | mean doStep [us] | worst doStep [us] | RMS force error [N] | error / F_rms |");
     println!("|---|---|---|---|---|---|---|");
     for (rtol, h_max) in [(1e-2, 500e-6), (3e-3, 500e-6), (1e-3, 500e-6), (1e-4, 500e-6), (1e-3, 100e-6)] {

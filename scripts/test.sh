@@ -1,11 +1,15 @@
 #!/usr/bin/env bash
-# Runs every test: the Rust tests (cargo test --release), then the Python suite on the packaged FMU.
+# Runs every test: formatting and lints, the Rust tests (cargo test --release), then the Python
+# suite on the packaged FMU.
 #
 #   bash scripts/test.sh [extra pytest options]
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 bash scripts/setup_env.sh
+echo "+ cargo fmt --check && cargo clippy --release --all-targets -- -D warnings"
+cargo fmt --check
+cargo clippy --release --all-targets -- -D warnings
 echo "+ cargo test --release"
 cargo test --release
 echo "+ python3 scripts/package_fmu.py"

@@ -38,8 +38,8 @@ pub fn default_inputs() -> Inputs {
 pub fn real_parameter(p: &mut Parameters, v: RealVar) -> Option<&mut f64> {
     use RealVar::*;
     Some(match v {
-        VDamper | FDemand | XSpoolDemand | FDamper | XSpool | ISol | PExt | PComp | PReservoir | QValve
-        | XSpoolRef | XDamper | FDemandClipped | FFlow | DeltaMount => return None,
+        VDamper | FDemand | XSpoolDemand | FDamper | XSpool | ISol | PExt | PComp | PReservoir | QValve | XSpoolRef
+        | XDamper | FDemandClipped | FFlow | DeltaMount => return None,
         Rho => &mut p.rho,
         BetaOil => &mut p.beta_oil,
         AirFraction => &mut p.air_fraction,
@@ -161,7 +161,8 @@ mod tests {
         let mut p = Parameters::default();
         let mut i = Inputs::default();
         for v in RealVar::ALL {
-            let n = real_parameter(&mut p, v).is_some() as u8 + real_input(&mut i, v).is_some() as u8
+            let n = real_parameter(&mut p, v).is_some() as u8
+                + real_input(&mut i, v).is_some() as u8
                 + (v.causality() == Causality::Output) as u8;
             assert_eq!(n, 1, "{}", v.name());
             assert_eq!(real_parameter(&mut p, v).is_some(), v.causality() == Causality::Parameter);

@@ -20,9 +20,11 @@ fn instantiate_refuses_wrong_guid_type_and_name() {
     let null = std::ptr::null();
     let no_callbacks: *const fmi2CallbackFunctions = std::ptr::null();
     unsafe {
-        assert!(fmi2Instantiate(name.as_ptr(), fmi2Type_fmi2CoSimulation, guid.as_ptr(), null, no_callbacks, 0, 0).is_null());
+        assert!(fmi2Instantiate(name.as_ptr(), fmi2Type_fmi2CoSimulation, guid.as_ptr(), null, no_callbacks, 0, 0)
+            .is_null());
         let good = CString::new(semi_active_damper::model_description::GUID).unwrap();
-        assert!(fmi2Instantiate(name.as_ptr(), fmi2Type_fmi2ModelExchange, good.as_ptr(), null, no_callbacks, 0, 0).is_null());
+        assert!(fmi2Instantiate(name.as_ptr(), fmi2Type_fmi2ModelExchange, good.as_ptr(), null, no_callbacks, 0, 0)
+            .is_null());
         assert!(fmi2Instantiate(null, fmi2Type_fmi2CoSimulation, good.as_ptr(), null, no_callbacks, 0, 0).is_null());
         // a null instance is an error, not a crash
         assert_eq!(fmi2DoStep(std::ptr::null_mut(), 0.0, 1e-3, 0), ERROR);
@@ -74,7 +76,9 @@ fn bad_values_are_refused_and_change_nothing() {
     assert_eq!(f.step(0.5, 1e-3), ERROR, "wrong communication point");
     assert_eq!(f.step(0.0, 1e-3), OK, "still usable after refused calls");
     let log = logged("values");
-    for needle in ["not a finite number", "unknown value reference 9999", "does not match the FMU's time", "must be positive"] {
+    for needle in
+        ["not a finite number", "unknown value reference 9999", "does not match the FMU's time", "must be positive"]
+    {
         assert!(log.iter().any(|m| m.contains(needle)), "no message with {needle:?}: {log:#?}");
     }
 }

@@ -32,7 +32,13 @@ static GLOBAL: Counting = Counting;
 static MESSAGES: AtomicUsize = AtomicUsize::new(0);
 
 /// A logger that only counts (it must not allocate itself).
-unsafe extern "C" fn counting_logger(_: fmi2ComponentEnvironment, _: fmi2String, _: fmi2Status, _: fmi2String, _: fmi2String) {
+unsafe extern "C" fn counting_logger(
+    _: fmi2ComponentEnvironment,
+    _: fmi2String,
+    _: fmi2Status,
+    _: fmi2String,
+    _: fmi2String,
+) {
     MESSAGES.fetch_add(1, Ordering::Relaxed);
 }
 

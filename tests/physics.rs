@@ -66,7 +66,11 @@ fn cyclic_velocity(seed: u64, t: f64, period: f64) -> f64 {
         return 0.0;
     }
     let window = (std::f64::consts::PI * t / period).sin().powi(2);
-    (1..=8).map(|k| 0.12 * (2.0 * std::f64::consts::PI * (k as f64 / period * 4.0) * t + 6.28 * rnd()).sin()).sum::<f64>()
+    (1..=8)
+        .map(|k| {
+            0.12 * (2.0 * std::f64::consts::PI * (k as f64 / period * 4.0) * t + std::f64::consts::TAU * rnd()).sin()
+        })
+        .sum::<f64>()
         * window
 }
 
@@ -113,7 +117,9 @@ fn passive_damper_never_delivers_energy() {
 fn force_step_t90(direction: f64) -> f64 {
     let mut p = default_parameters();
     p.x_damper_start = -direction * 0.045;
-    let mut d = Damper::new(p, Inputs { v_damper: 0.15 * direction, force_demand: 2e3 * direction, x_spool_demand: 0.0 }, 0.0).unwrap();
+    let mut d =
+        Damper::new(p, Inputs { v_damper: 0.15 * direction, force_demand: 2e3 * direction, x_spool_demand: 0.0 }, 0.0)
+            .unwrap();
     run(&mut d, 0.3);
     let f0 = direction * d.outputs().plant.force;
     d.inputs.force_demand = 12e3 * direction;

@@ -72,7 +72,8 @@ fn stiff_van_der_pol_matches_radau5() {
     while t < 2.0 {
         h = h.min(2.0 - t);
         let (y1, e) = rodas3_step(&VanDerPol, &y, h).unwrap();
-        let err = e.iter().zip(y1.iter()).map(|(e, y)| (e / (1e-7 + 1e-7 * y.abs())).powi(2)).sum::<f64>().sqrt() / 2f64.sqrt();
+        let err = e.iter().zip(y1.iter()).map(|(e, y)| (e / (1e-7 + 1e-7 * y.abs())).powi(2)).sum::<f64>().sqrt()
+            / 2f64.sqrt();
         if err <= 1.0 {
             t += h;
             y = y1;
@@ -80,5 +81,8 @@ fn stiff_van_der_pol_matches_radau5() {
         }
         h *= (0.9 * err.max(1e-10).powf(-1.0 / 3.0)).clamp(0.2, 5.0);
     }
-    assert!((y[0] - 1.706163410178079).abs() < 1e-4 && (y[1] + 0.8927971289301175).abs() < 1e-4, "y(2) = {y:?} after {steps} steps");
+    assert!(
+        (y[0] - 1.706163410178079).abs() < 1e-4 && (y[1] + 0.8927971289301175).abs() < 1e-4,
+        "y(2) = {y:?} after {steps} steps"
+    );
 }

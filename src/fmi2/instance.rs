@@ -169,7 +169,9 @@ impl Instance {
         let api = match causality {
             Causality::Parameter => Api::SetFixed,
             Causality::Input => Api::SetInput,
-            Causality::Output => return Err(self.error(format_args!("{function}: {name} is an output and cannot be set"))),
+            Causality::Output => {
+                return Err(self.error(format_args!("{function}: {name} is an output and cannot be set")))
+            }
         };
         if allowed(self.phase, api) {
             Ok(())

@@ -26,7 +26,13 @@ struct StackText {
 impl Write for StackText {
     fn write_str(&mut self, s: &str) -> fmt::Result {
         for &b in s.as_bytes() {
-            let escaped: &[u8] = if b == b'%' { b"%%" } else if b == 0 { b"?" } else { std::slice::from_ref(&b) };
+            let escaped: &[u8] = if b == b'%' {
+                b"%%"
+            } else if b == 0 {
+                b"?"
+            } else {
+                std::slice::from_ref(&b)
+            };
             if self.len + escaped.len() >= BUFFER {
                 return Ok(());
             }
@@ -58,10 +64,8 @@ impl Logger {
             return Ok(());
         }
         for name in names {
-            let k = CATEGORIES
-                .iter()
-                .position(|c| c == name)
-                .ok_or_else(|| format!("unknown log category {name:?}"))?;
+            let k =
+                CATEGORIES.iter().position(|c| c == name).ok_or_else(|| format!("unknown log category {name:?}"))?;
             self.enabled[k] = on;
         }
         Ok(())

@@ -15,8 +15,8 @@ use crate::model_description::GUID;
 use crate::slave::SlaveState;
 use fmi_sys::fmi2::*;
 use guard::{ffi_guard, slice, slice_mut};
-pub use instance::{Failure, Instance};
 use instance::{status, Outcome};
+pub use instance::{Failure, Instance};
 use logger::Logger;
 use state_machine::{Api, Phase};
 use std::ffi::{c_char, CStr, CString};
@@ -88,7 +88,11 @@ pub unsafe extern "C" fn fmi2SetDebugLogging(
             .ok_or_else(|| null_arg(inst, "fmi2SetDebugLogging", "categories"))?;
         let mut list = [c""; logger::CATEGORIES.len()];
         if names.len() > list.len() {
-            return Err(inst.error(format_args!("fmi2SetDebugLogging: {} categories given, {} exist", names.len(), list.len())));
+            return Err(inst.error(format_args!(
+                "fmi2SetDebugLogging: {} categories given, {} exist",
+                names.len(),
+                list.len()
+            )));
         }
         for (slot, &name) in list.iter_mut().zip(names) {
             // SAFETY: each entry is a C string from the importer.
@@ -199,11 +203,17 @@ macro_rules! get_set {
         /// # Safety
         /// `vr` and `value` must hold `nvr` elements (or be NULL when `nvr` is 0).
         #[unsafe(no_mangle)]
-        pub unsafe extern "C" fn $get(c: fmi2Component, vr: *const fmi2ValueReference, nvr: usize, value: *mut $ty) -> fmi2Status {
+        pub unsafe extern "C" fn $get(
+            c: fmi2Component,
+            vr: *const fmi2ValueReference,
+            nvr: usize,
+            value: *mut $ty,
+        ) -> fmi2Status {
             with_instance(c, stringify!($get), |inst| {
                 // SAFETY: the importer supplies nvr elements in each array.
                 let vrs = unsafe { slice(vr, nvr) }.ok_or_else(|| null_arg(inst, stringify!($get), "vr"))?;
-                let values = unsafe { slice_mut(value, nvr) }.ok_or_else(|| null_arg(inst, stringify!($get), "value"))?;
+                let values =
+                    unsafe { slice_mut(value, nvr) }.ok_or_else(|| null_arg(inst, stringify!($get), "value"))?;
                 inst.$get_method(vrs, values)
             })
         }
@@ -211,7 +221,12 @@ macro_rules! get_set {
         /// # Safety
         /// `vr` and `value` must hold `nvr` elements (or be NULL when `nvr` is 0).
         #[unsafe(no_mangle)]
-        pub unsafe extern "C" fn $set(c: fmi2Component, vr: *const fmi2ValueReference, nvr: usize, value: *const $ty) -> fmi2Status {
+        pub unsafe extern "C" fn $set(
+            c: fmi2Component,
+            vr: *const fmi2ValueReference,
+            nvr: usize,
+            value: *const $ty,
+        ) -> fmi2Status {
             with_instance(c, stringify!($set), |inst| {
                 // SAFETY: the importer supplies nvr elements in each array.
                 let vrs = unsafe { slice(vr, nvr) }.ok_or_else(|| null_arg(inst, stringify!($set), "vr"))?;
@@ -228,13 +243,23 @@ get_set!(fmi2GetBoolean, fmi2SetBoolean, fmi2Boolean, get_boolean, set_boolean);
 
 /// This FMU has no String variables: any value reference is unknown.
 #[unsafe(no_mangle)]
-pub extern "C" fn fmi2GetString(c: fmi2Component, vr: *const fmi2ValueReference, nvr: usize, _value: *mut fmi2String) -> fmi2Status {
+pub extern "C" fn fmi2GetString(
+    c: fmi2Component,
+    vr: *const fmi2ValueReference,
+    nvr: usize,
+    _value: *mut fmi2String,
+) -> fmi2Status {
     no_strings(c, "fmi2GetString", vr, nvr)
 }
 
 /// This FMU has no String variables: any value reference is unknown.
 #[unsafe(no_mangle)]
-pub extern "C" fn fmi2SetString(c: fmi2Component, vr: *const fmi2ValueReference, nvr: usize, _value: *const fmi2String) -> fmi2Status {
+pub extern "C" fn fmi2SetString(
+    c: fmi2Component,
+    vr: *const fmi2ValueReference,
+    nvr: usize,
+    _value: *const fmi2String,
+) -> fmi2Status {
     no_strings(c, "fmi2SetString", vr, nvr)
 }
 
@@ -329,7 +354,11 @@ pub unsafe extern "C" fn fmi2FreeFMUstate(c: fmi2Component, FMUstate: *mut fmi2F
 /// # Safety
 /// `FMUstate` must be a state of this library; `size` must be writable.
 #[unsafe(no_mangle)]
-pub unsafe extern "C" fn fmi2SerializedFMUstateSize(c: fmi2Component, FMUstate: fmi2FMUstate, size: *mut usize) -> fmi2Status {
+pub unsafe extern "C" fn fmi2SerializedFMUstateSize(
+    c: fmi2Component,
+    FMUstate: fmi2FMUstate,
+    size: *mut usize,
+) -> fmi2Status {
     with_instance(c, "fmi2SerializedFMUstateSize", |inst| {
         inst.check(Api::FmuState, "fmi2SerializedFMUstateSize")?;
         // SAFETY: see the function's safety section.
@@ -357,7 +386,9 @@ pub unsafe extern "C" fn fmi2SerializeFMUstate(
             .ok_or_else(|| inst.error(format_args!("fmi2SerializeFMUstate: FMUstate is NULL or foreign")))?;
         let bytes = b.state.to_bytes();
         if size < bytes.len() {
-            return Err(inst.error(format_args!("fmi2SerializeFMUstate: buffer of {size} bytes, {} needed", bytes.len())));
+            return Err(
+                inst.error(format_args!("fmi2SerializeFMUstate: buffer of {size} bytes, {} needed", bytes.len()))
+            );
         }
         let out = unsafe { slice_mut(serializedState as *mut u8, bytes.len()) }
             .ok_or_else(|| null_arg(inst, "fmi2SerializeFMUstate", "serializedState"))?;
@@ -380,7 +411,8 @@ pub unsafe extern "C" fn fmi2DeSerializeFMUstate(
         // SAFETY: see the function's safety section.
         let bytes = unsafe { slice(serializedState as *const u8, size) }
             .ok_or_else(|| null_arg(inst, "fmi2DeSerializeFMUstate", "serializedState"))?;
-        let state = SlaveState::from_bytes(bytes).map_err(|e| inst.error(format_args!("fmi2DeSerializeFMUstate: {e}")))?;
+        let state =
+            SlaveState::from_bytes(bytes).map_err(|e| inst.error(format_args!("fmi2DeSerializeFMUstate: {e}")))?;
         unsafe { store_state(inst, "fmi2DeSerializeFMUstate", FMUstate, state) }
     })
 }
@@ -473,7 +505,11 @@ pub extern "C" fn fmi2GetIntegerStatus(c: fmi2Component, _s: fmi2StatusKind, _va
 /// # Safety
 /// `value` must be writable.
 #[unsafe(no_mangle)]
-pub unsafe extern "C" fn fmi2GetBooleanStatus(c: fmi2Component, s: fmi2StatusKind, value: *mut fmi2Boolean) -> fmi2Status {
+pub unsafe extern "C" fn fmi2GetBooleanStatus(
+    c: fmi2Component,
+    s: fmi2StatusKind,
+    value: *mut fmi2Boolean,
+) -> fmi2Status {
     with_instance(c, "fmi2GetBooleanStatus", |inst| {
         inst.check(Api::GetStatus, "fmi2GetBooleanStatus")?;
         if s != fmi2StatusKind_fmi2Terminated {

@@ -133,8 +133,14 @@ impl Parameters {
             (self.d_rod < self.d_piston, "D_rod must be smaller than D_piston"),
             (self.p_cv_full > self.p_cv_crack, "p_cv_full must exceed p_cv_crack"),
             (self.x_spool_max > self.x_spool_min, "x_spool_max must exceed x_spool_min"),
-            (self.x_spool_max - 0.5e-3 > self.x_lap, "x_spool_max - 0.5 mm must exceed x_lap (the valve must be able to open)"),
-            (self.tau_amp / self.t_sample <= MAX_DELAY_SAMPLES as f64, "tau_amp/T_sample exceeds the 200-sample delay line"),
+            (
+                self.x_spool_max - 0.5e-3 > self.x_lap,
+                "x_spool_max - 0.5 mm must exceed x_lap (the valve must be able to open)",
+            ),
+            (
+                self.tau_amp / self.t_sample <= MAX_DELAY_SAMPLES as f64,
+                "tau_amp/T_sample exceeds the 200-sample delay line",
+            ),
             (self.control_mode == 0 || self.control_mode == 1, "control_mode must be 0 or 1"),
             (self.force_controller == 0 || self.force_controller == 1, "force_controller must be 0 or 1"),
             ((0..=2).contains(&self.fc_mode), "fc_mode must be 0, 1 or 2"),

@@ -89,9 +89,11 @@ impl Plant<'_> {
         let dp_valve = p_a - p_r;
         let q_valve = orifice(p.cd_valve, a_valve + p.a_valve_leak, dp_valve);
         let dp_cv1 = p_b - p_a;
-        let q_cv1 = orifice(p.cd_cv, check_valve_area(p.a_cv_leak, p.a_cv_max, p.p_cv_crack, p.p_cv_full, dp_cv1), dp_cv1);
+        let q_cv1 =
+            orifice(p.cd_cv, check_valve_area(p.a_cv_leak, p.a_cv_max, p.p_cv_crack, p.p_cv_full, dp_cv1), dp_cv1);
         let dp_cv2 = p_r - p_b;
-        let q_cv2 = orifice(p.cd_cv, check_valve_area(p.a_cv_leak, p.a_cv_max, p.p_cv_crack, p.p_cv_full, dp_cv2), dp_cv2);
+        let q_cv2 =
+            orifice(p.cd_cv, check_valve_area(p.a_cv_leak, p.a_cv_max, p.p_cv_crack, p.p_cv_full, dp_cv2), dp_cv2);
         let q_relief = if dp_valve > p.p_relief {
             orifice(p.cd_valve, p.a_relief * smoothstep((dp_valve - p.p_relief) / p.dp_relief), dp_valve)
         } else {

@@ -15,7 +15,13 @@ pub type FixedLogger = unsafe extern "C" fn(fmi2ComponentEnvironment, fmi2String
 
 /// The importer's logger; declared without the variadic tail (the FMU passes none: its message
 /// is the format string with '%' escaped), which the x86-64 C ABI allows.
-unsafe extern "C" fn logger(_env: fmi2ComponentEnvironment, name: fmi2String, status: fmi2Status, _cat: fmi2String, msg: fmi2String) {
+unsafe extern "C" fn logger(
+    _env: fmi2ComponentEnvironment,
+    name: fmi2String,
+    status: fmi2Status,
+    _cat: fmi2String,
+    msg: fmi2String,
+) {
     let name = unsafe { CStr::from_ptr(name) }.to_string_lossy();
     let msg = unsafe { CStr::from_ptr(msg) }.to_string_lossy();
     LOG.lock().unwrap().push(format!("{name} [{status}] {msg}"));
@@ -49,7 +55,17 @@ impl Fmu {
         };
         let cname = CString::new(name).unwrap();
         let guid = CString::new(GUID).unwrap();
-        let c = unsafe { fmi2Instantiate(cname.as_ptr(), fmi2Type_fmi2CoSimulation, guid.as_ptr(), std::ptr::null(), &callbacks, 0, 0) };
+        let c = unsafe {
+            fmi2Instantiate(
+                cname.as_ptr(),
+                fmi2Type_fmi2CoSimulation,
+                guid.as_ptr(),
+                std::ptr::null(),
+                &callbacks,
+                0,
+                0,
+            )
+        };
         assert!(!c.is_null());
         Fmu { c, name: name.into() }
     }
