@@ -60,6 +60,8 @@ pub struct StepStats {
 #[derive(Clone, Copy, Debug)]
 pub struct Outputs {
     pub plant: PlantOutputs,
+    /// Load-cell reading [N]: the plant's force less the tare (see `tare_load_cell`).
+    pub load_cell: f64,
     pub y: State,
     /// Spool demand of the last controller sample [m].
     pub x_spool_ref: f64,
@@ -85,6 +87,10 @@ impl Damper {
         let i0 = rest_current(&params, params.x_spool_start);
         let mut controller = Controller::at_rest(&derived, params.x_spool_start, i0);
         controller.x_spool_demand = params.x_spool_start;
+        if params.tare_load_cell {
+            let plant = Plant { p: &params, d: &derived, v_damper: 0.0, i_command: i0 };
+            controller.force_tare = plant.evaluate(&y).force;
+        }
         let h_next = params.h_max.min(params.t_sample);
         let state = DamperState { y, controller, i_command: i0, time: start_time, start_time, next_sample: 0, h_next };
         Ok(Damper { params, derived, state, inputs })
@@ -106,8 +112,10 @@ impl Damper {
 
     /// Outputs at the present state.
     pub fn outputs(&self) -> Outputs {
+        let plant = self.plant().evaluate(&self.state.y);
         Outputs {
-            plant: self.plant().evaluate(&self.state.y),
+            plant,
+            load_cell: plant.force - self.state.controller.force_tare,
             y: self.state.y,
             x_spool_ref: self.state.controller.x_spool_demand,
             force_demand_clipped: self.state.controller.force_demand_clipped,

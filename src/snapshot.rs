@@ -1,50 +1,21 @@
-//! FMU state as bytes: every field of the parameters, inputs and damper state is visited in a fixed
-//! order (destructuring makes a new field a compile error until it is visited here) and written as
-//! little-endian 8-byte words behind a header (magic, format version, GUID, length), so a blob from
-//! another model, version or build of the interface is refused instead of misread.
+//! The damper's FMU state for the byte format of `fmi2_slave::snapshot`: every field of the
+//! parameters, inputs and damper state is visited in a fixed order (destructuring makes a new field
+//! a compile error until it is visited here).
 
 use crate::control::{Controller, DelayLine, FilteredDerivative, ForceLoop, SpoolLoop};
 use crate::damper::{DamperState, Inputs};
-use crate::model_description::GUID;
 use crate::physics::params::Parameters;
+use fmi2_slave::snapshot::{boolean, int32, uint, uint64, Visit, Visitor};
 
-const MAGIC: &[u8; 8] = b"SADAMPER";
-const FORMAT_VERSION: u64 = 1;
-
-/// Walks over numeric fields; a writer reads them, a reader overwrites them.
-pub trait Visitor {
-    fn real(&mut self, x: &mut f64);
-    fn int(&mut self, x: &mut i64);
-}
-
-/// Something whose fields can be visited.
-pub trait Visit {
-    fn visit<V: Visitor>(&mut self, v: &mut V);
-}
-
-fn int32<V: Visitor>(v: &mut V, x: &mut i32) {
-    let mut w = *x as i64;
-    v.int(&mut w);
-    *x = w as i32;
-}
-
-fn uint<V: Visitor>(v: &mut V, x: &mut usize) {
-    let mut w = *x as i64;
-    v.int(&mut w);
-    *x = w as usize;
-}
-
-fn boolean<V: Visitor>(v: &mut V, x: &mut bool) {
-    let mut w = *x as i64;
-    v.int(&mut w);
-    *x = w != 0;
-}
+/// Tag of a serialised damper state.
+pub const MAGIC: &[u8; 8] = b"SADAMPER";
 
 /// Destructures `Parameters` with every field named once (a field missing here is a compile
-/// error) and visits the Integer fields, then the Real fields, in the order given.
+/// error) and visits the Boolean, Integer and Real fields, in the order given.
 macro_rules! visit_parameters {
-    ($params:expr, $v:expr, ints: [$($i:ident),* $(,)?], reals: [$($r:ident),* $(,)?]) => {{
-        let Parameters { $($i,)* $($r,)* } = $params;
+    ($params:expr, $v:expr, bools: [$($b:ident),* $(,)?], ints: [$($i:ident),* $(,)?], reals: [$($r:ident),* $(,)?]) => {{
+        let Parameters { $($b,)* $($i,)* $($r,)* } = $params;
+        $(boolean($v, $b);)*
         $(int32($v, $i);)*
         $($v.real($r);)*
     }};
@@ -55,6 +26,7 @@ impl Visit for Parameters {
         visit_parameters!(
             self,
             v,
+            bools: [tare_load_cell],
             ints: [control_mode, force_controller, fc_mode, n_ports],
             reals: [
                 rho, beta_oil, air_fraction, n_polytropic, p_transition, d_piston, d_rod, l_half_stroke, l_dead,
@@ -104,7 +76,7 @@ impl Visit for DamperState {
         for x in y.iter_mut() {
             v.real(x);
         }
-        let Controller { force_loop, spool_loop, delay, x_spool_demand, force_demand_clipped } = controller;
+        let Controller { force_loop, spool_loop, delay, x_spool_demand, force_demand_clipped, force_tare } = controller;
         let ForceLoop { integral, error_rate } = force_loop;
         v.real(integral);
         error_rate.visit(v);
@@ -112,92 +84,9 @@ impl Visit for DamperState {
         v.real(integral);
         velocity.visit(v);
         delay.visit(v);
-        for x in [x_spool_demand, force_demand_clipped, i_command, time, start_time, h_next] {
+        for x in [x_spool_demand, force_demand_clipped, force_tare, i_command, time, start_time, h_next] {
             v.real(x);
         }
-        let mut n = *next_sample as i64;
-        v.int(&mut n);
-        *next_sample = n as u64;
+        uint64(v, next_sample);
     }
-}
-
-struct Writer<'a>(&'a mut Vec<u8>);
-
-impl Visitor for Writer<'_> {
-    fn real(&mut self, x: &mut f64) {
-        self.0.extend_from_slice(&x.to_le_bytes());
-    }
-    fn int(&mut self, x: &mut i64) {
-        self.0.extend_from_slice(&x.to_le_bytes());
-    }
-}
-
-struct Reader<'a> {
-    bytes: &'a [u8],
-    short: bool,
-}
-
-impl Reader<'_> {
-    fn word(&mut self) -> [u8; 8] {
-        match self.bytes.split_first_chunk::<8>() {
-            Some((w, rest)) => {
-                self.bytes = rest;
-                *w
-            }
-            None => {
-                self.short = true;
-                [0; 8]
-            }
-        }
-    }
-}
-
-impl Visitor for Reader<'_> {
-    fn real(&mut self, x: &mut f64) {
-        *x = f64::from_le_bytes(self.word());
-    }
-    fn int(&mut self, x: &mut i64) {
-        *x = i64::from_le_bytes(self.word());
-    }
-}
-
-/// Serialises `item` with the header.
-pub fn to_bytes<T: Visit + Clone>(item: &T) -> Vec<u8> {
-    let mut payload = Vec::new();
-    item.clone().visit(&mut Writer(&mut payload));
-    let mut out = Vec::with_capacity(payload.len() + 64);
-    out.extend_from_slice(MAGIC);
-    out.extend_from_slice(&FORMAT_VERSION.to_le_bytes());
-    out.extend_from_slice(&(GUID.len() as u64).to_le_bytes());
-    out.extend_from_slice(GUID.as_bytes());
-    out.extend_from_slice(&(payload.len() as u64).to_le_bytes());
-    out.extend_from_slice(&payload);
-    out
-}
-
-/// Reads into `item` what `to_bytes` wrote; refuses a foreign or truncated blob.
-pub fn from_bytes<T: Visit>(bytes: &[u8], item: &mut T) -> Result<(), String> {
-    let err = |what: &str| Err(format!("serialized FMU state rejected: {what}"));
-    let Some((magic, rest)) = bytes.split_first_chunk::<8>() else { return err("shorter than its header") };
-    if magic != MAGIC {
-        return err("not a SemiActiveDamper state (bad magic)");
-    }
-    let mut r = Reader { bytes: rest, short: false };
-    if u64::from_le_bytes(r.word()) != FORMAT_VERSION {
-        return err("unknown format version");
-    }
-    let guid_len = u64::from_le_bytes(r.word()) as usize;
-    if r.bytes.len() < guid_len || &r.bytes[..guid_len] != GUID.as_bytes() {
-        return err("made by a model with another GUID");
-    }
-    r.bytes = &r.bytes[guid_len..];
-    let len = u64::from_le_bytes(r.word()) as usize;
-    if r.short || r.bytes.len() != len {
-        return err("payload length does not match");
-    }
-    item.visit(&mut r);
-    if r.short || !r.bytes.is_empty() {
-        return err("payload does not match this model's state layout");
-    }
-    Ok(())
 }

@@ -20,6 +20,11 @@ pub fn default_parameters() -> Parameters {
             *field = start;
         }
     }
+    for v in BooleanVar::ALL {
+        if let (Some(field), Some(start)) = (boolean_parameter(&mut p, v), v.start()) {
+            *field = start;
+        }
+    }
     p
 }
 
@@ -115,9 +120,11 @@ pub fn integer_parameter(p: &mut Parameters, v: IntegerVar) -> Option<&mut i32> 
     })
 }
 
-/// The field of a Boolean parameter (none yet).
-pub fn boolean_parameter(_p: &mut Parameters, v: BooleanVar) -> Option<&mut bool> {
-    match v {}
+/// The field of a Boolean parameter.
+pub fn boolean_parameter(p: &mut Parameters, v: BooleanVar) -> Option<&mut bool> {
+    Some(match v {
+        BooleanVar::TareLoadCell => &mut p.tare_load_cell,
+    })
 }
 
 /// The field of a Real input.
@@ -135,7 +142,7 @@ pub fn real_input(inputs: &mut Inputs, v: RealVar) -> Option<&mut f64> {
 pub fn real_output(o: &Outputs, v: RealVar) -> Option<f64> {
     use RealVar::*;
     Some(match v {
-        FDamper => o.plant.force,
+        FDamper => o.load_cell,
         XSpool => o.y[idx::X_SPOOL],
         ISol => o.y[idx::I_COIL],
         PExt => o.y[idx::P_A],

@@ -2,7 +2,7 @@
 mod common;
 
 use common::*;
-use fmi_sys::fmi2::*;
+use fmi2_slave::api::fmi2::*;
 use semi_active_damper::fmi2::*;
 use semi_active_damper::model_description::{IntegerVar, RealVar};
 use std::ffi::CString;

@@ -3,7 +3,7 @@
 mod common;
 
 use common::*;
-use fmi_sys::fmi2::{fmi2ComponentEnvironment, fmi2Status, fmi2String};
+use fmi2_slave::api::fmi2::{fmi2ComponentEnvironment, fmi2Status, fmi2String};
 use semi_active_damper::model_description::RealVar;
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;

@@ -177,3 +177,22 @@ fn communication_step_does_not_change_the_answer_on_the_sample_grid() {
     assert_eq!(simulate(0.5e-3).to_bits(), f1.to_bits());
     assert_eq!(simulate(2e-3).to_bits(), f1.to_bits());
 }
+
+#[test]
+fn tared_load_cell_reads_zero_at_rest_and_the_demand_in_motion() {
+    let mut p = default_parameters();
+    p.tare_load_cell = true;
+    p.x_damper_start = -0.045;
+    let mut d = Damper::new(p, Inputs::default(), 0.0).unwrap();
+    assert_eq!(d.outputs().load_cell, 0.0);
+    // the raw reading at rest is the gas force −p_r·A_rod (p_r by the gas law at this stroke)
+    let rest = d.outputs().plant;
+    let gas_force = rest.force;
+    assert!((gas_force + rest.p_reservoir * p.derive().cylinder.a_rod).abs() < 1e-6, "raw force at rest {gas_force}");
+    // extension at 0.15 m/s with a 5 kN demand: the tared reading settles at the demand
+    d.inputs = Inputs { v_damper: 0.15, force_demand: 5e3, x_spool_demand: 0.0 };
+    run(&mut d, 0.4);
+    let o = d.outputs();
+    assert!((o.load_cell - 5e3).abs() < 0.03 * 5e3, "tared force {}", o.load_cell);
+    assert!((o.load_cell - (o.plant.force - gas_force)).abs() < 1e-9);
+}

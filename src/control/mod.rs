@@ -70,6 +70,9 @@ pub struct Controller {
     pub x_spool_demand: f64,
     /// Force demand pursued at the last sample, after the semi-active clip [N].
     pub force_demand_clipped: f64,
+    /// Load-cell reading at rest subtracted from every force measurement (0 unless the load cell
+    /// is zeroed at initialisation) [N].
+    pub force_tare: f64,
 }
 
 impl Controller {
@@ -81,14 +84,18 @@ impl Controller {
             delay: DelayLine::filled(d.delay_samples, i0),
             x_spool_demand: x_spool0,
             force_demand_clipped: 0.0,
+            force_tare: 0.0,
         }
     }
 
     /// One controller sample: returns the (delayed) current command reaching the coil [A].
+    /// The force loop sees the tared load cell; the flow-force compensation estimates the valve's
+    /// pressure drop from the raw force.
     pub fn sample(&mut self, p: &Parameters, d: &Derived, m: Measurements, demands: Demands) -> f64 {
         self.force_demand_clipped = clip_to_dissipative(demands.force, m.v_damper);
+        let tared = Measurements { force: m.force - self.force_tare, ..m };
         self.x_spool_demand = match d.control_mode {
-            ControlMode::Force => self.force_loop.step(p, d, self.force_demand_clipped, m),
+            ControlMode::Force => self.force_loop.step(p, d, self.force_demand_clipped, tared),
             ControlMode::SpoolPosition => demands.x_spool,
         };
         let i_cmd = self.spool_loop.step(p, d, self.x_spool_demand, m);

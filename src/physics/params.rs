@@ -44,6 +44,7 @@ pub struct Parameters {
     pub control_mode: i32,
     pub force_controller: i32,
     pub fc_mode: i32,
+    pub tare_load_cell: bool,
     pub rho: f64,
     pub beta_oil: f64,
     pub air_fraction: f64,

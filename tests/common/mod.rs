@@ -1,7 +1,7 @@
 //! Calling the exported C API in-process, as an importer would.
 #![allow(dead_code)]
 
-use fmi_sys::fmi2::*;
+use fmi2_slave::api::fmi2::*;
 use semi_active_damper::fmi2::*;
 use semi_active_damper::model_description::{RealVar, GUID};
 use std::ffi::{c_char, CStr, CString};

@@ -1,10 +1,9 @@
-//! One FMU instance behind the C API: the slave, the FMI state, the experiment's times and the
-//! logger. Methods take Rust types (slices, options); pointer handling is in `mod.rs`.
+//! One FMU instance behind the C API: the model, the FMI state, the experiment's times and the
+//! logger. Methods take Rust types (slices, options); pointer handling is in `api.rs`.
 
-use super::logger::{Logger, LOG_EVENTS};
-use super::state_machine::{allowed, Api, Phase};
-use crate::model_description::{BooleanVar, Causality, IntegerVar, RealVar};
-use crate::slave::{Slave, SlaveState};
+use crate::logger::{Logger, LOG_EVENTS};
+use crate::state_machine::{allowed, Api, Phase};
+use crate::{Causality, Model, VarInfo};
 use fmi_sys::fmi2::*;
 use std::fmt;
 
@@ -32,21 +31,21 @@ const CAT_DISCARD: usize = 2;
 const CAT_ERROR: usize = 3;
 const CAT_FATAL: usize = 4;
 
-pub struct Instance {
+pub struct Instance<M: Model> {
     pub logger: Logger,
     pub phase: Phase,
-    slave: Slave,
+    slave: M,
     start_time: f64,
     stop_time: Option<f64>,
     last_successful_time: f64,
 }
 
-impl Instance {
+impl<M: Model> Instance<M> {
     pub fn new(logger: Logger) -> Self {
         Instance {
             logger,
             phase: Phase::Instantiated,
-            slave: Slave::default(),
+            slave: M::default(),
             start_time: 0.0,
             stop_time: None,
             last_successful_time: 0.0,
@@ -126,7 +125,7 @@ impl Instance {
 
     pub fn reset(&mut self) -> Outcome {
         self.check(Api::Reset, "fmi2Reset")?;
-        self.slave.reset();
+        self.slave = M::default();
         self.phase = Phase::Instantiated;
         self.start_time = 0.0;
         self.stop_time = None;
@@ -137,11 +136,16 @@ impl Instance {
         self.error(format_args!("{function}: unknown value reference {vr} for type {ty}"))
     }
 
+    /// The variable behind `vr`, or the logged error for an unknown value reference.
+    fn lookup(&self, function: &str, vr: u32, ty: &str, info: fn(u32) -> Option<VarInfo>) -> Result<VarInfo, Failure> {
+        info(vr).ok_or_else(|| self.unknown(function, vr, ty))
+    }
+
     pub fn get_real(&self, vrs: &[u32], values: &mut [f64]) -> Outcome {
         self.check(Api::Get, "fmi2GetReal")?;
         for (vr, value) in vrs.iter().zip(values) {
-            let v = RealVar::from_vr(*vr).ok_or_else(|| self.unknown("fmi2GetReal", *vr, "Real"))?;
-            *value = self.slave.get_real(v).map_err(|e| self.error(format_args!("fmi2GetReal: {e}")))?;
+            self.lookup("fmi2GetReal", *vr, "Real", M::real_info)?;
+            *value = self.slave.get_real(*vr).map_err(|e| self.error(format_args!("fmi2GetReal: {e}")))?;
         }
         Ok(())
     }
@@ -149,8 +153,8 @@ impl Instance {
     pub fn get_integer(&self, vrs: &[u32], values: &mut [i32]) -> Outcome {
         self.check(Api::Get, "fmi2GetInteger")?;
         for (vr, value) in vrs.iter().zip(values) {
-            let v = IntegerVar::from_vr(*vr).ok_or_else(|| self.unknown("fmi2GetInteger", *vr, "Integer"))?;
-            *value = self.slave.get_integer(v);
+            self.lookup("fmi2GetInteger", *vr, "Integer", M::integer_info)?;
+            *value = self.slave.get_integer(*vr).map_err(|e| self.error(format_args!("fmi2GetInteger: {e}")))?;
         }
         Ok(())
     }
@@ -158,8 +162,8 @@ impl Instance {
     pub fn get_boolean(&self, vrs: &[u32], values: &mut [i32]) -> Outcome {
         self.check(Api::Get, "fmi2GetBoolean")?;
         for (vr, value) in vrs.iter().zip(values) {
-            let v = BooleanVar::from_vr(*vr).ok_or_else(|| self.unknown("fmi2GetBoolean", *vr, "Boolean"))?;
-            *value = self.slave.get_boolean(v) as i32;
+            self.lookup("fmi2GetBoolean", *vr, "Boolean", M::boolean_info)?;
+            *value = self.slave.get_boolean(*vr).map_err(|e| self.error(format_args!("fmi2GetBoolean: {e}")))? as i32;
         }
         Ok(())
     }
@@ -180,53 +184,39 @@ impl Instance {
         }
     }
 
-    /// Applies all values or none: they are set on a copy that replaces the slave on success.
+    /// Applies all values or none: each variable must be known and settable now, then the values
+    /// are set on a copy that replaces the model only if every one is accepted.
     fn set_all<T: Copy>(
         &mut self,
         function: &str,
+        ty: &str,
+        info: fn(u32) -> Option<VarInfo>,
         vrs: &[u32],
         values: &[T],
-        mut set: impl FnMut(&mut Slave, u32, T) -> Result<Result<(), String>, ()>,
+        set: impl Fn(&mut M, u32, T) -> Result<(), String>,
     ) -> Outcome {
-        if self.phase == Phase::Fatal {
-            return self.check(Api::SetInput, function);
+        for vr in vrs {
+            let v = self.lookup(function, *vr, ty, info)?;
+            self.check_set(function, v.name, v.causality)?;
         }
         let mut next = self.slave.clone();
         for (vr, value) in vrs.iter().zip(values) {
-            match set(&mut next, *vr, *value) {
-                Err(()) => return Err(self.error(format_args!("{function}: unknown value reference {vr}"))),
-                Ok(Err(e)) => return Err(self.error(format_args!("{function}: {e}"))),
-                Ok(Ok(())) => {}
-            }
+            set(&mut next, *vr, *value).map_err(|e| self.error(format_args!("{function}: {e}")))?;
         }
         self.slave = next;
         Ok(())
     }
 
     pub fn set_real(&mut self, vrs: &[u32], values: &[f64]) -> Outcome {
-        for vr in vrs {
-            let v = RealVar::from_vr(*vr).ok_or_else(|| self.unknown("fmi2SetReal", *vr, "Real"))?;
-            self.check_set("fmi2SetReal", v.name(), v.causality())?;
-        }
-        self.set_all("fmi2SetReal", vrs, values, |s, vr, x| Ok(s.set_real(RealVar::from_vr(vr).ok_or(())?, x)))
+        self.set_all("fmi2SetReal", "Real", M::real_info, vrs, values, M::set_real)
     }
 
     pub fn set_integer(&mut self, vrs: &[u32], values: &[i32]) -> Outcome {
-        for vr in vrs {
-            let v = IntegerVar::from_vr(*vr).ok_or_else(|| self.unknown("fmi2SetInteger", *vr, "Integer"))?;
-            self.check_set("fmi2SetInteger", v.name(), v.causality())?;
-        }
-        self.set_all("fmi2SetInteger", vrs, values, |s, vr, x| Ok(s.set_integer(IntegerVar::from_vr(vr).ok_or(())?, x)))
+        self.set_all("fmi2SetInteger", "Integer", M::integer_info, vrs, values, M::set_integer)
     }
 
     pub fn set_boolean(&mut self, vrs: &[u32], values: &[i32]) -> Outcome {
-        for vr in vrs {
-            let v = BooleanVar::from_vr(*vr).ok_or_else(|| self.unknown("fmi2SetBoolean", *vr, "Boolean"))?;
-            self.check_set("fmi2SetBoolean", v.name(), v.causality())?;
-        }
-        self.set_all("fmi2SetBoolean", vrs, values, |s, vr, x| {
-            Ok(s.set_boolean(BooleanVar::from_vr(vr).ok_or(())?, x != 0))
-        })
+        self.set_all("fmi2SetBoolean", "Boolean", M::boolean_info, vrs, values, |m, vr, x| m.set_boolean(vr, x != 0))
     }
 
     pub fn do_step(&mut self, t: f64, h: f64) -> Outcome {
@@ -250,7 +240,7 @@ impl Instance {
         }
         self.slave.align_time(t);
         match self.slave.do_step(h) {
-            Ok(_) => {
+            Ok(()) => {
                 self.last_successful_time = t + h;
                 Ok(())
             }
@@ -267,17 +257,17 @@ impl Instance {
         }
     }
 
-    pub fn get_fmu_state(&self) -> Result<SlaveState, Failure> {
+    pub fn get_fmu_state(&self) -> Result<M::State, Failure> {
         self.check(Api::FmuState, "fmi2GetFMUstate")?;
         Ok(self.slave.state())
     }
 
-    pub fn set_fmu_state(&mut self, state: &SlaveState) -> Outcome {
+    pub fn set_fmu_state(&mut self, state: &M::State) -> Outcome {
         self.check(Api::FmuState, "fmi2SetFMUstate")?;
         self.slave.set_state(state).map_err(|e| self.error(format_args!("fmi2SetFMUstate: {e}")))?;
-        if let Some(d) = &state.damper {
+        if let Some(time) = M::state_time(state) {
             self.phase = Phase::StepComplete;
-            self.last_successful_time = d.time;
+            self.last_successful_time = time;
         } else if !matches!(self.phase, Phase::Instantiated | Phase::InitializationMode) {
             self.phase = Phase::Instantiated;
         }

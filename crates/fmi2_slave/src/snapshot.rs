@@ -1,0 +1,126 @@
+//! FMU state as bytes. A model's state types implement [`Visit`], which walks their numeric fields
+//! in a fixed order; [`to_bytes`] writes them as little-endian 8-byte words behind a header (magic,
+//! format version, GUID, length), so a blob from another model, version or interface is refused
+//! by [`from_bytes`] instead of misread.
+
+/// Walks over numeric fields; a writer reads them, a reader overwrites them.
+pub trait Visitor {
+    fn real(&mut self, x: &mut f64);
+    fn int(&mut self, x: &mut i64);
+}
+
+/// Something whose fields can be visited.
+pub trait Visit {
+    fn visit<V: Visitor>(&mut self, v: &mut V);
+}
+
+/// Visits an `i32` as an integer word.
+pub fn int32<V: Visitor>(v: &mut V, x: &mut i32) {
+    let mut w = *x as i64;
+    v.int(&mut w);
+    *x = w as i32;
+}
+
+/// Visits a `usize` as an integer word.
+pub fn uint<V: Visitor>(v: &mut V, x: &mut usize) {
+    let mut w = *x as i64;
+    v.int(&mut w);
+    *x = w as usize;
+}
+
+/// Visits a `u64` as an integer word.
+pub fn uint64<V: Visitor>(v: &mut V, x: &mut u64) {
+    let mut w = *x as i64;
+    v.int(&mut w);
+    *x = w as u64;
+}
+
+/// Visits a `bool` as an integer word.
+pub fn boolean<V: Visitor>(v: &mut V, x: &mut bool) {
+    let mut w = *x as i64;
+    v.int(&mut w);
+    *x = w != 0;
+}
+
+const FORMAT_VERSION: u64 = 1;
+
+struct Writer<'a>(&'a mut Vec<u8>);
+
+impl Visitor for Writer<'_> {
+    fn real(&mut self, x: &mut f64) {
+        self.0.extend_from_slice(&x.to_le_bytes());
+    }
+    fn int(&mut self, x: &mut i64) {
+        self.0.extend_from_slice(&x.to_le_bytes());
+    }
+}
+
+struct Reader<'a> {
+    bytes: &'a [u8],
+    short: bool,
+}
+
+impl Reader<'_> {
+    fn word(&mut self) -> [u8; 8] {
+        match self.bytes.split_first_chunk::<8>() {
+            Some((w, rest)) => {
+                self.bytes = rest;
+                *w
+            }
+            None => {
+                self.short = true;
+                [0; 8]
+            }
+        }
+    }
+}
+
+impl Visitor for Reader<'_> {
+    fn real(&mut self, x: &mut f64) {
+        *x = f64::from_le_bytes(self.word());
+    }
+    fn int(&mut self, x: &mut i64) {
+        *x = i64::from_le_bytes(self.word());
+    }
+}
+
+/// Serialises `item` behind a header naming the model (`magic`) and its `guid`.
+pub fn to_bytes<T: Visit + Clone>(magic: &[u8; 8], guid: &str, item: &T) -> Vec<u8> {
+    let mut payload = Vec::new();
+    item.clone().visit(&mut Writer(&mut payload));
+    let mut out = Vec::with_capacity(payload.len() + 64);
+    out.extend_from_slice(magic);
+    out.extend_from_slice(&FORMAT_VERSION.to_le_bytes());
+    out.extend_from_slice(&(guid.len() as u64).to_le_bytes());
+    out.extend_from_slice(guid.as_bytes());
+    out.extend_from_slice(&(payload.len() as u64).to_le_bytes());
+    out.extend_from_slice(&payload);
+    out
+}
+
+/// Reads into `item` what [`to_bytes`] wrote; refuses a foreign or truncated blob.
+pub fn from_bytes<T: Visit>(magic: &[u8; 8], guid: &str, bytes: &[u8], item: &mut T) -> Result<(), String> {
+    let err = |what: &str| Err(format!("serialized FMU state rejected: {what}"));
+    let Some((head, rest)) = bytes.split_first_chunk::<8>() else { return err("shorter than its header") };
+    if head != magic {
+        return err("not a state of this model (bad magic)");
+    }
+    let mut r = Reader { bytes: rest, short: false };
+    if u64::from_le_bytes(r.word()) != FORMAT_VERSION {
+        return err("unknown format version");
+    }
+    let guid_len = u64::from_le_bytes(r.word()) as usize;
+    if r.bytes.len() < guid_len || &r.bytes[..guid_len] != guid.as_bytes() {
+        return err("made by a model with another GUID");
+    }
+    r.bytes = &r.bytes[guid_len..];
+    let len = u64::from_le_bytes(r.word()) as usize;
+    if r.short || r.bytes.len() != len {
+        return err("payload length does not match");
+    }
+    item.visit(&mut r);
+    if r.short || !r.bytes.is_empty() {
+        return err("payload does not match this model's state layout");
+    }
+    Ok(())
+}
