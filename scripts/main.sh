@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Builds the FMU and reproduces the paper's rig tests (Figs. 4 and 6) into out/paper/.
+# Builds the FMUs, reproduces the paper's rig tests (Figs. 4 and 6) into out/paper/ and runs the HiL
+# scenarios (quarter truck + damper FMU on random roads and the Belgian block, Fig. 7) into out/hil/.
 #
 #   bash scripts/main.sh [paper_tests.py options, e.g. --out DIR]
 set -euo pipefail
@@ -10,5 +11,9 @@ echo "+ cargo build --release"
 cargo build --release
 echo "+ python3 scripts/package_fmu.py --no-build"
 python3 scripts/package_fmu.py --no-build
+echo "+ python3 scripts/package_truck.py --no-build"
+python3 scripts/package_truck.py --no-build
 echo "+ .venv/bin/python scripts/paper_tests.py $*"
 .venv/bin/python scripts/paper_tests.py "$@"
+echo "+ .venv/bin/python scripts/hil_scenarios.py"
+.venv/bin/python scripts/hil_scenarios.py

@@ -182,7 +182,8 @@ def force_step_metrics(result, direction):
 
 def compressed_volume_ratio(model_description):
     """(annulus + full-bore volume) / annulus volume at mid-stroke, from the start values."""
-    p = {v.name: float(v.start) for v in model_description.modelVariables if v.causality == "parameter"}
+    p = {v.name: float(v.start) for v in model_description.modelVariables
+         if v.causality == "parameter" and v.type == "Real"}
     a_piston = math.pi * p["D_piston"] ** 2 / 4
     a_rod = math.pi * p["D_rod"] ** 2 / 4
     length = p["L_half_stroke"] + p["L_dead"]

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Runs every test: formatting and lints, the Rust tests (cargo test --release), then the Python
-# suite on the packaged FMU.
+# suite on the packaged FMUs (damper and quarter truck).
 #
 #   bash scripts/test.sh [extra pytest options]
 set -euo pipefail
@@ -12,7 +12,8 @@ cargo fmt --check
 cargo clippy --release --all-targets -- -D warnings
 echo "+ cargo test --release"
 cargo test --release
-echo "+ python3 scripts/package_fmu.py"
+echo "+ python3 scripts/package_fmu.py && python3 scripts/package_truck.py --no-build"
 python3 scripts/package_fmu.py
-echo "+ .venv/bin/python -m pytest tests/python -q --fmu target/fmu/SemiActiveDamper.fmu $*"
-.venv/bin/python -m pytest tests/python -q --fmu target/fmu/SemiActiveDamper.fmu "$@"
+python3 scripts/package_truck.py --no-build
+echo "+ .venv/bin/python -m pytest tests/python -q --fmu target/fmu/SemiActiveDamper.fmu --truck-fmu target/fmu/QuarterTruck.fmu $*"
+.venv/bin/python -m pytest tests/python -q --fmu target/fmu/SemiActiveDamper.fmu --truck-fmu target/fmu/QuarterTruck.fmu "$@"

@@ -63,14 +63,15 @@ impl ForceLoop {
     }
 }
 
-/// Valve area [m²] that gives |`f_demand`| [N] at velocity `v` [m/s] in steady state (inverse
-/// orifice law with the nominal reservoir pressure), within the valve's range.
+/// Valve area [m²] that gives the load-cell force `f_demand` [N] at velocity `v` [m/s] in steady
+/// state (inverse orifice law with the nominal reservoir pressure), within the valve's range:
+/// extension F = Δp·A_a − p_r·A_r, compression F = −(p_r + Δp)·A_r.
 pub fn feedforward_area(p: &Parameters, d: &Derived, f_demand: f64, v: f64) -> f64 {
     let cyl = &d.cylinder;
     let (q, dp) = if v >= 0.0 {
-        (cyl.a_annulus * v, (f_demand.abs() + p.p_reservoir0 * cyl.a_rod) / cyl.a_annulus)
+        (cyl.a_annulus * v, (f_demand + p.p_reservoir0 * cyl.a_rod) / cyl.a_annulus)
     } else {
-        (cyl.a_rod * -v, f_demand.abs() / cyl.a_rod - p.p_reservoir0)
+        (cyl.a_rod * -v, -f_demand / cyl.a_rod - p.p_reservoir0)
     };
     let area = q / (p.cd_valve * (2.0 * dp.max(1e4) / p.rho).sqrt());
     area.clamp(2e-7, d.a_demand_max)

@@ -89,13 +89,13 @@ impl Controller {
     }
 
     /// One controller sample: returns the (delayed) current command reaching the coil [A].
-    /// The force loop sees the tared load cell; the flow-force compensation estimates the valve's
-    /// pressure drop from the raw force.
+    /// The demand is relative to the tared load cell; the force loop works in the raw load-cell
+    /// frame (demand + tare against the raw force), where its inverse valve law holds.
     pub fn sample(&mut self, p: &Parameters, d: &Derived, m: Measurements, demands: Demands) -> f64 {
         self.force_demand_clipped = clip_to_dissipative(demands.force, m.v_damper);
-        let tared = Measurements { force: m.force - self.force_tare, ..m };
+        let raw_demand = self.force_demand_clipped + self.force_tare;
         self.x_spool_demand = match d.control_mode {
-            ControlMode::Force => self.force_loop.step(p, d, self.force_demand_clipped, tared),
+            ControlMode::Force => self.force_loop.step(p, d, raw_demand, m),
             ControlMode::SpoolPosition => demands.x_spool,
         };
         let i_cmd = self.spool_loop.step(p, d, self.x_spool_demand, m);

@@ -1,8 +1,10 @@
 """Session fixtures of the Python suite.
 
-The FMU under test is built (cargo build --release) and packaged once per session into
-tests/python/work/, or taken from `--fmu PATH`. scripts/ is put on sys.path so that tests
-import the same scenario and metric code as scripts/paper_tests.py (rig_tests) and the packager.
+The FMUs under test are built (cargo build --release, which builds the whole workspace) and packaged
+once per session into tests/python/work/, or taken from `--fmu PATH` (the damper) and
+`--truck-fmu PATH` (the quarter truck). scripts/ is put on sys.path so that tests import the same
+scenario and metric code as the scripts (rig_tests, roads, cosim, ssp, hil_scenarios, full_truck)
+and the packagers.
 """
 
 import shutil
@@ -18,11 +20,14 @@ WORK = HERE / "work"
 sys.path.insert(0, str(REPO / "scripts"))
 
 import package_fmu  # noqa: E402
+import package_truck  # noqa: E402
 
 
 def pytest_addoption(parser):
     parser.addoption("--fmu", action="store", default=None,
                      help="test this FMU instead of building and packaging target/release's library")
+    parser.addoption("--truck-fmu", action="store", default=None,
+                     help="use this quarter-truck FMU instead of packaging target/release/libquarter_truck.so")
 
 
 @pytest.fixture(scope="session")
@@ -39,6 +44,29 @@ def fmu(request):
     library = package_fmu.target_dir() / "release" / package_fmu.LIBRARY_NAME
     package_fmu.check_library(library)
     return package_fmu.package(library, REPO / "modelDescription.xml", WORK / "SemiActiveDamper.fmu")
+
+
+@pytest.fixture(scope="session")
+def truck_fmu(request, fmu):
+    """Path of the packaged quarter-truck FMU (built by the same cargo build as the damper)."""
+    given = request.config.getoption("--truck-fmu")
+    if given:
+        path = Path(given).resolve()
+        if not path.is_file():
+            pytest.exit(f"--truck-fmu {given}: no such file", returncode=4)
+        return path
+    WORK.mkdir(exist_ok=True)
+    library = package_fmu.target_dir() / "release" / package_truck.LIBRARY_NAME
+    if not library.is_file():
+        package_fmu.cargo_build()
+    package_fmu.check_library(library)
+    return package_truck.package(library, package_truck.XML, WORK / "QuarterTruck.fmu")
+
+
+@pytest.fixture(scope="session")
+def fmus(fmu, truck_fmu):
+    """Keyword arguments naming both FMUs for the scripts' functions (truck_fmu=, damper_fmu=)."""
+    return {"truck_fmu": truck_fmu, "damper_fmu": fmu}
 
 
 @pytest.fixture(scope="session")

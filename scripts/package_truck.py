@@ -1,0 +1,104 @@
+#!/usr/bin/env python3
+"""Package the quarter truck as an FMI 2.0 Co-Simulation FMU (standard library only).
+
+    python3 scripts/package_truck.py              # cargo build --release, then zip
+    python3 scripts/package_truck.py --no-build   # zip what target/release already holds
+
+The FMU (target/fmu/QuarterTruck.fmu) holds
+
+    modelDescription.xml                  (crates/quarter_truck/modelDescription.xml)
+    binaries/linux64/QuarterTruck.so      (copy of target/release/libquarter_truck.so)
+    documentation/index.html              (generated here from modelDescription.xml)
+
+It reuses the zip and documentation helpers of scripts/package_fmu.py (same fixed time stamps, so the
+same inputs give the same bytes).
+"""
+
+import argparse
+import html
+import sys
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+import package_fmu  # noqa: E402
+
+REPO = package_fmu.REPO
+LIBRARY_NAME = "libquarter_truck.so"
+XML = REPO / "crates" / "quarter_truck" / "modelDescription.xml"
+OUTPUT = REPO / "target" / "fmu" / "QuarterTruck.fmu"
+
+
+def documentation_html(model):
+    header = ("<tr><th>name</th><th>vr</th><th>type</th><th>causality</th><th>unit</th>"
+              "<th>start</th><th>min</th><th>max</th><th>description</th></tr>")
+    sections = []
+    for causality, title in (("input", "Inputs"), ("output", "Outputs"), ("parameter", "Parameters")):
+        sections.append(f"<h3>{title}</h3>\n<table>\n{header}\n"
+                        f"{package_fmu.variable_rows(model, causality)}\n</table>")
+    return f"""<!DOCTYPE html>
+<html lang="en"><head><meta charset="utf-8"><title>{html.escape(model['modelName'])}</title>
+<style>
+body {{ font-family: sans-serif; max-width: 75em; margin: 1em auto; padding: 0 1em; line-height: 1.4; }}
+table {{ border-collapse: collapse; margin: 0.5em 0 1.5em 0; font-size: 0.9em; }}
+th, td {{ border: 1px solid #bbb; padding: 0.2em 0.4em; vertical-align: top; text-align: left; }}
+th {{ background: #eee; }}
+td.num {{ text-align: right; white-space: nowrap; }}
+pre {{ background: #f6f6f6; padding: 0.6em; overflow-x: auto; }}
+.tag {{ font-weight: bold; }}
+.tag-P {{ color: #1a6b1a; }} .tag-S {{ color: #1a4d8f; }} .tag-A {{ color: #8f5a1a; }}
+</style></head><body>
+<h1>{html.escape(model['modelName'])} {html.escape(model['version'])}</h1>
+<p>{html.escape(model['description'])}</p>
+<p>FMI {html.escape(model['fmiVersion'])} Co-Simulation, model identifier
+<code>{html.escape(model['modelIdentifier'])}</code>, GUID <code>{html.escape(model['guid'])}</code>.</p>
+<h2>Equations</h2>
+<pre>
+M_s z̈_s = −F_s,        F_s = k_s (z_s − z_u) + c_s (ż_s − ż_u) + F        (F: damper force, tension +)
+M_u z̈_u = F_s + F_t,   F_t = k_t (z_r − z_u) + c_t (ż_r − ż_u)             (tyre, compression +)
+F by damper_mode:  0  the F_damper input (held over a communication step)
+                   1  the clipped Modified Skyhook demand, evaluated continuously
+                   2  c_passive (ż_s − ż_u)
+Clipped MSD:  F_demand = C_m [α V_rel + (1 − α) V_body] if it has the sign of V_rel, else 0
+              V_rel = ż_s − ż_u (extension +), V_body = ż_s
+Road over a step from t_k:  z_r(t) = z_road + v_road (t − t_k)
+Integration: classical RK4, each communication step split into equal steps ≤ h_max.
+</pre>
+<p>All displacements are from static equilibrium; add the static wheel load (m_body + m_axle)·g to
+<code>F_tyre</code> for the total tyre force. Connect <code>v_damper</code> and <code>F_demand</code> to
+SemiActiveDamper.fmu's inputs and its <code>F_damper</code> (with <code>tare_load_cell</code> = true) to
+<code>F_damper</code>. Provenance tags: <span class="tag tag-P">[P]</span> paper,
+<span class="tag tag-S">[S]</span> other public source, <span class="tag tag-A">[A]</span> assumption.</p>
+<h2>Variables</h2>
+{chr(10).join(sections)}
+</body></html>
+"""
+
+
+def package(library, xml_path=XML, fmu_path=OUTPUT):
+    model = package_fmu.read_model(xml_path)
+    files = [
+        ("modelDescription.xml", xml_path.read_bytes()),
+        (f"binaries/{package_fmu.PLATFORM}/{model['modelIdentifier']}.so", library.read_bytes()),
+        ("documentation/index.html", documentation_html(model).encode("utf-8")),
+    ]
+    package_fmu.write_zip(fmu_path, files)
+    return fmu_path
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--no-build", action="store_true", help="do not run cargo build --release")
+    parser.add_argument("--library", type=Path, default=None,
+                        help=f"shared library to package (default: <target>/release/{LIBRARY_NAME})")
+    parser.add_argument("--output", type=Path, default=OUTPUT, help=f"FMU to write (default: {OUTPUT})")
+    args = parser.parse_args(argv)
+    if not args.no_build:
+        package_fmu.cargo_build()
+    library = args.library or package_fmu.target_dir() / "release" / LIBRARY_NAME
+    package_fmu.check_library(library)
+    fmu = package(library, XML, args.output)
+    print(f"package_truck: wrote {fmu} ({fmu.stat().st_size / 1e6:.1f} MB)")
+
+
+if __name__ == "__main__":
+    main()
