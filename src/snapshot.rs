@@ -26,7 +26,16 @@ impl Visit for Parameters {
         visit_parameters!(
             self,
             v,
-            bools: [tare_load_cell],
+            bools: [
+                tare_load_cell,
+                effect_compressibility,
+                effect_mount_compliance,
+                effect_amplifier_delay,
+                effect_flow_forces,
+                effect_seal_friction,
+                effect_piston_leakage,
+                effect_check_valve_cracking,
+            ],
             ints: [control_mode, force_controller, fc_mode, n_ports],
             reals: [
                 rho, beta_oil, air_fraction, n_polytropic, p_transition, d_piston, d_rod, l_half_stroke, l_dead,

@@ -124,6 +124,13 @@ pub fn integer_parameter(p: &mut Parameters, v: IntegerVar) -> Option<&mut i32> 
 pub fn boolean_parameter(p: &mut Parameters, v: BooleanVar) -> Option<&mut bool> {
     Some(match v {
         BooleanVar::TareLoadCell => &mut p.tare_load_cell,
+        BooleanVar::EffectCompressibility => &mut p.effect_compressibility,
+        BooleanVar::EffectMountCompliance => &mut p.effect_mount_compliance,
+        BooleanVar::EffectAmplifierDelay => &mut p.effect_amplifier_delay,
+        BooleanVar::EffectFlowForces => &mut p.effect_flow_forces,
+        BooleanVar::EffectSealFriction => &mut p.effect_seal_friction,
+        BooleanVar::EffectPistonLeakage => &mut p.effect_piston_leakage,
+        BooleanVar::EffectCheckValveCracking => &mut p.effect_check_valve_cracking,
     })
 }
 

@@ -196,3 +196,70 @@ fn tared_load_cell_reads_zero_at_rest_and_the_demand_in_motion() {
     assert!((o.load_cell - 5e3).abs() < 0.03 * 5e3, "tared force {}", o.load_cell);
     assert!((o.load_cell - (o.plant.force - gas_force)).abs() < 1e-9);
 }
+
+/// Steady state at 0.15 m/s extension with the spool held at 1.2 mm, after `setup` changes the
+/// parameters.
+fn steady_extension(setup: impl FnOnce(&mut Parameters)) -> semi_active_damper::damper::Outputs {
+    let mut p = default_parameters();
+    p.control_mode = 1;
+    p.x_spool_start = 1.2e-3;
+    p.x_damper_start = -0.05;
+    setup(&mut p);
+    let mut d = Damper::new(p, Inputs { v_damper: 0.15, force_demand: 0.0, x_spool_demand: 1.2e-3 }, 0.0).unwrap();
+    run(&mut d, 0.25);
+    d.outputs()
+}
+
+#[test]
+fn effect_switches_change_what_they_name() {
+    let base = steady_extension(|_| {});
+    // seal friction adds F_c·tanh(v/v_f) to the load cell in steady state
+    let friction = steady_extension(|p| p.effect_seal_friction = true);
+    let expected = 200.0 * (0.15f64 / 0.01).tanh();
+    let added = friction.plant.force - base.plant.force;
+    assert!((added - expected).abs() < 0.02 * expected, "friction adds {added} N, expected {expected}");
+    // leakage A→B bypasses the valve: less valve flow, lower pressure, lower force
+    let leak = steady_extension(|p| p.effect_piston_leakage = true);
+    assert!(leak.plant.q_valve < base.plant.q_valve && leak.plant.force < base.plant.force);
+    // no flow force, rigid mount
+    assert_eq!(steady_extension(|p| p.effect_flow_forces = false).plant.flow_force, 0.0);
+    assert!(base.plant.flow_force > 1.0);
+    assert_eq!(steady_extension(|p| p.effect_mount_compliance = false).plant.delta_mount, 0.0);
+    // without a cracking pressure the replenishing valve refills chamber B with a smaller drop
+    let no_crack = steady_extension(|p| p.effect_check_valve_cracking = false);
+    assert!(no_crack.y[idx::P_B] > base.y[idx::P_B] + 0.1e5, "{} vs {}", no_crack.y[idx::P_B], base.y[idx::P_B]);
+    // air makes the oil softer: without it a force step is faster
+    let t90 = |air: bool| {
+        let mut p = default_parameters();
+        p.effect_compressibility = air;
+        p.x_damper_start = -0.045;
+        let mut d = Damper::new(p, Inputs { v_damper: 0.15, force_demand: 2e3, x_spool_demand: 0.0 }, 0.0).unwrap();
+        run(&mut d, 0.3);
+        let f0 = d.outputs().plant.force;
+        d.inputs.force_demand = 12e3;
+        (1..=150).find(|_| {
+            d.do_step(H).unwrap();
+            (d.outputs().plant.force - f0) / (12e3 - f0) >= 0.9
+        })
+    };
+    assert!(t90(false) < t90(true), "no air {:?} ms, with air {:?} ms", t90(false), t90(true));
+}
+
+#[test]
+fn amplifier_delay_switch_removes_the_dead_time() {
+    let dead_time = |delay: bool| {
+        let mut p = default_parameters();
+        p.control_mode = 1;
+        p.effect_amplifier_delay = delay;
+        let mut d = Damper::new(p, Inputs { v_damper: 0.15, force_demand: 0.0, x_spool_demand: 2.5e-3 }, 0.0).unwrap();
+        run(&mut d, 0.1);
+        d.inputs.x_spool_demand = 1.5e-3;
+        (1..=100).find(|_| {
+            d.do_step(0.5e-3).unwrap();
+            d.outputs().y[idx::X_SPOOL] < 2.5e-3 - 0.02e-3
+        })
+    };
+    // the time to move 2 % of the step, in half-millisecond samples, shrinks by exactly the 3 ms delay
+    let (with, without) = (dead_time(true).unwrap(), dead_time(false).unwrap());
+    assert_eq!(with - without, 6, "with delay {with}, without {without} samples");
+}

@@ -45,6 +45,13 @@ pub struct Parameters {
     pub force_controller: i32,
     pub fc_mode: i32,
     pub tare_load_cell: bool,
+    pub effect_compressibility: bool,
+    pub effect_mount_compliance: bool,
+    pub effect_amplifier_delay: bool,
+    pub effect_flow_forces: bool,
+    pub effect_seal_friction: bool,
+    pub effect_piston_leakage: bool,
+    pub effect_check_valve_cracking: bool,
     pub rho: f64,
     pub beta_oil: f64,
     pub air_fraction: f64,
@@ -115,7 +122,12 @@ pub struct Parameters {
 pub struct Derived {
     pub cylinder: Cylinder,
     pub ports: ValvePorts,
-    pub mount: CubicMount,
+    /// The series mount, `None` when `effect_mount_compliance` is off (rigid mount).
+    pub mount: Option<CubicMount>,
+    /// Entrained air fraction in effect (0 when `effect_compressibility` is off) [-].
+    pub air_fraction: f64,
+    /// Check-valve cracking pressure in effect (0 when `effect_check_valve_cracking` is off) [Pa].
+    pub p_cv_crack: f64,
     /// Upper spool demand: 0.5 mm short of the end stop [m].
     pub x_demand_max: f64,
     /// Valve area at `x_demand_max` [m²].
@@ -166,10 +178,16 @@ impl Parameters {
         Derived {
             cylinder,
             ports,
-            mount: CubicMount { k1: self.k1_mount, k3: self.k3_mount },
+            mount: self.effect_mount_compliance.then_some(CubicMount { k1: self.k1_mount, k3: self.k3_mount }),
+            air_fraction: if self.effect_compressibility { self.air_fraction } else { 0.0 },
+            p_cv_crack: if self.effect_check_valve_cracking { self.p_cv_crack } else { 0.0 },
             x_demand_max,
             a_demand_max: ports.area(x_demand_max),
-            delay_samples: (self.tau_amp / self.t_sample).round() as usize,
+            delay_samples: if self.effect_amplifier_delay {
+                (self.tau_amp / self.t_sample).round() as usize
+            } else {
+                0
+            },
             control_mode: if self.control_mode == 1 { ControlMode::SpoolPosition } else { ControlMode::Force },
             force_controller: if self.force_controller == 1 {
                 ForceController::PaperPid

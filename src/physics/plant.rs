@@ -11,6 +11,9 @@
 //! m_s ẍ_s = F_sol − k_s x_s − c_s ẋ_s − F_flow − F_stop,   i̇ = (i_cmd − i)/τ_coil,   ẋ = v
 //! F (load cell) = g(δ) = p_A A_a − p_B A_p + F_c tanh(v/v_f)
 //! ```
+//! The effect switches (`effect_*` parameters) remove terms: air in the oil (α₀ → 0), the mount
+//! (rigid: δ = 0), flow force, check-valve cracking pressure; or add them: seal friction F_c,
+//! piston leakage Q_l. The amplifier delay is the controller's.
 
 use super::fluid::{effective_bulk_modulus, orifice_flow, smoothstep};
 use super::hydraulics::{check_valve_area, reservoir_pressure};
@@ -79,9 +82,9 @@ impl Plant<'_> {
             (y[idx::P_A], y[idx::P_B], y[idx::V_GAS], y[idx::X_SPOOL], y[idx::V_SPOOL], y[idx::I_COIL]);
 
         let p_r = reservoir_pressure(p.p_reservoir0, p.v_gas0, p.n_polytropic, v_gas);
-        let f_friction = if p.f_coulomb > 0.0 { p.f_coulomb * (v / p.v_friction).tanh() } else { 0.0 };
+        let f_friction = if p.effect_seal_friction { p.f_coulomb * (v / p.v_friction).tanh() } else { 0.0 };
         let force = p_a * cyl.a_annulus - p_b * cyl.a_piston + f_friction;
-        let delta = d.mount.deflection(force);
+        let delta = d.mount.map_or(0.0, |m| m.deflection(force));
         let (vol_a, vol_b) = cyl.volumes(y[idx::X_DAMPER] - delta);
 
         let orifice = |cd: f64, area: f64, dp: f64| orifice_flow(cd, area, dp, p.rho, p.p_transition);
@@ -90,27 +93,28 @@ impl Plant<'_> {
         let q_valve = orifice(p.cd_valve, a_valve + p.a_valve_leak, dp_valve);
         let dp_cv1 = p_b - p_a;
         let q_cv1 =
-            orifice(p.cd_cv, check_valve_area(p.a_cv_leak, p.a_cv_max, p.p_cv_crack, p.p_cv_full, dp_cv1), dp_cv1);
+            orifice(p.cd_cv, check_valve_area(p.a_cv_leak, p.a_cv_max, d.p_cv_crack, p.p_cv_full, dp_cv1), dp_cv1);
         let dp_cv2 = p_r - p_b;
         let q_cv2 =
-            orifice(p.cd_cv, check_valve_area(p.a_cv_leak, p.a_cv_max, p.p_cv_crack, p.p_cv_full, dp_cv2), dp_cv2);
+            orifice(p.cd_cv, check_valve_area(p.a_cv_leak, p.a_cv_max, d.p_cv_crack, p.p_cv_full, dp_cv2), dp_cv2);
         let q_relief = if dp_valve > p.p_relief {
             orifice(p.cd_valve, p.a_relief * smoothstep((dp_valve - p.p_relief) / p.dp_relief), dp_valve)
         } else {
             0.0
         };
-        let q_leak = p.g_leak * (p_a - p_b);
+        let q_leak = if p.effect_piston_leakage { p.g_leak * (p_a - p_b) } else { 0.0 };
         let r_a = q_cv1 - q_valve - q_relief - q_leak;
         let r_b = -q_cv1 + q_cv2 + q_leak;
 
-        let a = effective_bulk_modulus(p_a, p.beta_oil, p.air_fraction, p.n_polytropic) / vol_a;
-        let b = effective_bulk_modulus(p_b, p.beta_oil, p.air_fraction, p.n_polytropic) / vol_b;
+        let a = effective_bulk_modulus(p_a, p.beta_oil, d.air_fraction, p.n_polytropic) / vol_a;
+        let b = effective_bulk_modulus(p_b, p.beta_oil, d.air_fraction, p.n_polytropic) / vol_b;
         let k_h = a * cyl.a_annulus * cyl.a_annulus + b * cyl.a_piston * cyl.a_piston;
         let s = a * cyl.a_annulus * r_a - b * cyl.a_piston * r_b;
-        let delta_rate = (k_h * v + s) / (d.mount.stiffness(delta) + k_h);
+        let delta_rate = d.mount.map_or(0.0, |m| (k_h * v + s) / (m.stiffness(delta) + k_h));
         let v_piston = v - delta_rate;
 
-        let f_flow = flow_force(p.cd_valve, p.cv_valve, p.theta_jet, a_valve, dp_valve);
+        let f_flow =
+            if p.effect_flow_forces { flow_force(p.cd_valve, p.cv_valve, p.theta_jet, a_valve, dp_valve) } else { 0.0 };
         let f_stop = self.stop_force(x_s, v_s);
         let f_sol = solenoid_force(p.k_sol, p.kappa_sol, p.x_spool_max, i_coil, x_s);
 
