@@ -1,0 +1,538 @@
+//! `damper compare`: the model driven by the measured inputs, overlaid on the measurement, and
+//! where it fails. Writes `DIR/report.html` and `DIR/summary.json` and prints a summary.
+
+use crate::analysis::{analyse, Analysis};
+use crate::dsp::mean;
+use crate::json::{obj, Json};
+use crate::measurement::{Mapping, Measurement};
+use crate::model::{Drive, Model, Prediction};
+use crate::parameters::{changed_parameters, effect, effect_on, set_effect, set_parameter, set_real, Value, EFFECTS};
+use crate::units::Column;
+use semi_active_damper::variables::default_parameters;
+use std::path::PathBuf;
+use std::time::Instant;
+
+/// Fewest samples in each of the train and validation parts.
+pub const MIN_PART: usize = 100;
+
+/// Options of `damper compare`.
+#[derive(Clone, Debug)]
+pub struct CompareOptions {
+    pub measurement: PathBuf,
+    pub out: PathBuf,
+    /// `KEY` or `KEY=VALUE` (the effect's first parameter).
+    pub with: Vec<String>,
+    pub without: Vec<String>,
+    pub maps: Vec<Mapping>,
+    /// `--set NAME=VALUE`, applied last.
+    pub sets: Vec<(String, String)>,
+    /// Share of the samples in the train part.
+    pub split: f64,
+    /// The measured force has its rest offset removed (the model's `tare_load_cell`).
+    pub tare_load_cell: bool,
+    /// Load-cell low-pass applied to the model's force [Hz].
+    pub load_cell_lowpass_hz: Option<f64>,
+    /// Print nothing.
+    pub quiet: bool,
+}
+
+impl CompareOptions {
+    pub fn new(measurement: impl Into<PathBuf>, out: impl Into<PathBuf>) -> CompareOptions {
+        CompareOptions {
+            measurement: measurement.into(),
+            out: out.into(),
+            with: Vec::new(),
+            without: Vec::new(),
+            maps: Vec::new(),
+            sets: Vec::new(),
+            split: 0.7,
+            tare_load_cell: false,
+            load_cell_lowpass_hz: None,
+            quiet: true,
+        }
+    }
+}
+
+/// The model a comparison uses and how it differs from the default.
+#[derive(Clone, Debug)]
+pub struct ModelSetup {
+    pub model: Model,
+    /// (effect key, on) for the whole catalog.
+    pub effects: Vec<(&'static str, bool)>,
+    /// Parameters that differ from the model's defaults.
+    pub changed: Vec<(&'static str, Value)>,
+}
+
+/// Builds the model for a drive: defaults, control mode from the drive, tare, `--with`,
+/// `--without`, then `--set`.
+pub fn build_model(opts: &CompareOptions, drive: &Drive) -> Result<ModelSetup, String> {
+    let mut p = default_parameters();
+    p.control_mode = drive.control_mode();
+    p.tare_load_cell = opts.tare_load_cell;
+    for w in &opts.with {
+        let (key, value) = match w.split_once('=') {
+            Some((k, v)) => (k.trim(), Some(v.trim())),
+            None => (w.trim(), None),
+        };
+        let e = effect(key)?;
+        if opts.without.iter().any(|o| effect(o).map(|x| x.key) == Ok(e.key)) {
+            return Err(format!("effect {} is both in --with and --without", e.key));
+        }
+        set_effect(&mut p, e.key, true)?;
+        if let Some(v) = value {
+            set_parameter(&mut p, e.params[0], v).map_err(|err| format!("--with {w}: {err}"))?;
+        }
+    }
+    for w in &opts.without {
+        set_effect(&mut p, w, false)?;
+    }
+    for (name, value) in &opts.sets {
+        set_parameter(&mut p, name, value).map_err(|e| format!("--set {name}={value}: {e}"))?;
+    }
+    if p.control_mode != drive.control_mode() {
+        return Err(format!(
+            "--set control_mode={} contradicts the measurement: it has {} (control_mode {})",
+            p.control_mode,
+            if drive.control_mode() == 0 { "F_demand" } else { "only x_spool_demand" },
+            drive.control_mode()
+        ));
+    }
+    p.validate().map_err(|e| format!("model parameters: {e}"))?;
+    if let Some(fc) = opts.load_cell_lowpass_hz {
+        if !(fc > 0.0 && fc.is_finite()) {
+            return Err(format!("--load-cell-lowpass {fc}: must be a positive frequency in Hz"));
+        }
+    }
+    let effects = EFFECTS.iter().map(|e| (e.key, effect_on(&p, e.key).unwrap_or(false))).collect();
+    Ok(ModelSetup {
+        model: Model { params: p, load_cell_lowpass_hz: opts.load_cell_lowpass_hz },
+        effects,
+        changed: changed_parameters(&p),
+    })
+}
+
+/// The split index, or an error naming the file, the last line and the time column.
+pub fn split_index(m: &Measurement, fraction: f64) -> Result<usize, String> {
+    if !(fraction > 0.0 && fraction < 1.0) {
+        return Err(format!("--split {fraction}: must be between 0 and 1 (the train share)"));
+    }
+    let n = m.len();
+    let split = (fraction * n as f64).round() as usize;
+    if split < MIN_PART || n - split < MIN_PART {
+        return Err(format!(
+            "{}, line {}, {}: the record has only {n} samples ({:.3} s); --split {fraction} leaves {split} for training \
+             and {} for validation, and each part needs at least {MIN_PART}",
+            m.path,
+            m.lines.last().copied().unwrap_or(0),
+            m.describe_column(Column::Time),
+            m.time[n - 1] - m.time[0],
+            n - split
+        ));
+    }
+    Ok(split)
+}
+
+/// A finished comparison.
+#[derive(Clone, Debug)]
+pub struct Comparison {
+    pub options: CompareOptions,
+    pub measurement: Measurement,
+    pub drive: Drive,
+    pub setup: ModelSetup,
+    pub prediction: Prediction,
+    pub analysis: Analysis,
+    /// Wall time of the model run [s].
+    pub run_seconds: f64,
+    pub warnings: Vec<String>,
+}
+
+/// Reads, runs and analyses (no files written).
+pub fn compare(opts: &CompareOptions) -> Result<Comparison, String> {
+    let m = Measurement::read(&opts.measurement, &opts.maps)?;
+    let split = split_index(&m, opts.split)?;
+    let drive = Drive::from_measurement(&m);
+    let setup = build_model(opts, &drive)?;
+    let t0 = Instant::now();
+    let prediction = setup.model.run(&drive).map_err(|e| format!("{}: {e}", m.path))?;
+    let run_seconds = t0.elapsed().as_secs_f64();
+    let analysis = analyse(&m, &drive, &prediction, split);
+    let mut warnings = m.notes.clone();
+    if !m.ignored.is_empty() {
+        warnings.push(format!("columns not used: {}", m.ignored.join(", ")));
+    }
+    if let Some(w) = tare_hint(&m, &prediction, opts.tare_load_cell) {
+        warnings.push(w);
+    }
+    Ok(Comparison { options: opts.clone(), measurement: m, drive, setup, prediction, analysis, run_seconds, warnings })
+}
+
+/// If the record starts at rest and the measured and modelled forces there differ by the gas
+/// force, the tare option is probably the wrong way round.
+fn tare_hint(m: &Measurement, p: &Prediction, tare: bool) -> Option<String> {
+    let v = m.get(Column::VDamper)?;
+    let y = m.get(Column::FDamper)?;
+    let k = v.iter().take_while(|x| x.abs() < 2e-3).count().min(200);
+    if k < 10 {
+        return None;
+    }
+    let (measured, model) = (mean(&y[..k]), mean(&p.f_damper[..k]));
+    if (measured - model).abs() < 300.0 {
+        return None;
+    }
+    Some(if tare {
+        format!(
+            "at rest (first {k} samples) the measured force is {measured:.0} N, the tared model's {model:.0} N: \
+             if the measured force keeps the rest offset (the reservoir gas force), drop --tare-load-cell"
+        )
+    } else {
+        format!(
+            "at rest (first {k} samples) the measured force is {measured:.0} N, the model's {model:.0} N \
+             (the reservoir gas force): if the load cell was zeroed at rest, add --tare-load-cell"
+        )
+    })
+}
+
+/// `damper compare`: compare, write the report and the summary, print the summary.
+pub fn run(opts: &CompareOptions) -> Result<Comparison, String> {
+    let c = compare(opts)?;
+    std::fs::create_dir_all(&opts.out).map_err(|e| format!("{}: cannot create: {e}", opts.out.display()))?;
+    let summary = summary_json(&c);
+    let json_path = opts.out.join("summary.json");
+    std::fs::write(&json_path, summary.pretty()).map_err(|e| format!("{}: {e}", json_path.display()))?;
+    let html_path = opts.out.join("report.html");
+    std::fs::write(&html_path, crate::report::html(&c)).map_err(|e| format!("{}: {e}", html_path.display()))?;
+    if !opts.quiet {
+        print!("{}", terminal_summary(&c));
+        println!("report:  {}", html_path.display());
+        println!("summary: {}", json_path.display());
+    }
+    Ok(c)
+}
+
+fn metrics_json(m: &crate::dsp::Metrics) -> Json {
+    obj([
+        ("fit_percent", m.fit_percent.into()),
+        ("nrmse", m.nrmse.into()),
+        ("rmse", m.rmse.into()),
+        ("bias", m.bias.into()),
+        ("std_measured", m.std_measured.into()),
+        ("samples", m.samples.into()),
+    ])
+}
+
+/// The model settings as JSON.
+pub fn model_json(setup: &ModelSetup) -> Json {
+    let p = &setup.model.params;
+    obj([
+        ("control_mode", p.control_mode.into()),
+        ("tare_load_cell", p.tare_load_cell.into()),
+        ("load_cell_lowpass_hz", setup.model.load_cell_lowpass_hz.into()),
+        ("effects", Json::Obj(setup.effects.iter().map(|(k, on)| (k.to_string(), Json::Bool(*on))).collect())),
+        (
+            "changed_parameters",
+            Json::Obj(
+                setup
+                    .changed
+                    .iter()
+                    .map(|(n, v)| {
+                        let j = match v {
+                            Value::Real(x) => Json::Num(*x),
+                            Value::Integer(i) => Json::Int(*i as i64),
+                            Value::Boolean(b) => Json::Bool(*b),
+                        };
+                        (n.to_string(), j)
+                    })
+                    .collect(),
+            ),
+        ),
+    ])
+}
+
+/// `summary.json`.
+pub fn summary_json(c: &Comparison) -> Json {
+    let a = &c.analysis;
+    let m = &c.measurement;
+    let f = a.force();
+    let signals = Json::Obj(
+        a.fits
+            .iter()
+            .map(|s| {
+                (
+                    s.column.name().to_string(),
+                    obj([
+                        ("unit", s.column.si_unit().into()),
+                        ("train", metrics_json(&s.train)),
+                        ("validation", metrics_json(&s.validation)),
+                        ("lag_s", s.lag.seconds.into()),
+                        ("lag_refined_s", s.lag.refined_seconds.into()),
+                        ("lag_of_changes_s", s.lag.changes_seconds.into()),
+                    ]),
+                )
+            })
+            .collect(),
+    );
+    let regimes: Vec<Json> = a
+        .regimes
+        .iter()
+        .map(|r| {
+            obj([
+                ("group", r.group.into()),
+                ("regime", r.name.clone().into()),
+                ("samples", r.samples.into()),
+                ("time_share", r.time_share.into()),
+                ("rms_residual", r.rms.into()),
+                ("mean_residual", r.mean.into()),
+                ("error_share", r.error_share.into()),
+                ("concentration", r.concentration.into()),
+            ])
+        })
+        .collect();
+    let bands: Vec<Json> = a
+        .bands
+        .iter()
+        .map(|b| {
+            obj([
+                ("f_lo_hz", b.lo.into()),
+                ("f_hi_hz", b.hi.into()),
+                ("residual_share", b.residual_share.into()),
+                ("residual_rms", b.residual_rms.into()),
+                ("band_nrmse", b.band_nrmse.into()),
+            ])
+        })
+        .collect();
+    let worst: Vec<Json> = a
+        .worst
+        .iter()
+        .map(|w| {
+            obj([
+                ("t_start", w.t_start.into()),
+                ("t_end", w.t_end.into()),
+                ("rms_residual", w.rms.into()),
+                ("mean_residual", w.mean.into()),
+                ("mean_abs_velocity", w.mean_abs_velocity.into()),
+                ("tags", w.tags.clone().into()),
+            ])
+        })
+        .collect();
+    let w = &a.whiteness;
+    let xcorr: Vec<(String, Json)> = a
+        .input_correlations
+        .iter()
+        .map(|x| {
+            (
+                x.input.name().to_string(),
+                obj([
+                    ("max_abs", x.max_abs.into()),
+                    ("at_lag_s", x.at_lag_seconds.into()),
+                    ("band", x.band.into()),
+                    ("within_band", (x.max_abs <= x.band).into()),
+                ]),
+            )
+        })
+        .collect();
+    obj([
+        ("tool", "damper compare".into()),
+        ("version", env!("CARGO_PKG_VERSION").into()),
+        ("measurement", m.path.clone().into()),
+        ("samples", m.len().into()),
+        ("sample_interval_s", a.dt.into()),
+        ("duration_s", (m.time[m.len() - 1] - m.time[0]).into()),
+        ("control_mode", if c.drive.control_mode() == 0 { "force" } else { "spool_position" }.into()),
+        ("velocity_from_displacement", m.velocity_from_displacement.into()),
+        ("model", model_json(&c.setup)),
+        (
+            "split",
+            obj([
+                ("train_fraction", c.options.split.into()),
+                ("first_validation_sample", a.split.into()),
+                ("t_split", m.time[a.split].into()),
+            ]),
+        ),
+        ("residual_definition", "model - measured (as in docs/effects.md)".into()),
+        ("nrmse_baseline", f.validation.nrmse.into()),
+        ("observations", crate::analysis::observations(a).into()),
+        ("noise_floor_estimate", a.noise_floor_estimate.into()),
+        ("signals", signals),
+        ("regimes", Json::Arr(regimes)),
+        ("frequency_bands", Json::Arr(bands)),
+        ("worst_windows", Json::Arr(worst)),
+        (
+            "lag",
+            obj([
+                ("samples", f.lag.samples.into()),
+                ("seconds", f.lag.seconds.into()),
+                ("refined_seconds", f.lag.refined_seconds.into()),
+                ("peak_correlation", f.lag.peak.into()),
+                ("search_range_s", f.lag.max_seconds.into()),
+                ("of_changes_s", f.lag.changes_seconds.into()),
+                ("definition", "argmax_k sum_t y(t+k) yhat(t): positive = the measured force comes later".into()),
+            ]),
+        ),
+        (
+            "whiteness",
+            obj([
+                ("part", "validation".into()),
+                ("samples", w.samples.into()),
+                ("max_lag", w.max_lag.into()),
+                ("band", w.band.into()),
+                ("fraction_outside", w.fraction_outside.into()),
+                ("ljung_box_q", w.ljung_box_q.into()),
+                ("ljung_box_lags", w.ljung_box_lags.into()),
+                ("chi2_95", w.chi2_95.into()),
+                ("white", w.white.into()),
+            ]),
+        ),
+        ("input_cross_correlation", Json::Obj(xcorr)),
+        (
+            "events",
+            obj([
+                ("velocity_reversals", a.reversals.len().into()),
+                ("demand_steps", a.demand_steps.len().into()),
+                ("residual_jump_at_reversals", a.reversal_jump.into()),
+            ]),
+        ),
+        ("model_run_s", c.run_seconds.into()),
+        ("warnings", c.warnings.clone().into()),
+        ("verdict", Json::Null),
+        ("best_effect", Json::Null),
+        ("candidates", Json::Null),
+    ])
+}
+
+/// The terminal summary.
+pub fn terminal_summary(c: &Comparison) -> String {
+    use std::fmt::Write;
+    let a = &c.analysis;
+    let m = &c.measurement;
+    let mut s = String::new();
+    let dur = m.time[m.len() - 1] - m.time[0];
+    let _ = writeln!(
+        s,
+        "damper compare: {} — {} samples, {:.0} Hz, {:.2} s, {} control",
+        m.path,
+        m.len(),
+        1.0 / a.dt,
+        dur,
+        if c.drive.control_mode() == 0 { "force" } else { "spool-position" }
+    );
+    let _ = writeln!(s, "model: {}", describe_model(&c.setup));
+    let _ = writeln!(s, "model run: {:.2} s ({:.0}× real time)", c.run_seconds, dur / c.run_seconds.max(1e-9));
+    let _ = writeln!(
+        s,
+        "{:<16}{:>10}{:>10}{:>12}{:>10}{:>12}",
+        "signal", "train fit", "NRMSE", "valid. fit", "NRMSE", "lag [ms]"
+    );
+    for f in &a.fits {
+        let _ = writeln!(
+            s,
+            "{:<16}{:>9.1}%{:>10.4}{:>11.1}%{:>10.4}{:>12.2}",
+            f.column.name(),
+            f.train.fit_percent,
+            f.train.nrmse,
+            f.validation.fit_percent,
+            f.validation.nrmse,
+            f.lag.refined_seconds * 1e3
+        );
+    }
+    let f = a.force();
+    let _ = writeln!(
+        s,
+        "F_damper validation NRMSE {:.4} (white-noise floor estimate {:.4}); lag {} samples ({:+.2} ms refined, \
+         {:+.2} ms on the changes; + = measurement later)",
+        f.validation.nrmse,
+        a.noise_floor_estimate,
+        f.lag.samples,
+        f.lag.refined_seconds * 1e3,
+        f.lag.changes_seconds * 1e3
+    );
+    if let Some(j) = a.reversal_jump {
+        let _ = writeln!(
+            s,
+            "residual jump across velocity reversals: {j:+.0} N over {} reversals (a missing friction F·sign(v) gives −2F)",
+            a.reversals.len()
+        );
+    }
+    let w = &a.whiteness;
+    let _ = writeln!(
+        s,
+        "residual whiteness (validation): {:.1} % of lags 1..{} outside ±1.96/√N, Ljung–Box Q({}) = {:.1} vs {:.1}: {}",
+        100.0 * w.fraction_outside,
+        w.max_lag,
+        w.ljung_box_lags,
+        w.ljung_box_q,
+        w.chi2_95,
+        if w.white { "white" } else { "not white" }
+    );
+    let _ = writeln!(s, "observations:");
+    for o in crate::analysis::observations(a) {
+        let _ = writeln!(s, "  - {o}");
+    }
+    let mut hot: Vec<_> = a.regimes.iter().filter(|r| r.samples > 0 && r.time_share >= 0.01).collect();
+    hot.sort_by(|x, y| y.concentration.total_cmp(&x.concentration));
+    let _ = writeln!(s, "where it fails (share of squared error / share of time):");
+    for r in hot.iter().take(4) {
+        let _ = writeln!(
+            s,
+            "  {:<11} {:<36} {:>5.1} % / {:>5.1} %  (×{:.2}), RMS {:.0} N, mean {:+.0} N",
+            r.group,
+            r.name,
+            100.0 * r.error_share,
+            100.0 * r.time_share,
+            r.concentration,
+            r.rms,
+            r.mean
+        );
+    }
+    if let Some(wst) = a.worst.first() {
+        let _ = writeln!(
+            s,
+            "worst window: {:.3}–{:.3} s, RMS {:.0} N ({})",
+            wst.t_start,
+            wst.t_end,
+            wst.rms,
+            wst.tags.join(", ")
+        );
+    }
+    for w in &c.warnings {
+        let _ = writeln!(s, "note: {w}");
+    }
+    s
+}
+
+/// One line: effects off/on against the default, changed parameters, tare and filter.
+pub fn describe_model(setup: &ModelSetup) -> String {
+    let defaults: Vec<(&str, bool)> = EFFECTS.iter().map(|e| (e.key, e.default_on())).collect();
+    let mut parts = Vec::new();
+    for ((k, on), (_, d)) in setup.effects.iter().zip(&defaults) {
+        if on != d {
+            parts.push(format!("{}{}", if *on { "+" } else { "−" }, k));
+        }
+    }
+    let on: Vec<&str> = setup.effects.iter().filter(|e| e.1).map(|e| e.0).collect();
+    let mut s = if parts.is_empty() {
+        format!("default effects ({})", on.join(", "))
+    } else {
+        format!("default {} → effects on: {}", parts.join(" "), on.join(", "))
+    };
+    let changed: Vec<String> = setup
+        .changed
+        .iter()
+        .filter(|(n, _)| !n.starts_with("effect_") && *n != "control_mode" && *n != "tare_load_cell")
+        .map(|(n, v)| format!("{n}={v}"))
+        .collect();
+    if !changed.is_empty() {
+        s += &format!("; {}", changed.join(", "));
+    }
+    s += &format!("; tare_load_cell {}", setup.model.params.tare_load_cell);
+    if let Some(fc) = setup.model.load_cell_lowpass_hz {
+        s += &format!("; load-cell low-pass {fc} Hz");
+    }
+    s
+}
+
+/// Sets a Real parameter, for callers outside (diagnose, tests).
+pub fn with_real(setup: &ModelSetup, name: &str, value: f64) -> Result<Model, String> {
+    let mut model = setup.model;
+    set_real(&mut model.params, name, value)?;
+    Ok(model)
+}

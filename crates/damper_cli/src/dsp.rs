@@ -1,0 +1,290 @@
+//! Signal arithmetic: error metrics, spectra, correlations and the load-cell filter.
+
+use std::f64::consts::PI;
+
+pub fn mean(x: &[f64]) -> f64 {
+    if x.is_empty() {
+        return f64::NAN;
+    }
+    x.iter().sum::<f64>() / x.len() as f64
+}
+
+/// Population standard deviation.
+pub fn std(x: &[f64]) -> f64 {
+    let m = mean(x);
+    (x.iter().map(|v| (v - m) * (v - m)).sum::<f64>() / x.len() as f64).sqrt()
+}
+
+pub fn rms(x: &[f64]) -> f64 {
+    if x.is_empty() {
+        return f64::NAN;
+    }
+    (x.iter().map(|v| v * v).sum::<f64>() / x.len() as f64).sqrt()
+}
+
+/// Fit metrics of a model `yhat` against a measurement `y`.
+#[derive(Clone, Copy, Debug)]
+pub struct Metrics {
+    /// 100·(1 − ‖y − ŷ‖/‖y − ȳ‖) [%].
+    pub fit_percent: f64,
+    /// RMSE/std(y).
+    pub nrmse: f64,
+    /// sqrt(mean((ŷ − y)²)).
+    pub rmse: f64,
+    /// mean(ŷ − y): positive when the model is above the measurement.
+    pub bias: f64,
+    /// std(y).
+    pub std_measured: f64,
+    pub samples: usize,
+}
+
+pub fn metrics(y: &[f64], yhat: &[f64]) -> Metrics {
+    let r: Vec<f64> = yhat.iter().zip(y).map(|(m, y)| m - y).collect();
+    let rmse = rms(&r);
+    let s = std(y);
+    let nrmse = rmse / s;
+    Metrics { fit_percent: 100.0 * (1.0 - nrmse), nrmse, rmse, bias: mean(&r), std_measured: s, samples: y.len() }
+}
+
+/// In-place radix-2 FFT of (re, im); the length must be a power of two.
+pub fn fft(re: &mut [f64], im: &mut [f64]) {
+    let n = re.len();
+    assert!(n.is_power_of_two() && im.len() == n);
+    let mut j = 0;
+    for i in 1..n {
+        let mut bit = n >> 1;
+        while j & bit != 0 {
+            j ^= bit;
+            bit >>= 1;
+        }
+        j |= bit;
+        if i < j {
+            re.swap(i, j);
+            im.swap(i, j);
+        }
+    }
+    let mut len = 2;
+    while len <= n {
+        let ang = -2.0 * PI / len as f64;
+        let (wr, wi) = (ang.cos(), ang.sin());
+        for start in (0..n).step_by(len) {
+            let (mut cr, mut ci) = (1.0, 0.0);
+            for k in 0..len / 2 {
+                let (a, b) = (start + k, start + k + len / 2);
+                let (xr, xi) = (re[b] * cr - im[b] * ci, re[b] * ci + im[b] * cr);
+                re[b] = re[a] - xr;
+                im[b] = im[a] - xi;
+                re[a] += xr;
+                im[a] += xi;
+                let t = cr * wr - ci * wi;
+                ci = cr * wi + ci * wr;
+                cr = t;
+            }
+        }
+        len <<= 1;
+    }
+}
+
+/// One-sided power spectral density by Welch's method: Hann window, 50 % overlap, each segment's
+/// mean removed. Returns (frequencies [Hz], PSD [unit²/Hz]); its sum times the bin width is the
+/// variance. `segment` is rounded down to a power of two and to the record length.
+pub fn welch(x: &[f64], fs: f64, segment: usize) -> (Vec<f64>, Vec<f64>) {
+    let mut nseg = segment.min(x.len()).max(8);
+    nseg = 1 << (usize::BITS - 1 - nseg.leading_zeros());
+    let window: Vec<f64> = (0..nseg).map(|i| 0.5 - 0.5 * (2.0 * PI * i as f64 / nseg as f64).cos()).collect();
+    let w2: f64 = window.iter().map(|w| w * w).sum();
+    let hop = nseg / 2;
+    let mut psd = vec![0.0; nseg / 2 + 1];
+    let mut count = 0;
+    let mut start = 0;
+    while start + nseg <= x.len() {
+        let seg = &x[start..start + nseg];
+        let m = mean(seg);
+        let mut re: Vec<f64> = seg.iter().zip(&window).map(|(v, w)| (v - m) * w).collect();
+        let mut im = vec![0.0; nseg];
+        fft(&mut re, &mut im);
+        for (k, p) in psd.iter_mut().enumerate() {
+            let s = if k == 0 || k == nseg / 2 { 1.0 } else { 2.0 };
+            *p += s * (re[k] * re[k] + im[k] * im[k]) / (fs * w2);
+        }
+        count += 1;
+        start += hop;
+    }
+    for p in &mut psd {
+        *p /= count.max(1) as f64;
+    }
+    let freqs = (0..=nseg / 2).map(|k| k as f64 * fs / nseg as f64).collect();
+    (freqs, psd)
+}
+
+/// Normalised autocorrelation r(k) = Σ (x_i − x̄)(x_{i+k} − x̄) / Σ (x_i − x̄)², k = 0..=max_lag.
+pub fn autocorrelation(x: &[f64], max_lag: usize) -> Vec<f64> {
+    let m = mean(x);
+    let d: Vec<f64> = x.iter().map(|v| v - m).collect();
+    let c0: f64 = d.iter().map(|v| v * v).sum();
+    (0..=max_lag.min(x.len().saturating_sub(1)))
+        .map(|k| d[..d.len() - k].iter().zip(&d[k..]).map(|(a, b)| a * b).sum::<f64>() / c0)
+        .collect()
+}
+
+/// Normalised cross-correlation c(k) = Σ_t a(t+k)·b(t) / sqrt(Σa² Σb²) of the mean-removed signals,
+/// k = −max_lag..=max_lag (index k + max_lag). A peak at k > 0 means `a` follows `b` by k samples.
+pub fn cross_correlation(a: &[f64], b: &[f64], max_lag: usize) -> Vec<f64> {
+    let n = a.len().min(b.len());
+    let (ma, mb) = (mean(&a[..n]), mean(&b[..n]));
+    let da: Vec<f64> = a[..n].iter().map(|v| v - ma).collect();
+    let db: Vec<f64> = b[..n].iter().map(|v| v - mb).collect();
+    let norm = (da.iter().map(|v| v * v).sum::<f64>() * db.iter().map(|v| v * v).sum::<f64>()).sqrt();
+    let l = max_lag.min(n.saturating_sub(1)) as isize;
+    (-l..=l)
+        .map(|k| {
+            let s: f64 = if k >= 0 {
+                let k = k as usize;
+                da[k..].iter().zip(&db[..n - k]).map(|(x, y)| x * y).sum()
+            } else {
+                let k = (-k) as usize;
+                da[..n - k].iter().zip(&db[k..]).map(|(x, y)| x * y).sum()
+            };
+            if norm > 0.0 {
+                s / norm
+            } else {
+                0.0
+            }
+        })
+        .collect()
+}
+
+/// The lag [samples] of the largest value of a cross-correlation from [`cross_correlation`], and
+/// its parabolic refinement (fractional samples).
+pub fn peak_lag(c: &[f64]) -> (isize, f64, f64) {
+    let l = (c.len() / 2) as isize;
+    let (i, &v) = c.iter().enumerate().max_by(|a, b| a.1.total_cmp(b.1)).expect("nonempty");
+    let k = i as isize - l;
+    let refined = if i > 0 && i + 1 < c.len() {
+        let (a, b, d) = (c[i - 1], c[i], c[i + 1]);
+        let den = a - 2.0 * b + d;
+        if den < 0.0 {
+            k as f64 + 0.5 * (a - d) / den
+        } else {
+            k as f64
+        }
+    } else {
+        k as f64
+    };
+    (k, refined, v)
+}
+
+/// Ljung–Box statistic Q = n(n+2) Σ_{k=1..m} r_k²/(n−k) of an autocorrelation `r` (r[0] = 1).
+pub fn ljung_box(r: &[f64], n: usize, m: usize) -> f64 {
+    let n = n as f64;
+    n * (n + 2.0) * (1..=m.min(r.len() - 1)).map(|k| r[k] * r[k] / (n - k as f64)).sum::<f64>()
+}
+
+/// 95 % quantile of χ² with `dof` degrees of freedom (Wilson–Hilferty, within 0.5 % for dof ≥ 5).
+pub fn chi2_95(dof: usize) -> f64 {
+    let k = dof as f64;
+    let h = 2.0 / (9.0 * k);
+    k * (1.0 - h + 1.644_853_6 * h.sqrt()).powi(3)
+}
+
+/// First-order low-pass of cut-off `fc` [Hz] on a sampled signal, exact for an input that varies
+/// linearly between samples (first-order hold), starting in steady state at the first sample:
+/// y_k = α y_{k−1} + u_k − α u_{k−1} − τ r (1 − α),  α = exp(−h/τ),  r = (u_k − u_{k−1})/h.
+pub fn lowpass(t: &[f64], u: &[f64], fc: f64) -> Vec<f64> {
+    let tau = 1.0 / (2.0 * PI * fc);
+    let mut y = Vec::with_capacity(u.len());
+    if u.is_empty() {
+        return y;
+    }
+    y.push(u[0]);
+    for k in 1..u.len() {
+        let h = t[k] - t[k - 1];
+        let a = (-h / tau).exp();
+        let r = (u[k] - u[k - 1]) / h;
+        let prev = y[k - 1];
+        y.push(a * prev + u[k] - a * u[k - 1] - tau * r * (1.0 - a));
+    }
+    y
+}
+
+/// Derivative by a central difference over ±`half` samples (one-sided near the ends): a smoothed
+/// rate for classifying regimes, not for the model.
+pub fn smooth_rate(t: &[f64], x: &[f64], half: usize) -> Vec<f64> {
+    let n = x.len();
+    (0..n)
+        .map(|i| {
+            let a = i.saturating_sub(half);
+            let b = (i + half).min(n - 1);
+            if b > a {
+                (x[b] - x[a]) / (t[b] - t[a])
+            } else {
+                0.0
+            }
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn fft_matches_dft() {
+        let x: Vec<f64> = (0..16).map(|i| ((i * 7 % 5) as f64).sin() + i as f64 * 0.1).collect();
+        let mut re = x.clone();
+        let mut im = vec![0.0; 16];
+        fft(&mut re, &mut im);
+        for k in 0..16 {
+            let (mut a, mut b) = (0.0, 0.0);
+            for (i, v) in x.iter().enumerate() {
+                let ang = -2.0 * PI * (k * i) as f64 / 16.0;
+                a += v * ang.cos();
+                b += v * ang.sin();
+            }
+            assert!((re[k] - a).abs() < 1e-9 && (im[k] - b).abs() < 1e-9);
+        }
+    }
+
+    #[test]
+    fn welch_integrates_to_the_variance() {
+        let fs = 1000.0;
+        let x: Vec<f64> = (0..20000).map(|i| 3.0 * (2.0 * PI * 50.0 * i as f64 / fs).sin() + 1.0).collect();
+        let (f, p) = welch(&x, fs, 1024);
+        let df = f[1] - f[0];
+        let var: f64 = p.iter().sum::<f64>() * df;
+        assert!((var - 4.5).abs() < 0.05, "{var}");
+        let peak = p.iter().enumerate().max_by(|a, b| a.1.total_cmp(b.1)).unwrap().0;
+        assert!((f[peak] - 50.0).abs() < 1.0);
+    }
+
+    #[test]
+    fn cross_correlation_finds_a_delay() {
+        let x: Vec<f64> = (0..2000).map(|i| ((i as f64) * 0.05).sin() + ((i as f64) * 0.13).cos()).collect();
+        let delayed: Vec<f64> = (0..2000).map(|i| if i >= 7 { x[i - 7] } else { 0.0 }).collect();
+        let c = cross_correlation(&delayed, &x, 30);
+        let (k, refined, _) = peak_lag(&c);
+        assert_eq!(k, 7);
+        assert!((refined - 7.0).abs() < 0.1);
+    }
+
+    #[test]
+    fn lowpass_is_exact_for_ramps_and_steps() {
+        let fc = 400.0;
+        let tau = 1.0 / (2.0 * PI * fc);
+        let t: Vec<f64> = (0..100).map(|k| k as f64 * 1e-3).collect();
+        let u: Vec<f64> = t.iter().map(|t| 5.0 * t).collect(); // ramp from rest: y = u − τ·5·(1 − e^(−t/τ))
+        let y = lowpass(&t, &u, fc);
+        for k in 0..100 {
+            let exact = u[k] - tau * 5.0 * (1.0 - (-t[k] / tau).exp());
+            assert!((y[k] - exact).abs() < 1e-12, "{k}");
+        }
+        let step: Vec<f64> = (0..10).map(|_| 2.0).collect();
+        assert!(lowpass(&t[..10], &step, fc).iter().all(|v| (v - 2.0).abs() < 1e-12));
+    }
+
+    #[test]
+    fn chi2_quantiles() {
+        assert!((chi2_95(20) - 31.41).abs() < 0.1);
+        assert!((chi2_95(10) - 18.31).abs() < 0.1);
+    }
+}

@@ -1,0 +1,23 @@
+//! `damper`: the damper model against measurements (issue 4).
+//!
+//! - [`measurement`]: reading a measurement CSV (column mapping, units, errors with file, line
+//!   and column);
+//! - [`model`]: the model driven by measured inputs ([`model::Model::run`], thread-safe);
+//! - [`parameters`]: parameters by FMU name and the effect catalog's switches;
+//! - [`analysis`]: fit per signal and where the error lives; [`report`] and [`compare`] turn it
+//!   into `report.html`, `summary.json` and the terminal summary;
+//! - [`generate`]: measurement-like data with hidden effects, and their truth;
+//! - [`cli`]: the command line.
+pub mod analysis;
+pub mod cli;
+pub mod compare;
+pub mod dsp;
+pub mod generate;
+pub mod json;
+pub mod measurement;
+pub mod model;
+pub mod parameters;
+pub mod report;
+pub mod rng;
+pub mod svg;
+pub mod units;

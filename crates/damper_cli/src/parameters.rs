@@ -1,0 +1,352 @@
+//! Model parameters by their FMU names (`--set NAME=VALUE`), and the effect catalog's switches
+//! (`--with KEY`, `--without KEY`, `--effect KEY[=VALUE]`).
+//!
+//! Everything goes through the enums generated from `modelDescription.xml`, so a name the XML does
+//! not have is an error here, not a silently ignored setting, and the XML's min/max are checked.
+
+use semi_active_damper::model_description::{BooleanVar, Causality, IntegerVar, RealVar};
+use semi_active_damper::physics::params::Parameters;
+use semi_active_damper::variables::{boolean_parameter, integer_parameter, real_parameter};
+use std::fmt;
+
+/// A parameter's value.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Value {
+    Real(f64),
+    Integer(i32),
+    Boolean(bool),
+}
+
+impl fmt::Display for Value {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Value::Real(x) => write!(f, "{x}"),
+            Value::Integer(i) => write!(f, "{i}"),
+            Value::Boolean(b) => write!(f, "{b}"),
+        }
+    }
+}
+
+/// A parameter of the model, by kind.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Param {
+    Real(RealVar),
+    Integer(IntegerVar),
+    Boolean(BooleanVar),
+}
+
+impl Param {
+    pub fn name(self) -> &'static str {
+        match self {
+            Param::Real(v) => v.name(),
+            Param::Integer(v) => v.name(),
+            Param::Boolean(v) => v.name(),
+        }
+    }
+}
+
+/// Every parameter name of the model.
+pub fn parameter_names() -> Vec<&'static str> {
+    let mut names: Vec<&'static str> = Vec::new();
+    names.extend(RealVar::ALL.iter().filter(|v| v.causality() == Causality::Parameter).map(|v| v.name()));
+    names.extend(IntegerVar::ALL.iter().filter(|v| v.causality() == Causality::Parameter).map(|v| v.name()));
+    names.extend(BooleanVar::ALL.iter().filter(|v| v.causality() == Causality::Parameter).map(|v| v.name()));
+    names
+}
+
+/// Looks up a parameter by its FMU name; the error names the closest names.
+pub fn lookup(name: &str) -> Result<Param, String> {
+    if let Some(v) = RealVar::ALL.into_iter().find(|v| v.name() == name) {
+        if v.causality() != Causality::Parameter {
+            return Err(format!("{name} is a model {:?}, not a parameter", v.causality()).to_lowercase());
+        }
+        return Ok(Param::Real(v));
+    }
+    if let Some(v) = IntegerVar::ALL.into_iter().find(|v| v.name() == name) {
+        return Ok(Param::Integer(v));
+    }
+    if let Some(v) = BooleanVar::ALL.into_iter().find(|v| v.name() == name) {
+        return Ok(Param::Boolean(v));
+    }
+    let mut close: Vec<(usize, &str)> =
+        parameter_names().into_iter().map(|n| (distance(&n.to_lowercase(), &name.to_lowercase()), n)).collect();
+    close.sort();
+    let hints: Vec<&str> = close.iter().take(3).filter(|(d, _)| *d <= 4).map(|(_, n)| *n).collect();
+    Err(if hints.is_empty() {
+        format!("unknown parameter '{name}' (the model has {} parameters; see modelDescription.xml)", close.len())
+    } else {
+        format!("unknown parameter '{name}'; did you mean {}?", hints.join(", "))
+    })
+}
+
+/// The value of a parameter.
+pub fn get_parameter(p: &Parameters, name: &str) -> Result<Value, String> {
+    let mut q = *p;
+    Ok(match lookup(name)? {
+        Param::Real(v) => Value::Real(*real_parameter(&mut q, v).expect("parameter")),
+        Param::Integer(v) => Value::Integer(*integer_parameter(&mut q, v).expect("parameter")),
+        Param::Boolean(v) => Value::Boolean(*boolean_parameter(&mut q, v).expect("parameter")),
+    })
+}
+
+/// A Real parameter's value.
+pub fn get_real(p: &Parameters, name: &str) -> Result<f64, String> {
+    match get_parameter(p, name)? {
+        Value::Real(x) => Ok(x),
+        other => Err(format!("{name} is not a Real parameter (it is {other})")),
+    }
+}
+
+/// Sets a parameter from text (`0.04`, `3e-3`, `true`/`on`/`1`), checking the XML's range.
+pub fn set_parameter(p: &mut Parameters, name: &str, text: &str) -> Result<(), String> {
+    let t = text.trim();
+    match lookup(name)? {
+        Param::Real(v) => {
+            let x: f64 = t.parse().map_err(|_| format!("{name}={text}: not a number"))?;
+            set_real_checked(p, v, x)
+        }
+        Param::Integer(v) => {
+            let x: i32 = t.parse().map_err(|_| format!("{name}={text}: not an integer"))?;
+            if v.min().is_some_and(|m| x < m) || v.max().is_some_and(|m| x > m) {
+                return Err(format!(
+                    "{name}={x} is out of range [{}, {}]",
+                    v.min().map_or("-inf".into(), |m| m.to_string()),
+                    v.max().map_or("inf".into(), |m| m.to_string())
+                ));
+            }
+            *integer_parameter(p, v).expect("parameter") = x;
+            Ok(())
+        }
+        Param::Boolean(v) => {
+            let b = parse_bool(t).ok_or_else(|| format!("{name}={text}: expected true/false (or on/off, 1/0)"))?;
+            *boolean_parameter(p, v).expect("parameter") = b;
+            Ok(())
+        }
+    }
+}
+
+/// Sets a Real parameter by name, checking the XML's range.
+pub fn set_real(p: &mut Parameters, name: &str, x: f64) -> Result<(), String> {
+    match lookup(name)? {
+        Param::Real(v) => set_real_checked(p, v, x),
+        _ => Err(format!("{name} is not a Real parameter")),
+    }
+}
+
+/// Sets a Boolean parameter by name.
+pub fn set_bool(p: &mut Parameters, name: &str, b: bool) -> Result<(), String> {
+    match lookup(name)? {
+        Param::Boolean(v) => {
+            *boolean_parameter(p, v).expect("parameter") = b;
+            Ok(())
+        }
+        _ => Err(format!("{name} is not a Boolean parameter")),
+    }
+}
+
+fn set_real_checked(p: &mut Parameters, v: RealVar, x: f64) -> Result<(), String> {
+    let name = v.name();
+    if !x.is_finite() {
+        return Err(format!("{name}={x}: not a finite number"));
+    }
+    if v.min().is_some_and(|m| x < m) || v.max().is_some_and(|m| x > m) {
+        return Err(format!(
+            "{name}={x} is out of the model's range [{}, {}]",
+            v.min().map_or("-inf".into(), |m| m.to_string()),
+            v.max().map_or("inf".into(), |m| m.to_string())
+        ));
+    }
+    *real_parameter(p, v).expect("parameter") = x;
+    Ok(())
+}
+
+pub fn parse_bool(t: &str) -> Option<bool> {
+    match t.to_ascii_lowercase().as_str() {
+        "true" | "on" | "1" | "yes" => Some(true),
+        "false" | "off" | "0" | "no" => Some(false),
+        _ => None,
+    }
+}
+
+/// Parses `NAME=VALUE`.
+pub fn parse_assignment(text: &str, option: &str) -> Result<(String, String), String> {
+    match text.split_once('=') {
+        Some((n, v)) if !n.trim().is_empty() && !v.trim().is_empty() => {
+            Ok((n.trim().to_string(), v.trim().to_string()))
+        }
+        _ => Err(format!("{option} {text}: expected NAME=VALUE")),
+    }
+}
+
+/// Levenshtein distance, for "did you mean".
+fn distance(a: &str, b: &str) -> usize {
+    let b: Vec<char> = b.chars().collect();
+    let mut row: Vec<usize> = (0..=b.len()).collect();
+    for (i, ca) in a.chars().enumerate() {
+        let mut prev = row[0];
+        row[0] = i + 1;
+        for (j, &cb) in b.iter().enumerate() {
+            let cur = row[j + 1];
+            row[j + 1] = (prev + usize::from(ca != cb)).min(row[j] + 1).min(row[j + 1] + 1);
+            prev = cur;
+        }
+    }
+    row[b.len()]
+}
+
+/// An effect of the catalog: its switch is the Boolean parameter `effect_<key>`.
+#[derive(Clone, Copy, Debug)]
+pub struct Effect {
+    pub key: &'static str,
+    /// The parameter a value in `--effect KEY=VALUE` sets, and a second one if the effect has it.
+    pub params: &'static [&'static str],
+    /// Range the generator draws the first parameter from when no value is given (log-uniform
+    /// when `log`): inside the plausible range of docs/effects.md, away from the model's default.
+    pub hidden_range: (f64, f64),
+    pub log: bool,
+    /// One line: what switching it on adds.
+    pub meaning: &'static str,
+}
+
+impl Effect {
+    pub fn switch(&self) -> String {
+        format!("effect_{}", self.key)
+    }
+
+    /// Whether the model's default has this effect on.
+    pub fn default_on(&self) -> bool {
+        get_parameter(&semi_active_damper::variables::default_parameters(), &self.switch())
+            .map(|v| v == Value::Boolean(true))
+            .unwrap_or(false)
+    }
+}
+
+/// The effect catalog (issue 4), with the parameter(s) of each.
+pub const EFFECTS: [Effect; 7] = [
+    Effect {
+        key: "compressibility",
+        params: &["air_fraction", "n_polytropic"],
+        hidden_range: (0.035, 0.05),
+        log: false,
+        meaning: "oil with entrained air (off: air-free oil)",
+    },
+    Effect {
+        key: "mount_compliance",
+        params: &["k1_mount", "k3_mount"],
+        hidden_range: (2.0e7, 3.5e7),
+        log: true,
+        meaning: "compliant mount in series (off: rigid mount)",
+    },
+    Effect {
+        key: "amplifier_delay",
+        params: &["tau_amp"],
+        // 7–8 ms makes the force loop oscillate (a 25 Hz limit cycle at 20 kN demands)
+        hidden_range: (0.004, 0.005),
+        log: false,
+        meaning: "pure delay of the power amplifier (off: none)",
+    },
+    Effect {
+        key: "flow_forces",
+        params: &["Cv_valve", "theta_jet"],
+        hidden_range: (0.9, 0.94),
+        log: false,
+        meaning: "steady flow force on the spool (off: none)",
+    },
+    Effect {
+        key: "seal_friction",
+        params: &["F_coulomb", "v_friction"],
+        hidden_range: (150.0, 400.0),
+        log: false,
+        meaning: "Coulomb seal friction F_coulomb·tanh(v/v_friction) (off: none)",
+    },
+    Effect {
+        key: "piston_leakage",
+        params: &["G_leak"],
+        hidden_range: (3e-13, 1e-12),
+        log: true,
+        meaning: "leakage past the piston G_leak·(p_ext − p_comp) (off: none)",
+    },
+    Effect {
+        key: "check_valve_cracking",
+        params: &["p_cv_crack"],
+        hidden_range: (0.6e5, 0.9e5),
+        log: false,
+        meaning: "check-valve cracking pressure (off: they open at zero pressure drop)",
+    },
+];
+
+/// The catalog entry of `key` (with or without the `effect_` prefix).
+pub fn effect(key: &str) -> Result<&'static Effect, String> {
+    let k = key.trim().strip_prefix("effect_").unwrap_or(key.trim());
+    EFFECTS.iter().find(|e| e.key == k).ok_or_else(|| {
+        let keys: Vec<&str> = EFFECTS.iter().map(|e| e.key).collect();
+        format!("unknown effect '{key}'; the catalog has {}", keys.join(", "))
+    })
+}
+
+/// Switches an effect on or off.
+pub fn set_effect(p: &mut Parameters, key: &str, on: bool) -> Result<(), String> {
+    let e = effect(key)?;
+    set_bool(p, &e.switch(), on)
+        .map_err(|err| format!("{err} (this build of the model has no switch {} for the effect {})", e.switch(), e.key))
+}
+
+/// Whether an effect is on.
+pub fn effect_on(p: &Parameters, key: &str) -> Result<bool, String> {
+    let e = effect(key)?;
+    match get_parameter(p, &e.switch())? {
+        Value::Boolean(b) => Ok(b),
+        _ => Err(format!("{} is not a Boolean", e.switch())),
+    }
+}
+
+/// Parameters whose value differs from the model default, as (name, value).
+pub fn changed_parameters(p: &Parameters) -> Vec<(&'static str, Value)> {
+    let d = semi_active_damper::variables::default_parameters();
+    parameter_names()
+        .into_iter()
+        .filter_map(|n| {
+            let (a, b) = (get_parameter(p, n).ok()?, get_parameter(&d, n).ok()?);
+            (a != b).then_some((n, a))
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use semi_active_damper::variables::default_parameters;
+
+    #[test]
+    fn set_and_get_by_name() {
+        let mut p = default_parameters();
+        set_parameter(&mut p, "air_fraction", "0.04").unwrap();
+        assert_eq!(p.air_fraction, 0.04);
+        set_parameter(&mut p, "control_mode", "1").unwrap();
+        assert_eq!(p.control_mode, 1);
+        set_parameter(&mut p, "tare_load_cell", "on").unwrap();
+        assert!(p.tare_load_cell);
+        assert!(set_parameter(&mut p, "air_fraction", "0.9").unwrap_err().contains("out of the model's range"));
+        assert!(set_parameter(&mut p, "air_fracton", "0.1").unwrap_err().contains("did you mean air_fraction"));
+        assert!(set_parameter(&mut p, "F_damper", "1").unwrap_err().contains("not a parameter"));
+        assert!(set_parameter(&mut p, "control_mode", "2").is_err());
+        assert_eq!(get_real(&p, "tau_amp").unwrap(), 3e-3);
+        let changed: Vec<_> = changed_parameters(&p).into_iter().map(|(n, _)| n).collect();
+        assert_eq!(changed, ["air_fraction", "control_mode", "tare_load_cell"]);
+    }
+
+    #[test]
+    fn every_effect_has_its_switch_and_parameters() {
+        let mut p = default_parameters();
+        for e in EFFECTS {
+            let on = effect_on(&p, e.key).unwrap();
+            set_effect(&mut p, e.key, !on).unwrap();
+            assert_eq!(effect_on(&p, e.key).unwrap(), !on);
+            for name in e.params {
+                get_real(&p, name).unwrap();
+            }
+        }
+        assert!(effect("effect_seal_friction").is_ok());
+        assert!(effect("friction").unwrap_err().contains("seal_friction"));
+    }
+}

@@ -1,0 +1,189 @@
+//! Measurement columns (named like the FMU's variables) and the units a column may be given in.
+
+use std::fmt;
+
+/// What a unit measures.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Quantity {
+    Time,
+    Length,
+    Velocity,
+    Force,
+    Pressure,
+    Current,
+}
+
+impl fmt::Display for Quantity {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Quantity::Time => "a time",
+            Quantity::Length => "a length",
+            Quantity::Velocity => "a velocity",
+            Quantity::Force => "a force",
+            Quantity::Pressure => "a pressure",
+            Quantity::Current => "a current",
+        })
+    }
+}
+
+/// Units accepted in a header (`F_damper [kN]`) or a `--map`, with their factor to SI.
+pub const UNITS: [(&str, Quantity, f64); 16] = [
+    ("s", Quantity::Time, 1.0),
+    ("ms", Quantity::Time, 1e-3),
+    ("m", Quantity::Length, 1.0),
+    ("cm", Quantity::Length, 1e-2),
+    ("mm", Quantity::Length, 1e-3),
+    ("m/s", Quantity::Velocity, 1.0),
+    ("cm/s", Quantity::Velocity, 1e-2),
+    ("mm/s", Quantity::Velocity, 1e-3),
+    ("N", Quantity::Force, 1.0),
+    ("kN", Quantity::Force, 1e3),
+    ("Pa", Quantity::Pressure, 1.0),
+    ("kPa", Quantity::Pressure, 1e3),
+    ("MPa", Quantity::Pressure, 1e6),
+    ("bar", Quantity::Pressure, 1e5),
+    ("A", Quantity::Current, 1.0),
+    ("mA", Quantity::Current, 1e-3),
+];
+
+/// The quantity and SI factor of `unit` (exact spelling first, then case-insensitive; no two units
+/// above differ by case only).
+pub fn unit(unit: &str) -> Option<(Quantity, f64)> {
+    let u = unit.trim();
+    UNITS
+        .iter()
+        .find(|(name, _, _)| *name == u)
+        .or_else(|| UNITS.iter().find(|(name, _, _)| name.eq_ignore_ascii_case(u)))
+        .map(|&(_, q, f)| (q, f))
+}
+
+/// The list of accepted units, for error messages.
+pub fn unit_list() -> String {
+    UNITS.iter().map(|(n, _, _)| *n).collect::<Vec<_>>().join(", ")
+}
+
+/// A measurement column the tool understands.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum Column {
+    Time,
+    VDamper,
+    XDamper,
+    FDemand,
+    XSpoolDemand,
+    FDamper,
+    XSpool,
+    ISol,
+    PExt,
+    PComp,
+}
+
+impl Column {
+    pub const ALL: [Column; 10] = [
+        Column::Time,
+        Column::VDamper,
+        Column::XDamper,
+        Column::FDemand,
+        Column::XSpoolDemand,
+        Column::FDamper,
+        Column::XSpool,
+        Column::ISol,
+        Column::PExt,
+        Column::PComp,
+    ];
+
+    /// The name, as the FMU's variable.
+    pub fn name(self) -> &'static str {
+        match self {
+            Column::Time => "time",
+            Column::VDamper => "v_damper",
+            Column::XDamper => "x_damper",
+            Column::FDemand => "F_demand",
+            Column::XSpoolDemand => "x_spool_demand",
+            Column::FDamper => "F_damper",
+            Column::XSpool => "x_spool",
+            Column::ISol => "i_sol",
+            Column::PExt => "p_ext",
+            Column::PComp => "p_comp",
+        }
+    }
+
+    pub fn from_name(name: &str) -> Option<Column> {
+        Column::ALL.into_iter().find(|c| c.name() == name)
+    }
+
+    pub fn quantity(self) -> Quantity {
+        match self {
+            Column::Time => Quantity::Time,
+            Column::VDamper => Quantity::Velocity,
+            Column::XDamper | Column::XSpoolDemand | Column::XSpool => Quantity::Length,
+            Column::FDemand | Column::FDamper => Quantity::Force,
+            Column::ISol => Quantity::Current,
+            Column::PExt | Column::PComp => Quantity::Pressure,
+        }
+    }
+
+    /// SI unit.
+    pub fn si_unit(self) -> &'static str {
+        match self.quantity() {
+            Quantity::Time => "s",
+            Quantity::Length => "m",
+            Quantity::Velocity => "m/s",
+            Quantity::Force => "N",
+            Quantity::Pressure => "Pa",
+            Quantity::Current => "A",
+        }
+    }
+
+    /// Unit used in plots and tables (readable magnitudes) and its factor from SI.
+    pub fn display_unit(self) -> (&'static str, f64) {
+        match self {
+            Column::Time => ("s", 1.0),
+            Column::VDamper => ("m/s", 1.0),
+            Column::XDamper | Column::XSpoolDemand | Column::XSpool => ("mm", 1e3),
+            Column::FDemand | Column::FDamper => ("kN", 1e-3),
+            Column::ISol => ("A", 1.0),
+            Column::PExt | Column::PComp => ("bar", 1e-5),
+        }
+    }
+
+    /// One line of meaning, for errors and the report.
+    pub fn meaning(self) -> &'static str {
+        match self {
+            Column::Time => "sample time",
+            Column::VDamper => "damper velocity, extension +",
+            Column::XDamper => "damper displacement, extension +",
+            Column::FDemand => "force demand, tension +",
+            Column::XSpoolDemand => "spool position demand",
+            Column::FDamper => "measured (load-cell) force, tension +",
+            Column::XSpool => "spool position",
+            Column::ISol => "solenoid current",
+            Column::PExt => "extension (annulus) chamber gauge pressure",
+            Column::PComp => "compression (full-bore) chamber gauge pressure",
+        }
+    }
+}
+
+impl fmt::Display for Column {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn units_resolve() {
+        assert_eq!(unit("kN"), Some((Quantity::Force, 1e3)));
+        assert_eq!(unit("kn"), Some((Quantity::Force, 1e3)));
+        assert_eq!(unit("cm/s"), Some((Quantity::Velocity, 1e-2)));
+        assert_eq!(unit("MPa"), Some((Quantity::Pressure, 1e6)));
+        assert_eq!(unit("mA"), Some((Quantity::Current, 1e-3)));
+        assert_eq!(unit("furlong"), None);
+        for c in Column::ALL {
+            assert_eq!(Column::from_name(c.name()), Some(c));
+            assert_eq!(unit(c.si_unit()).unwrap(), (c.quantity(), 1.0));
+        }
+    }
+}

@@ -1,0 +1,51 @@
+//! Helpers shared by the damper CLI tests.
+#![allow(dead_code)]
+
+use damper_cli::compare::{self, CompareOptions, Comparison};
+use damper_cli::generate::{self, GenerateOptions, Generated};
+use std::path::PathBuf;
+
+/// A fresh, empty scratch directory for one test.
+pub fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("damper_cli_test_{name}_{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("scratch dir");
+    dir
+}
+
+/// Generates `name.csv` (+ `name_truth.json`) in `dir` with `configure` applied to the defaults
+/// (rig inputs, 5 s at 1 kHz, seed 1).
+pub fn generate(
+    dir: &std::path::Path,
+    name: &str,
+    configure: impl FnOnce(&mut GenerateOptions),
+) -> (PathBuf, Generated) {
+    let csv = dir.join(format!("{name}.csv"));
+    let mut o = GenerateOptions::new(&csv, dir.join(format!("{name}_truth.json")));
+    o.duration = 5.0;
+    configure(&mut o);
+    let g = generate::run(&o).expect("generate");
+    (csv, g)
+}
+
+/// Compares `csv` with the default model plus `configure`, load-cell filter 400 Hz (the
+/// generator's default), and writes the report into `dir/out_name`.
+pub fn compare(
+    dir: &std::path::Path,
+    csv: &std::path::Path,
+    out: &str,
+    configure: impl FnOnce(&mut CompareOptions),
+) -> Comparison {
+    let mut o = CompareOptions::new(csv, dir.join(out));
+    o.load_cell_lowpass_hz = Some(400.0);
+    configure(&mut o);
+    compare::run(&o).expect("compare")
+}
+
+pub fn regime<'a>(c: &'a Comparison, group: &str, name_starts: &str) -> &'a damper_cli::analysis::Regime {
+    c.analysis
+        .regimes
+        .iter()
+        .find(|r| r.group == group && r.name.starts_with(name_starts))
+        .unwrap_or_else(|| panic!("no regime {group}/{name_starts}"))
+}
