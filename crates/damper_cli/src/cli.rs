@@ -1,4 +1,4 @@
-//! The command line: `damper generate`, `damper compare`, `damper effects`.
+//! The command line: `damper diagnose`, `damper compare`, `damper generate`, `damper effects`.
 
 use crate::compare::{self, CompareOptions};
 use crate::generate::{self, GenerateOptions, InputStyle, Noise};
@@ -9,10 +9,16 @@ const USAGE: &str = "\
 damper — the semi-active damper model against measurements
 
 USAGE:
+  damper diagnose MEASUREMENT.csv --out DIR [options]
   damper compare MEASUREMENT.csv --out DIR [options]
   damper generate --out FILE.csv --truth TRUTH.json [options]
   damper effects
   damper help [COMMAND]
+
+diagnose: compare, then name the missing effect: each catalog effect is switched on (or refitted),
+  its parameters fitted on the train part and scored on the validation part; ranked, with a verdict
+  (effect / none / unexplained) and a ladder of the error as the effects are added. Same options
+  as compare.
 
 compare: drives the model with the measured inputs and shows where it fails.
   Writes DIR/report.html (self-contained) and DIR/summary.json, prints a summary.
@@ -142,9 +148,7 @@ pub fn main(args: &[String]) -> i32 {
             print_effects();
             Ok(())
         }
-        Some("diagnose") => Err(Failure::Usage(
-            "diagnose is not in this build yet (first slice: compare and generate); use damper compare".into(),
-        )),
+        Some("diagnose") => run_diagnose(&args[1..]),
         Some(other) => {
             Err(Failure::Usage(format!("unknown command '{other}' (commands: compare, generate, effects, help)")))
         }
@@ -177,6 +181,17 @@ fn print_effects() {
 }
 
 fn run_compare(args: &[String]) -> Result<(), Failure> {
+    let o = compare_options(args, "compare")?;
+    compare::run(&o).map(|_| ()).map_err(Failure::Data)
+}
+
+fn run_diagnose(args: &[String]) -> Result<(), Failure> {
+    let o = compare_options(args, "diagnose")?;
+    crate::diagnose_cmd::run(&o, crate::model::default_threads()).map(|_| ()).map_err(Failure::Data)
+}
+
+/// The options shared by compare and diagnose.
+fn compare_options(args: &[String], command: &str) -> Result<CompareOptions, Failure> {
     let a = parse(
         args,
         &["out", "with", "without", "map", "set", "split", "load-cell-lowpass"],
@@ -185,11 +200,12 @@ fn run_compare(args: &[String]) -> Result<(), Failure> {
     .map_err(Failure::Usage)?;
     let [measurement] = a.positional.as_slice() else {
         return Err(Failure::Usage(format!(
-            "compare needs exactly one MEASUREMENT.csv, got {}: damper compare MEASUREMENT.csv --out DIR",
+            "{command} needs exactly one MEASUREMENT.csv, got {}: damper {command} MEASUREMENT.csv --out DIR",
             a.positional.len()
         )));
     };
-    let out = a.one("out").map_err(Failure::Usage)?.ok_or_else(|| Failure::Usage("compare needs --out DIR".into()))?;
+    let out =
+        a.one("out").map_err(Failure::Usage)?.ok_or_else(|| Failure::Usage(format!("{command} needs --out DIR")))?;
     let mut o = CompareOptions::new(measurement, out);
     o.with = a.all("with");
     o.without = a.all("without");
@@ -205,7 +221,7 @@ fn run_compare(args: &[String]) -> Result<(), Failure> {
     for key in o.with.iter().chain(&o.without) {
         crate::parameters::effect(key.split('=').next().unwrap_or(key)).map_err(Failure::Usage)?;
     }
-    compare::run(&o).map(|_| ()).map_err(Failure::Data)
+    Ok(o)
 }
 
 fn run_generate(args: &[String]) -> Result<(), Failure> {

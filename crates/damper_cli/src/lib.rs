@@ -6,12 +6,18 @@
 //! - [`parameters`]: parameters by FMU name and the effect catalog's switches;
 //! - [`analysis`]: fit per signal and where the error lives; [`report`] and [`compare`] turn it
 //!   into `report.html`, `summary.json` and the terminal summary;
+//! - [`diagnose`]: which catalog effect is missing (fit on train, score on validation, rank),
+//!   with [`fit`] (bounded Nelder–Mead, parameter uncertainty) and [`diagnose_cmd`] (the command:
+//!   report, summary, ladder);
 //! - [`generate`]: measurement-like data with hidden effects, and their truth;
 //! - [`cli`]: the command line.
 pub mod analysis;
 pub mod cli;
 pub mod compare;
+pub mod diagnose;
+pub mod diagnose_cmd;
 pub mod dsp;
+pub mod fit;
 pub mod generate;
 pub mod json;
 pub mod measurement;
