@@ -27,7 +27,7 @@ pub const MAX_RUNNER_UP_RATIO: f64 = 0.7;
 /// A baseline within this factor of the noise floor has nothing to explain.
 pub const FLOOR_FACTOR: f64 = 1.3;
 /// Objective evaluations per fit.
-pub const MAX_EVALS: usize = 40;
+pub const MAX_EVALS: usize = 25;
 
 /// A fitted parameter of an effect.
 #[derive(Clone, Copy, Debug)]
@@ -71,7 +71,7 @@ pub const CATALOG: [EffectSpec; 7] = [
     },
     EffectSpec {
         key: "amplifier_delay",
-        params: &[ParamSpec { name: "tau_amp", bound: lin(0.0, 0.015), plausible: (0.001, 0.006), grid: Some(0.5e-3) }],
+        params: &[ParamSpec { name: "tau_amp", bound: lin(0.0, 0.01), plausible: (0.001, 0.006), grid: Some(0.5e-3) }],
         signature: "a constant time shift between model and measurement, the same in both directions, largest after demand steps",
     },
     EffectSpec {

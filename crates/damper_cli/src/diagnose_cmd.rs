@@ -1,5 +1,5 @@
 //! `damper diagnose`: compare (steps 1–2), then name the missing effect (step 3) and show the error
-//! fall as the candidates are added in turn (step 4, the ladder). Writes `report.html` (the compare
+//! fall as the candidates are added in turn (step 4, the ladder; a candidate that raises the error is shown, not kept). Writes `report.html` (the compare
 //! report with a diagnosis section) and `summary.json` (with `verdict`, `best_effect`,
 //! `nrmse_baseline`, `candidates`, `ladder`), and prints a terminal summary.
 
@@ -11,11 +11,13 @@ use crate::parameters::set_real;
 use crate::units::Column;
 use semi_active_damper::physics::params::Parameters;
 
-/// A rung of the ladder: the model after adding one more candidate.
+/// A rung of the ladder: the model after adding one more candidate (kept only if it lowers the
+/// validation error of the model so far).
 #[derive(Clone, Debug)]
 pub struct Rung {
     pub added: String,
     pub nrmse_validation: f64,
+    pub kept: bool,
 }
 
 /// A finished diagnosis with its comparison.
@@ -56,16 +58,19 @@ pub fn diagnose_measurement(opts: &CompareOptions, threads: usize, verbose: bool
         eprintln!("damper diagnose: fitting {} candidate effects on {threads} threads", crate::diagnose::CATALOG.len());
     }
     let d = diagnose(&simulate, &baseline, &measured, split, threads, &progress)?;
-    // the ladder: the candidates that helped, added in turn with their fitted values
-    let mut ladder = vec![Rung { added: "baseline".into(), nrmse_validation: d.nrmse_baseline }];
-    let mut params = baseline;
+    // the ladder: the candidates that helped, added in turn with their fitted values; one that
+    // raises the error of the model so far is shown but not kept
+    let mut ladder = vec![Rung { added: "baseline".into(), nrmse_validation: d.nrmse_baseline, kept: true }];
+    let (mut params, mut current) = (baseline, d.nrmse_baseline);
     for cand in d.candidates.iter().filter(|c| c.reduction > 0.05 && c.plausible) {
-        params = with_candidate(&params, cand)?;
-        let f = simulate(&params, measured.len())?;
-        ladder.push(Rung {
-            added: format!("+ {}", cand.effect),
-            nrmse_validation: nrmse(&f[split..], &measured[split..]),
-        });
+        let next = with_candidate(&params, cand)?;
+        let f = simulate(&next, measured.len())?;
+        let e = nrmse(&f[split..], &measured[split..]);
+        let kept = e < current;
+        if kept {
+            (params, current) = (next, e);
+        }
+        ladder.push(Rung { added: format!("+ {}", cand.effect), nrmse_validation: e, kept });
     }
     drop(simulate);
     Ok(Diagnosed { comparison: c, diagnosis: d, ladder })
@@ -115,7 +120,13 @@ pub fn summary_json(r: &Diagnosed) -> Json {
             Json::Arr(
                 r.ladder
                     .iter()
-                    .map(|l| obj([("added", l.added.as_str().into()), ("nrmse_validation", l.nrmse_validation.into())]))
+                    .map(|l| {
+                        obj([
+                            ("added", l.added.as_str().into()),
+                            ("nrmse_validation", l.nrmse_validation.into()),
+                            ("kept", l.kept.into()),
+                        ])
+                    })
                     .collect(),
             ),
         );
@@ -175,7 +186,8 @@ pub fn html_section(r: &Diagnosed) -> String {
         d.nrmse_noise_floor
     ));
     for l in &r.ladder {
-        h.push_str(&format!("<tr><td class=\"l\">{}</td><td>{:.4}</td></tr>", esc(&l.added), l.nrmse_validation));
+        let note = if l.kept { "" } else { " (not kept: the error rises)" };
+        h.push_str(&format!("<tr><td class=\"l\">{}{note}</td><td>{:.4}</td></tr>", esc(&l.added), l.nrmse_validation));
     }
     h.push_str("</table>");
     h
@@ -205,7 +217,7 @@ pub fn terminal_summary(r: &Diagnosed) -> String {
     }
     t.push_str("  ladder:");
     for l in &r.ladder {
-        t.push_str(&format!(" {} {:.4} →", l.added, l.nrmse_validation));
+        t.push_str(&format!(" {} {:.4}{} →", l.added, l.nrmse_validation, if l.kept { "" } else { " (not kept)" }));
     }
     t.truncate(t.len() - " →".len());
     t.push_str(&format!(" (noise floor {:.4})\n", d.nrmse_noise_floor));
@@ -219,7 +231,7 @@ pub fn run(opts: &CompareOptions, threads: usize) -> Result<Diagnosed, String> {
     let json_path = opts.out.join("summary.json");
     std::fs::write(&json_path, summary_json(&r).pretty()).map_err(|e| format!("{}: {e}", json_path.display()))?;
     let mut html = crate::report::html(&r.comparison);
-    let cut = html.find("<h2>Not done yet</h2>").or_else(|| html.rfind("</body>")).unwrap_or(html.len());
+    let cut = html.find("<h2>Which effect is missing</h2>").or_else(|| html.rfind("</body>")).unwrap_or(html.len());
     html.truncate(cut);
     html.push_str(&html_section(&r));
     html.push_str("</body></html>");

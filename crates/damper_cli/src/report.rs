@@ -402,10 +402,9 @@ pub fn html(c: &Comparison) -> String {
     h.push_str("</table>");
 
     h.push_str(
-        "<h2>Not done yet</h2><p class=\"small\">This is the first slice of issue 4 (compare). Naming the missing effect \
-         (<code>damper diagnose</code>: each catalog effect switched on, its parameters fitted on the train part and scored on the \
-         validation part, ranked) comes next; <code>summary.json</code> carries <code>verdict</code>, <code>best_effect</code> and \
-         <code>candidates</code> as null until then.</p></body></html>",
+        "<h2>Which effect is missing</h2><p class=\"small\">Run <code>damper diagnose</code> with the same options: each catalog \
+         effect switched on (or refitted), its parameters fitted on the train part and scored on the validation part, ranked, with a \
+         verdict and the ladder of the error as the effects are added.</p></body></html>",
     );
     h
 }
