@@ -32,6 +32,17 @@ ZIP_DATE = (1980, 1, 1, 0, 0, 0)
 REQUIRED_SYMBOLS = ("fmi2Instantiate", "fmi2DoStep", "fmi2GetReal", "fmi2SetReal", "fmi2FreeInstance")
 
 
+
+# Style of the FMUs' documentation/index.html.
+CSS = """body { font-family: sans-serif; max-width: 75em; margin: 1em auto; padding: 0 1em; line-height: 1.4; }
+table { border-collapse: collapse; margin: 0.5em 0 1.5em 0; font-size: 0.9em; }
+th, td { border: 1px solid #bbb; padding: 0.2em 0.4em; vertical-align: top; text-align: left; }
+th { background: #eee; }
+td.num { text-align: right; white-space: nowrap; }
+pre { background: #f6f6f6; padding: 0.6em; overflow-x: auto; }
+.tag { font-weight: bold; }
+.tag-P { color: #1a6b1a; } .tag-S { color: #1a4d8f; } .tag-A { color: #8f5a1a; }"""
+
 def target_dir():
     """Cargo's target directory (CARGO_TARGET_DIR if set)."""
     return Path(os.environ.get("CARGO_TARGET_DIR", REPO / "target"))
@@ -160,14 +171,7 @@ def documentation_html(model):
 <meta charset="utf-8">
 <title>{html.escape(model['modelName'])} — FMI 2.0 Co-Simulation FMU</title>
 <style>
-body {{ font-family: sans-serif; max-width: 75em; margin: 1em auto; padding: 0 1em; line-height: 1.4; }}
-table {{ border-collapse: collapse; margin: 0.5em 0 1.5em 0; font-size: 0.9em; }}
-th, td {{ border: 1px solid #bbb; padding: 0.2em 0.4em; vertical-align: top; text-align: left; }}
-th {{ background: #eee; }}
-td.num {{ text-align: right; white-space: nowrap; }}
-pre {{ background: #f6f6f6; padding: 0.6em; overflow-x: auto; }}
-.tag {{ font-weight: bold; }}
-.tag-P {{ color: #1a6b1a; }} .tag-S {{ color: #1a4d8f; }} .tag-A {{ color: #8f5a1a; }}
+{CSS}
 </style>
 </head>
 <body>

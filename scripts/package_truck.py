@@ -38,14 +38,7 @@ def documentation_html(model):
     return f"""<!DOCTYPE html>
 <html lang="en"><head><meta charset="utf-8"><title>{html.escape(model['modelName'])}</title>
 <style>
-body {{ font-family: sans-serif; max-width: 75em; margin: 1em auto; padding: 0 1em; line-height: 1.4; }}
-table {{ border-collapse: collapse; margin: 0.5em 0 1.5em 0; font-size: 0.9em; }}
-th, td {{ border: 1px solid #bbb; padding: 0.2em 0.4em; vertical-align: top; text-align: left; }}
-th {{ background: #eee; }}
-td.num {{ text-align: right; white-space: nowrap; }}
-pre {{ background: #f6f6f6; padding: 0.6em; overflow-x: auto; }}
-.tag {{ font-weight: bold; }}
-.tag-P {{ color: #1a6b1a; }} .tag-S {{ color: #1a4d8f; }} .tag-A {{ color: #8f5a1a; }}
+{package_fmu.CSS}
 </style></head><body>
 <h1>{html.escape(model['modelName'])} {html.escape(model['version'])}</h1>
 <p>{html.escape(model['description'])}</p>
