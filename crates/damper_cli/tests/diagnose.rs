@@ -33,6 +33,8 @@ fn each_hidden_catalog_effect_is_named_and_fitted() {
         ("piston_leakage", "G_leak"),
         ("amplifier_delay", "tau_amp"),
         ("compressibility", "air_fraction"),
+        ("mount_compliance", "k1_mount"),
+        ("check_valve_cracking", "p_cv_crack"),
     ];
     for (effect, param) in cases {
         for seed in SEEDS {
