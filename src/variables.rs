@@ -94,6 +94,7 @@ pub fn real_parameter(p: &mut Parameters, v: RealVar) -> Option<&mut f64> {
         KdX => &mut p.kd_x,
         TauDx => &mut p.tau_dx,
         DpFcNominal => &mut p.dp_fc_nominal,
+        CvCompensation => &mut p.cv_compensation,
         KpF => &mut p.kp_f,
         KiF => &mut p.ki_f,
         KdF => &mut p.kd_f,

@@ -4,7 +4,7 @@
 //! ```text
 //! e = x_dem − x_s ;   ẋ_f = filtered backward difference of x_s (τ_dx)
 //! Q̂ = A_a max(v,0) + A_r max(−v,0)                     estimated valve flow
-//! i_fc = C_v cosθ sqrt(2ρ Δp̂) Q̂ / K_sol,  Δp̂ = |F|/(A_a or A_r)   (fc_mode 2)
+//! i_fc = C_v,nom cosθ sqrt(2ρ Δp̂) Q̂ / K_sol,  Δp̂ = |F|/(A_a or A_r)   (fc_mode 2)
 //!        or with Δp̂ ≡ dp_fc_nominal                                 (fc_mode 1, paper-literal)
 //! i = Kp e + Ki Σe T − Kd ẋ_f + i_fc + (spool-spring hold in the integrator),  clamp [0, I_max]
 //! ```
@@ -53,7 +53,7 @@ pub fn flow_force_compensation(p: &Parameters, d: &Derived, m: Measurements) -> 
         FlowForceCompensation::FixedGain => p.dp_fc_nominal,
         FlowForceCompensation::Scheduled => m.force.abs() / if v >= 0.0 { cyl.a_annulus } else { cyl.a_rod },
     };
-    p.cv_valve * p.theta_jet.cos() * (2.0 * p.rho * dp_est).sqrt() * q_est / p.k_sol
+    p.cv_compensation * p.theta_jet.cos() * (2.0 * p.rho * dp_est).sqrt() * q_est / p.k_sol
 }
 
 #[cfg(test)]
@@ -109,7 +109,7 @@ mod tests {
         p.fc_mode = 2;
         let d = p.derive();
         let a = d.cylinder.a_annulus;
-        let hand = p.cv_valve * p.theta_jet.cos() * (2.0 * p.rho * 10e3 / a).sqrt() * a * 0.5 / p.k_sol;
+        let hand = p.cv_compensation * p.theta_jet.cos() * (2.0 * p.rho * 10e3 / a).sqrt() * a * 0.5 / p.k_sol;
         assert!((flow_force_compensation(&p, &d, m) - hand).abs() < 1e-12);
     }
 }

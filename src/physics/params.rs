@@ -102,6 +102,7 @@ pub struct Parameters {
     pub kd_x: f64,
     pub tau_dx: f64,
     pub dp_fc_nominal: f64,
+    pub cv_compensation: f64,
     pub kp_f: f64,
     pub ki_f: f64,
     pub kd_f: f64,

@@ -35,6 +35,7 @@ fn each_hidden_catalog_effect_is_named_and_fitted() {
         ("compressibility", "air_fraction"),
         ("mount_compliance", "k1_mount"),
         ("check_valve_cracking", "p_cv_crack"),
+        ("flow_forces", "Cv_valve"),
     ];
     for (effect, param) in cases {
         for seed in SEEDS {
