@@ -273,12 +273,13 @@ def write_zip(fmu_path, files):
     tmp.replace(fmu_path)
 
 
-def package(library, xml_path, fmu_path):
+def package(library, xml_path, fmu_path, documentation=None):
+    """Zips the FMU; `documentation(model)` writes its index.html (default: the damper's)."""
     model = read_model(xml_path)
     files = [
         ("modelDescription.xml", xml_path.read_bytes()),
         (f"binaries/{PLATFORM}/{model['modelIdentifier']}.so", library.read_bytes()),
-        ("documentation/index.html", documentation_html(model).encode("utf-8")),
+        ("documentation/index.html", (documentation or documentation_html)(model).encode("utf-8")),
     ]
     write_zip(fmu_path, files)
     return fmu_path

@@ -68,14 +68,7 @@ SemiActiveDamper.fmu's inputs and its <code>F_damper</code> (with <code>tare_loa
 
 
 def package(library, xml_path=XML, fmu_path=OUTPUT):
-    model = package_fmu.read_model(xml_path)
-    files = [
-        ("modelDescription.xml", xml_path.read_bytes()),
-        (f"binaries/{package_fmu.PLATFORM}/{model['modelIdentifier']}.so", library.read_bytes()),
-        ("documentation/index.html", documentation_html(model).encode("utf-8")),
-    ]
-    package_fmu.write_zip(fmu_path, files)
-    return fmu_path
+    return package_fmu.package(library, xml_path, fmu_path, documentation_html)
 
 
 def main(argv=None):
