@@ -55,15 +55,15 @@ impl Model for Slave {
     type StepError = SolverError;
 
     fn real_info(vr: u32) -> Option<VarInfo> {
-        RealVar::from_vr(vr).map(|v| VarInfo { name: v.name(), causality: v.causality() })
+        RealVar::from_vr(vr).map(RealVar::info)
     }
 
     fn integer_info(vr: u32) -> Option<VarInfo> {
-        IntegerVar::from_vr(vr).map(|v| VarInfo { name: v.name(), causality: v.causality() })
+        IntegerVar::from_vr(vr).map(IntegerVar::info)
     }
 
     fn boolean_info(vr: u32) -> Option<VarInfo> {
-        BooleanVar::from_vr(vr).map(|v| VarInfo { name: v.name(), causality: v.causality() })
+        BooleanVar::from_vr(vr).map(BooleanVar::info)
     }
 
     /// Outputs before initialisation are those of the damper at rest with the present parameters

@@ -6,7 +6,7 @@
 //! The FMU crate maps every variant in exhaustive `match`es, so a variable added to or removed from
 //! the XML does not compile until the code handles it. The GUID must equal a fingerprint of the
 //! variable table, so an interface change cannot keep a stale GUID. The generated code refers to
-//! `Causality`, which the including module must bring into scope (`fmi2_slave::Causality`).
+//! `Causality` and `VarInfo`, which the including module must bring into scope (from `fmi2_slave`).
 
 use quick_xml::events::{BytesStart, Event};
 use quick_xml::{Reader, XmlVersion};
@@ -311,6 +311,11 @@ pub fn generate() {
         gen_fn(&mut out, "vr", "u32", &|v| v.vr.to_string());
         gen_fn(&mut out, "name", "&'static str", &|v| format!("{:?}", v.name));
         gen_fn(&mut out, "causality", "Causality", &|v| format!("Causality::{}", camel(&v.causality)));
+        let _ = writeln!(out, "    /// Name and causality, for the FMI layer.");
+        let _ = writeln!(
+            out,
+            "    pub const fn info(self) -> VarInfo {{\n        VarInfo {{ name: self.name(), causality: self.causality() }}\n    }}"
+        );
         gen_fn(&mut out, "start", &format!("Option<{rust_ty}>"), &|v| lit(&v.start));
         if ty != "Boolean" {
             gen_fn(&mut out, "min", &format!("Option<{rust_ty}>"), &|v| lit(&v.min));

@@ -130,15 +130,15 @@ impl Model for Slave {
     type StepError = &'static str;
 
     fn real_info(vr: u32) -> Option<VarInfo> {
-        RealVar::from_vr(vr).map(|v| VarInfo { name: v.name(), causality: v.causality() })
+        RealVar::from_vr(vr).map(RealVar::info)
     }
 
     fn integer_info(vr: u32) -> Option<VarInfo> {
-        IntegerVar::from_vr(vr).map(|v| VarInfo { name: v.name(), causality: v.causality() })
+        IntegerVar::from_vr(vr).map(IntegerVar::info)
     }
 
     fn boolean_info(vr: u32) -> Option<VarInfo> {
-        BooleanVar::from_vr(vr).map(|v| VarInfo { name: v.name(), causality: v.causality() })
+        BooleanVar::from_vr(vr).map(BooleanVar::info)
     }
 
     fn get_real(&self, vr: u32) -> Result<f64, String> {
@@ -241,44 +241,21 @@ impl Model for Slave {
 impl Visit for Slave {
     fn visit<V: Visitor>(&mut self, v: &mut V) {
         let Slave { params, inputs, y, time, initialized } = self;
-        let Params {
-            damper_mode,
-            m_body,
-            m_axle,
-            k_susp,
-            k_tyre,
-            c_susp,
-            c_tyre,
-            c_passive,
-            cm,
-            alpha,
-            gravity,
-            h_max,
-            z_body_start,
-            z_axle_start,
-            v_body_start,
-            v_axle_start,
-        } = params;
-        int32(v, damper_mode);
-        for x in [
-            m_body,
-            m_axle,
-            k_susp,
-            k_tyre,
-            c_susp,
-            c_tyre,
-            c_passive,
-            cm,
-            alpha,
-            gravity,
-            h_max,
-            z_body_start,
-            z_axle_start,
-            v_body_start,
-            v_axle_start,
-        ] {
-            v.real(x);
+        // every field named once: a field missing here is a compile error
+        macro_rules! visit_params {
+            (ints: [$($i:ident),*], reals: [$($r:ident),*]) => {{
+                let Params { $($i,)* $($r,)* } = params;
+                $(int32(v, $i);)*
+                $(v.real($r);)*
+            }};
         }
+        visit_params!(
+            ints: [damper_mode],
+            reals: [
+                m_body, m_axle, k_susp, k_tyre, c_susp, c_tyre, c_passive, cm, alpha, gravity, h_max, z_body_start,
+                z_axle_start, v_body_start, v_axle_start
+            ]
+        );
         let Inputs { z_road, v_road, f_damper } = inputs;
         for x in [z_road, v_road, f_damper].into_iter().chain(y.iter_mut()) {
             v.real(x);
