@@ -112,7 +112,14 @@ impl Damper {
 
     /// Outputs at the present state.
     pub fn outputs(&self) -> Outputs {
-        let plant = self.plant().evaluate(&self.state.y);
+        self.outputs_with(&self.inputs)
+    }
+
+    /// Outputs at the present state with `inputs` applied. The load-cell force (and the mount
+    /// deflection) depend on the velocity directly where an effect adds a velocity-dependent
+    /// force (seal and viscous friction): the model's one direct feedthrough.
+    pub fn outputs_with(&self, inputs: &Inputs) -> Outputs {
+        let plant = Plant { v_damper: inputs.v_damper, ..self.plant() }.evaluate(&self.state.y);
         Outputs {
             plant,
             load_cell: plant.force - self.state.controller.force_tare,

@@ -2,6 +2,7 @@
 //!
 //! Layout, from the physics outwards:
 //! - [`physics`]: fluid, valve, mount, hydraulic circuit and the assembled plant (safe Rust, SI);
+//! - [`effects`]: the catalog of physical effects a model may lack, one file each, behind a trait;
 //! - [`control`]: the digital cascade controller (force loop, spool loop, amplifier delay);
 //! - [`solver`]: the Rodas3 stiff integrator on fixed-size vectors;
 //! - [`damper`]: plant + controller + solver as a co-simulation unit without FMI types;
@@ -11,6 +12,7 @@
 //!   (the `unsafe` boundary lives in the shared `fmi2_slave` crate).
 pub mod control;
 pub mod damper;
+pub mod effects;
 pub mod physics;
 pub mod slave;
 pub mod snapshot;

@@ -43,7 +43,8 @@ fn unknown(vr: u32) -> String {
 impl Slave {
     fn outputs(&self) -> Result<Outputs, String> {
         match &self.damper {
-            Some(d) => Ok(d.outputs()),
+            // with the inputs set last: the force feeds through from v_damper (friction effects)
+            Some(d) => Ok(d.outputs_with(&self.inputs)),
             None => Ok(Damper::new(self.params, self.inputs, 0.0)?.outputs()),
         }
     }

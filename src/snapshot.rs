@@ -35,6 +35,7 @@ impl Visit for Parameters {
                 effect_seal_friction,
                 effect_piston_leakage,
                 effect_check_valve_cracking,
+                effect_viscous_friction,
             ],
             ints: [control_mode, force_controller, fc_mode, n_ports],
             reals: [
@@ -42,7 +43,7 @@ impl Visit for Parameters {
                 v_hose, p_reservoir0, v_gas0, a_cv_max, cd_cv, p_cv_crack, p_cv_full, a_cv_leak, p_relief, dp_relief,
                 a_relief, r_port, x_lap, a_valve_leak, cd_valve, cv_valve, theta_jet, m_spool, k_spool, c_spool,
                 x_spool_min, x_spool_max, k_stop, c_stop, k_sol, kappa_sol, i_max, tau_amp, tau_coil, k1_mount,
-                k3_mount, f_coulomb, v_friction, g_leak, t_sample, kp_x, ki_x, kd_x, tau_dx, dp_fc_nominal,
+                k3_mount, f_coulomb, v_friction, g_leak, c_viscous, t_sample, kp_x, ki_x, kd_x, tau_dx, dp_fc_nominal,
                 cv_compensation, kp_f,
                 ki_f, kd_f, tau_df, f_ref_min, kp_f_pid, ki_f_pid, kd_f_pid, x_spool_bias, h_max, rtol,
                 x_damper_start, x_spool_start,

@@ -88,6 +88,7 @@ pub fn real_parameter(p: &mut Parameters, v: RealVar) -> Option<&mut f64> {
         FCoulomb => &mut p.f_coulomb,
         VFriction => &mut p.v_friction,
         GLeak => &mut p.g_leak,
+        CViscous => &mut p.c_viscous,
         TSample => &mut p.t_sample,
         KpX => &mut p.kp_x,
         KiX => &mut p.ki_x,
@@ -132,6 +133,7 @@ pub fn boolean_parameter(p: &mut Parameters, v: BooleanVar) -> Option<&mut bool>
         BooleanVar::EffectSealFriction => &mut p.effect_seal_friction,
         BooleanVar::EffectPistonLeakage => &mut p.effect_piston_leakage,
         BooleanVar::EffectCheckValveCracking => &mut p.effect_check_valve_cracking,
+        BooleanVar::EffectViscousFriction => &mut p.effect_viscous_friction,
     })
 }
 

@@ -61,3 +61,30 @@ fn rust_fmi_importer_runs_the_fmu_like_the_model() {
     assert!(fmu.set_real(&[v_in], &[f64::NAN]).is_err());
     assert!(fmu.do_step(0.0, h, true).is_err(), "wrong communication point");
 }
+
+#[test]
+fn the_force_feeds_through_from_the_velocity_with_friction_on() {
+    // ModelStructure: F_damper depends on v_damper (seal and viscous friction add F(v)); a new
+    // velocity shows in the force before the next step, as in the in-process model
+    let import: Fmi2Import = fmi::import::from_path(pack_fmu()).expect("import the FMU");
+    let mut fmu = import.instantiate_cs("rust-fmi", false, false).expect("instantiate");
+    let mut params = default_parameters();
+    params.effect_seal_friction = true;
+    fmu.set_boolean(&[semi_active_damper::model_description::BooleanVar::EffectSealFriction.vr()], &[1]).unwrap();
+    fmu.setup_experiment(None, 0.0, None).unwrap();
+    fmu.enter_initialization_mode().unwrap();
+    fmu.exit_initialization_mode().unwrap();
+    let mut model = Damper::new(params, default_inputs(), 0.0).unwrap();
+    let (v_in, f_out) = (RealVar::VDamper.vr(), RealVar::FDamper.vr());
+    let h = 1e-3;
+    for k in 0..200 {
+        let v = 0.2 * (20.0 * k as f64 * h).sin();
+        fmu.set_real(&[v_in], &[v]).unwrap();
+        model.inputs.v_damper = v;
+        let mut force = [0.0];
+        fmu.get_real(&[f_out], &mut force).unwrap();
+        assert_eq!(force[0].to_bits(), model.outputs().plant.force.to_bits(), "step {k}");
+        fmu.do_step(k as f64 * h, h, true).unwrap();
+        model.do_step(h).unwrap();
+    }
+}

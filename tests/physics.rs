@@ -218,6 +218,10 @@ fn effect_switches_change_what_they_name() {
     let expected = 200.0 * (0.15f64 / 0.01).tanh();
     let added = friction.plant.force - base.plant.force;
     assert!((added - expected).abs() < 0.02 * expected, "friction adds {added} N, expected {expected}");
+    // viscous friction adds c·v (the worked example of a user-written effect, docs/effects.md)
+    let viscous = steady_extension(|p| p.effect_viscous_friction = true);
+    let (added, expected) = (viscous.plant.force - base.plant.force, 1000.0 * 0.15);
+    assert!((added - expected).abs() < 0.02 * expected, "viscous friction adds {added} N, expected {expected}");
     // leakage A→B bypasses the valve: less valve flow, lower pressure, lower force
     let leak = steady_extension(|p| p.effect_piston_leakage = true);
     assert!(leak.plant.q_valve < base.plant.q_valve && leak.plant.force < base.plant.force);

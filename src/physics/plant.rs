@@ -9,16 +9,18 @@
 //!   K_h = a A_a² + b A_p²,  S = a A_a R_A − b A_p R_B,  δ̇ = (K_h v + S)/(g'(δ) + K_h),  ẋ_p = v − δ̇
 //! ṗ_A = a (A_a ẋ_p + R_A),  ṗ_B = b (−A_p ẋ_p + R_B),  V̇_g = Q_cv2 − Q_v − Q_rv
 //! m_s ẍ_s = F_sol − k_s x_s − c_s ẋ_s − F_flow − F_stop,   i̇ = (i_cmd − i)/τ_coil,   ẋ = v
-//! F (load cell) = g(δ) = p_A A_a − p_B A_p + F_c tanh(v/v_f)
+//! F (load cell) = g(δ) = p_A A_a − p_B A_p + F_e
 //! ```
 //! The effect switches (`effect_*` parameters) remove terms: air in the oil (α₀ → 0), the mount
-//! (rigid: δ = 0), flow force, check-valve cracking pressure; or add them: seal friction F_c,
-//! piston leakage Q_l. The amplifier delay is the controller's.
+//! (rigid: δ = 0), flow force, check-valve cracking pressure; or add them through the
+//! [`effects`] catalog: the force F_e in parallel with the piston (seal friction, viscous
+//! friction) and the bypass flow Q_l (piston leakage). The amplifier delay is the controller's.
 
 use super::fluid::{effective_bulk_modulus, orifice_flow, smoothstep};
 use super::hydraulics::{check_valve_area, reservoir_pressure};
 use super::params::{Derived, Parameters};
 use super::valve::{flow_force, solenoid_force};
+use crate::effects::{self, PlantSignals};
 use crate::solver::OdeSystem;
 use nalgebra::{SMatrix, SVector};
 
@@ -82,8 +84,15 @@ impl Plant<'_> {
             (y[idx::P_A], y[idx::P_B], y[idx::V_GAS], y[idx::X_SPOOL], y[idx::V_SPOOL], y[idx::I_COIL]);
 
         let p_r = reservoir_pressure(p.p_reservoir0, p.v_gas0, p.n_polytropic, v_gas);
-        let f_friction = if p.effect_seal_friction { p.f_coulomb * (v / p.v_friction).tanh() } else { 0.0 };
-        let force = p_a * cyl.a_annulus - p_b * cyl.a_piston + f_friction;
+        let signals = PlantSignals {
+            v_damper: v,
+            x_damper: y[idx::X_DAMPER],
+            p_ext: p_a,
+            p_comp: p_b,
+            p_reservoir: p_r,
+            x_spool: x_s,
+        };
+        let force = p_a * cyl.a_annulus - p_b * cyl.a_piston + effects::total_force(p, &signals);
         let delta = d.mount.map_or(0.0, |m| m.deflection(force));
         let (vol_a, vol_b) = cyl.volumes(y[idx::X_DAMPER] - delta);
 
@@ -102,7 +111,7 @@ impl Plant<'_> {
         } else {
             0.0
         };
-        let q_leak = if p.effect_piston_leakage { p.g_leak * (p_a - p_b) } else { 0.0 };
+        let q_leak = effects::total_bypass_flow(p, &signals);
         let r_a = q_cv1 - q_valve - q_relief - q_leak;
         let r_b = -q_cv1 + q_cv2 + q_leak;
 

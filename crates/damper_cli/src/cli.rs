@@ -3,7 +3,7 @@
 use crate::compare::{self, CompareOptions};
 use crate::generate::{self, GenerateOptions, InputStyle, Noise};
 use crate::measurement::Mapping;
-use crate::parameters::{parse_assignment, EFFECTS};
+use crate::parameters::{effects, parse_assignment, EffectExt};
 
 const USAGE: &str = "\
 damper — the semi-active damper model against measurements
@@ -17,8 +17,9 @@ USAGE:
 
 diagnose: compare, then name the missing effect: each catalog effect is switched on (or refitted),
   its parameters fitted on the train part and scored on the validation part; ranked, with a verdict
-  (effect / none / unexplained) and a ladder of the error as the effects are added. Same options
-  as compare.
+  (effect / none / unexplained) and a ladder of the error as the effects are added one at a time
+  (two or more when one does not explain the residual). Options of compare, and:
+  --skip EFFECT             leave this effect out of the candidates; repeatable
 
 compare: drives the model with the measured inputs and shows where it fails.
   Writes DIR/report.html (self-contained) and DIR/summary.json, prints a summary.
@@ -32,6 +33,9 @@ compare: drives the model with the measured inputs and shows where it fails.
                             about -1 kN) removed; default: raw load cell, as the FMU's default
   --load-cell-lowpass HZ    first-order low-pass of the load cell, applied to the model's force
                             (default: none)
+  --fmu PATH.fmu            run the model through this packaged FMU (python3 scripts/package_fmu.py
+                            makes target/fmu/SemiActiveDamper.fmu) instead of in-process; same
+                            numbers, its parameters must match this program's
   --quiet                   print nothing
   Columns (SI, named like the FMU's variables): time, v_damper (or x_damper), F_demand (or only
   x_spool_demand: spool-position control), F_damper; optional x_spool, i_sol, p_ext, p_comp,
@@ -168,13 +172,13 @@ pub fn main(args: &[String]) -> i32 {
 
 fn print_effects() {
     println!("{:<22}{:<30}{:<9}{:<28}meaning", "effect", "switch", "default", "parameters");
-    for e in EFFECTS {
+    for e in effects() {
         println!(
             "{:<22}{:<30}{:<9}{:<28}{}",
             e.key,
             e.switch(),
             if e.default_on() { "on" } else { "off" },
-            e.params.join(", "),
+            e.parameter_names().join(", "),
             e.meaning
         );
     }
@@ -192,12 +196,11 @@ fn run_diagnose(args: &[String]) -> Result<(), Failure> {
 
 /// The options shared by compare and diagnose.
 fn compare_options(args: &[String], command: &str) -> Result<CompareOptions, Failure> {
-    let a = parse(
-        args,
-        &["out", "with", "without", "map", "set", "split", "load-cell-lowpass"],
-        &["tare-load-cell", "quiet"],
-    )
-    .map_err(Failure::Usage)?;
+    let mut with_value = vec!["out", "with", "without", "map", "set", "split", "load-cell-lowpass", "fmu"];
+    if command == "diagnose" {
+        with_value.push("skip");
+    }
+    let a = parse(args, &with_value, &["tare-load-cell", "quiet"]).map_err(Failure::Usage)?;
     let [measurement] = a.positional.as_slice() else {
         return Err(Failure::Usage(format!(
             "{command} needs exactly one MEASUREMENT.csv, got {}: damper {command} MEASUREMENT.csv --out DIR",
@@ -217,8 +220,10 @@ fn compare_options(args: &[String], command: &str) -> Result<CompareOptions, Fai
     }
     o.tare_load_cell = a.flag("tare-load-cell");
     o.load_cell_lowpass_hz = a.number("load-cell-lowpass").map_err(Failure::Usage)?;
+    o.fmu = a.one("fmu").map_err(Failure::Usage)?.map(std::path::PathBuf::from);
     o.quiet = a.flag("quiet");
-    for key in o.with.iter().chain(&o.without) {
+    o.skip = a.all("skip");
+    for key in o.with.iter().chain(&o.without).chain(&o.skip) {
         crate::parameters::effect(key.split('=').next().unwrap_or(key)).map_err(Failure::Usage)?;
     }
     Ok(o)

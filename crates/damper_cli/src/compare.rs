@@ -5,8 +5,10 @@ use crate::analysis::{analyse, Analysis};
 use crate::dsp::mean;
 use crate::json::{obj, Json};
 use crate::measurement::{Mapping, Measurement};
-use crate::model::{Drive, Model, Prediction};
-use crate::parameters::{changed_parameters, effect, effect_on, set_effect, set_parameter, set_real, Value, EFFECTS};
+use crate::model::{Backend, Drive, Model, Prediction};
+use crate::parameters::{
+    changed_parameters, effect, effect_on, effects, set_effect, set_parameter, set_real, EffectExt, Value,
+};
 use crate::units::Column;
 use semi_active_damper::variables::default_parameters;
 use std::path::PathBuf;
@@ -32,8 +34,12 @@ pub struct CompareOptions {
     pub tare_load_cell: bool,
     /// Load-cell low-pass applied to the model's force [Hz].
     pub load_cell_lowpass_hz: Option<f64>,
+    /// Run the model through this packaged FMU instead of in-process (`--fmu`).
+    pub fmu: Option<PathBuf>,
     /// Print nothing.
     pub quiet: bool,
+    /// Effects left out of a diagnosis's candidates (`--skip`).
+    pub skip: Vec<String>,
 }
 
 impl CompareOptions {
@@ -48,7 +54,9 @@ impl CompareOptions {
             split: 0.7,
             tare_load_cell: false,
             load_cell_lowpass_hz: None,
+            fmu: None,
             quiet: true,
+            skip: Vec::new(),
         }
     }
 }
@@ -57,6 +65,8 @@ impl CompareOptions {
 #[derive(Clone, Debug)]
 pub struct ModelSetup {
     pub model: Model,
+    /// Where it runs: in-process or through the FMU of `--fmu`.
+    pub backend: Backend,
     /// (effect key, on) for the whole catalog.
     pub effects: Vec<(&'static str, bool)>,
     /// Parameters that differ from the model's defaults.
@@ -64,7 +74,7 @@ pub struct ModelSetup {
 }
 
 /// Builds the model for a drive: defaults, control mode from the drive, tare, `--with`,
-/// `--without`, then `--set`.
+/// `--without`, then `--set`; the FMU of `--fmu` imported and checked against the parameters.
 pub fn build_model(opts: &CompareOptions, drive: &Drive) -> Result<ModelSetup, String> {
     let mut p = default_parameters();
     p.control_mode = drive.control_mode();
@@ -80,7 +90,7 @@ pub fn build_model(opts: &CompareOptions, drive: &Drive) -> Result<ModelSetup, S
         }
         set_effect(&mut p, e.key, true)?;
         if let Some(v) = value {
-            set_parameter(&mut p, e.params[0], v).map_err(|err| format!("--with {w}: {err}"))?;
+            set_parameter(&mut p, e.size_parameter(), v).map_err(|err| format!("--with {w}: {err}"))?;
         }
     }
     for w in &opts.without {
@@ -103,9 +113,14 @@ pub fn build_model(opts: &CompareOptions, drive: &Drive) -> Result<ModelSetup, S
             return Err(format!("--load-cell-lowpass {fc}: must be a positive frequency in Hz"));
         }
     }
-    let effects = EFFECTS.iter().map(|e| (e.key, effect_on(&p, e.key).unwrap_or(false))).collect();
+    let backend = match &opts.fmu {
+        Some(path) => Backend::fmu(path)?,
+        None => Backend::InProcess,
+    };
+    let effects = effects().map(|e| (e.key, effect_on(&p, e.key).unwrap_or(false))).collect();
     Ok(ModelSetup {
         model: Model { params: p, load_cell_lowpass_hz: opts.load_cell_lowpass_hz },
+        backend,
         effects,
         changed: changed_parameters(&p),
     })
@@ -153,7 +168,7 @@ pub fn compare(opts: &CompareOptions) -> Result<Comparison, String> {
     let drive = Drive::from_measurement(&m);
     let setup = build_model(opts, &drive)?;
     let t0 = Instant::now();
-    let prediction = setup.model.run(&drive).map_err(|e| format!("{}: {e}", m.path))?;
+    let prediction = setup.backend.run(&setup.model, &drive).map_err(|e| format!("{}: {e}", m.path))?;
     let run_seconds = t0.elapsed().as_secs_f64();
     let analysis = analyse(&m, &drive, &prediction, split);
     let mut warnings = m.notes.clone();
@@ -227,6 +242,8 @@ pub fn model_json(setup: &ModelSetup) -> Json {
         ("control_mode", p.control_mode.into()),
         ("tare_load_cell", p.tare_load_cell.into()),
         ("load_cell_lowpass_hz", setup.model.load_cell_lowpass_hz.into()),
+        ("backend", setup.backend.name().into()),
+        ("fmu", setup.backend.fmu_path().map_or(Json::Null, |p| p.display().to_string().into())),
         ("effects", Json::Obj(setup.effects.iter().map(|(k, on)| (k.to_string(), Json::Bool(*on))).collect())),
         (
             "changed_parameters",
@@ -499,9 +516,9 @@ pub fn terminal_summary(c: &Comparison) -> String {
     s
 }
 
-/// One line: effects off/on against the default, changed parameters, tare and filter.
+/// One line: effects off/on against the default, changed parameters, tare, filter and backend.
 pub fn describe_model(setup: &ModelSetup) -> String {
-    let defaults: Vec<(&str, bool)> = EFFECTS.iter().map(|e| (e.key, e.default_on())).collect();
+    let defaults: Vec<(&str, bool)> = effects().map(|e| (e.key, e.default_on())).collect();
     let mut parts = Vec::new();
     for ((k, on), (_, d)) in setup.effects.iter().zip(&defaults) {
         if on != d {
@@ -527,6 +544,7 @@ pub fn describe_model(setup: &ModelSetup) -> String {
     if let Some(fc) = setup.model.load_cell_lowpass_hz {
         s += &format!("; load-cell low-pass {fc} Hz");
     }
+    s += &format!("; {}", setup.backend.describe());
     s
 }
 

@@ -5,7 +5,8 @@
 //!
 //! - `none`: the baseline's validation residual is at the noise floor and no candidate improves it;
 //! - `effect`: the best candidate explains at least [`MIN_EXPLAINED`] of the validation error above
-//!   the noise floor, clearly more than the runner-up, with plausible parameters;
+//!   the noise floor with plausible parameters, and either clearly more than the best plausible
+//!   runner-up or it alone brings the residual to the noise floor;
 //! - `unexplained`: neither.
 //!
 //! The share explained is (b² − c²)/(b² − f²) with b, c, f the NRMSE of the baseline, of the
@@ -17,99 +18,27 @@
 //! shows in them.
 
 use crate::fit::{minimize, standard_errors, Bound, Fit};
-use crate::parameters::{get_parameter, get_real, set_bool, set_real, Value};
+use crate::ladder::{climb, share, Ladder};
+use crate::parameters::{effect_on, get_real, set_effect, set_real};
+use semi_active_damper::effects::{EffectInfo, FittedParameter};
 use semi_active_damper::physics::params::Parameters;
 
 /// Least share of the validation error above the noise floor an effect must explain to be named.
 pub const MIN_EXPLAINED: f64 = 0.5;
-/// The runner-up's cut must be below this fraction of the best's for a confident answer.
+/// The best plausible runner-up must explain less than this fraction of what the best explains.
 pub const MAX_RUNNER_UP_RATIO: f64 = 0.7;
 /// A baseline within this factor of the noise floor has nothing to explain.
 pub const FLOOR_FACTOR: f64 = 1.3;
 /// Objective evaluations per fit.
 pub const MAX_EVALS: usize = 25;
 
-/// A fitted parameter of an effect.
-#[derive(Clone, Copy, Debug)]
-pub struct ParamSpec {
-    pub name: &'static str,
-    pub bound: Bound,
-    /// Range of physically plausible values (docs/effects.md).
-    pub plausible: (f64, f64),
-    /// Grid step for a parameter the model quantises (a delay in controller samples): searched on
-    /// the grid instead of by Nelder–Mead, whose simplex cannot move on a staircase.
-    pub grid: Option<f64>,
+/// The catalog: every effect of the model (`semi_active_damper::effects`), in its order.
+pub fn catalog() -> impl Iterator<Item = &'static EffectInfo> {
+    semi_active_damper::effects::CATALOG.into_iter().map(|e| e.info())
 }
 
-/// One entry of the effect catalog.
-#[derive(Clone, Copy, Debug)]
-pub struct EffectSpec {
-    pub key: &'static str,
-    pub params: &'static [ParamSpec],
-    /// The residual signature that points to it, in plain words.
-    pub signature: &'static str,
-}
-
-const fn lin(lo: f64, hi: f64) -> Bound {
-    Bound { lo, hi, log: false }
-}
-const fn log(lo: f64, hi: f64) -> Bound {
-    Bound { lo, hi, log: true }
-}
-
-/// The catalog, in the order of docs/effects.md.
-pub const CATALOG: [EffectSpec; 7] = [
-    EffectSpec {
-        key: "compressibility",
-        params: &[ParamSpec { name: "air_fraction", bound: log(1e-4, 0.2), plausible: (0.005, 0.05), grid: None }],
-        signature: "error proportional to the force rate during transients, larger at low pressure and in compression, gone in steady state",
-    },
-    EffectSpec {
-        key: "mount_compliance",
-        params: &[ParamSpec { name: "k1_mount", bound: log(2e6, 1e10), plausible: (2e7, 1e8), grid: None }],
-        signature: "a phase lag growing with the force rate: a hysteresis loop of the error against velocity, the same in both directions",
-    },
-    EffectSpec {
-        key: "amplifier_delay",
-        params: &[ParamSpec { name: "tau_amp", bound: lin(0.0, 0.01), plausible: (0.001, 0.006), grid: Some(0.5e-3) }],
-        signature: "a constant time shift between model and measurement, the same in both directions, largest after demand steps",
-    },
-    EffectSpec {
-        key: "flow_forces",
-        params: &[ParamSpec { name: "Cv_valve", bound: lin(0.5, 1.0), plausible: (0.9, 1.0), grid: None }],
-        signature: "a force error growing with velocity and force: spool pushed towards closing by the jet",
-    },
-    EffectSpec {
-        key: "seal_friction",
-        params: &[
-            ParamSpec { name: "F_coulomb", bound: lin(0.0, 2000.0), plausible: (50.0, 600.0), grid: None },
-            ParamSpec { name: "v_friction", bound: log(1e-4, 0.1), plausible: (5e-4, 0.02), grid: None },
-        ],
-        signature: "an error jump of twice the friction force at every velocity reversal, independent of the valve and the demand",
-    },
-    EffectSpec {
-        key: "piston_leakage",
-        params: &[ParamSpec { name: "G_leak", bound: log(1e-15, 1e-10), plausible: (5e-14, 1e-12), grid: None }],
-        signature: "the model too strong at low velocity, roughly proportional to the pressure; lost motion after reversals",
-    },
-    EffectSpec {
-        key: "check_valve_cracking",
-        params: &[ParamSpec { name: "p_cv_crack", bound: lin(0.0, 0.9e5), plausible: (0.2e5, 0.8e5), grid: None }],
-        signature: "a small offset with the sign of the direction of motion and a delayed force build-up after reversals",
-    },
-];
-
-/// Switches the effect `key` (`effect_<key>`) on or off.
-pub fn set_effect(p: &mut Parameters, key: &str, on: bool) -> Result<(), String> {
-    set_bool(p, &format!("effect_{key}"), on)
-}
-
-/// Whether the effect `key` is on in `p`.
-pub fn effect_on(p: &Parameters, key: &str) -> Result<bool, String> {
-    match get_parameter(p, &format!("effect_{key}"))? {
-        Value::Boolean(b) => Ok(b),
-        other => Err(format!("effect_{key} is {other}, not a switch")),
-    }
+fn bound(f: &FittedParameter) -> Bound {
+    Bound { lo: f.search.0, hi: f.search.1, log: f.log }
 }
 
 /// Normalised RMS error: RMS(model − measured) / standard deviation of the measured signal.
@@ -160,13 +89,20 @@ pub struct Diagnosis {
     pub nrmse_noise_floor: f64,
     pub candidates: Vec<Candidate>,
     pub explanation: String,
+    /// Step 4: the effects added one at a time.
+    pub ladder: Ladder,
+    /// The answer: the effects the model lacks (the ladder's kept effects when the verdict is
+    /// `effect`, else none).
+    pub effects: Vec<&'static str>,
 }
 
-/// Runs the diagnosis. `simulate(params, n)` returns the model's force for the first `n` samples
-/// of the measurement; `measured` is the measured force; samples `[..split]` train, the rest
-/// validate. Candidates run on `threads` threads; `progress` is told when each one is done.
+/// Runs the diagnosis over `candidates` (usually the whole [`catalog`]). `simulate(params, n)`
+/// returns the model's force for the first `n` samples of the measurement; `measured` is the
+/// measured force; samples `[..split]` train, the rest validate. Candidates run on `threads`
+/// threads; `progress` is told when each one is done.
 pub fn diagnose(
     simulate: &Simulator<'_>,
+    specs: &[&'static EffectInfo],
     baseline: &Parameters,
     measured: &[f64],
     split: usize,
@@ -184,38 +120,23 @@ pub fn diagnose(
     .sqrt();
     let nrmse_noise_floor = sigma / val_std;
 
-    let next = std::sync::atomic::AtomicUsize::new(0);
-    let results = std::sync::Mutex::new(Vec::new());
-    std::thread::scope(|scope| {
-        for _ in 0..threads.max(1) {
-            scope.spawn(|| loop {
-                let i = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-                let Some(spec) = CATALOG.get(i) else { break };
-                let c = try_candidate(simulate, baseline, measured, split, (nrmse_baseline, nrmse_noise_floor), spec);
-                if let Ok(c) = &c {
-                    progress(c);
-                }
-                results.lock().unwrap().push((i, c));
-            });
-        }
-    });
-    let mut results = results.into_inner().unwrap();
-    results.sort_by_key(|r| r.0);
-    let mut candidates = Vec::new();
-    for (_, c) in results {
-        candidates.push(c?);
-    }
-    candidates.sort_by(|a, b| a.nrmse_validation.total_cmp(&b.nrmse_validation));
+    let fit = FitSetup { simulate, measured, split, threads, progress };
+    let candidates = fit.all(specs, baseline, (nrmse_baseline, nrmse_noise_floor))?;
 
     let at_floor = nrmse_baseline <= FLOOR_FACTOR * nrmse_noise_floor;
     let best = candidates.first();
-    let runner_up = candidates.get(1).map_or(0.0, |c| c.explained);
+    // a rival that needs implausible parameters is no competing explanation
+    let rivals = || candidates.iter().skip(1).filter(|c| c.plausible);
+    let runner_up = rivals().map(|c| c.explained).fold(0.0, f64::max);
+    // nor is one that leaves error above the noise floor where the best leaves none
+    let floor = |c: &Candidate| c.nrmse_validation <= FLOOR_FACTOR * nrmse_noise_floor;
+    let only_best_at_floor = best.is_some_and(floor) && !rivals().any(floor);
     let (verdict, best_effect, explanation) = match best {
         Some(b)
             if !at_floor
                 && b.explained >= MIN_EXPLAINED
                 && b.plausible
-                && runner_up < MAX_RUNNER_UP_RATIO * b.explained =>
+                && (runner_up < MAX_RUNNER_UP_RATIO * b.explained || only_best_at_floor) =>
         {
             (
             "effect",
@@ -244,30 +165,92 @@ pub fn diagnose(
             "unexplained",
             None,
             format!(
-                "no candidate explains the residual confidently (best: {} explains {:.0} % of the error above the noise floor, runner-up {:.0} %); baseline NRMSE {nrmse_baseline:.4} against a noise floor of {nrmse_noise_floor:.4}",
+                "no candidate explains the residual confidently (best: {} explains {:.0} % of the error above the noise floor, best plausible runner-up {:.0} %); baseline NRMSE {nrmse_baseline:.4} against a noise floor of {nrmse_noise_floor:.4}",
                 best.map_or("none", |b| b.effect),
                 100.0 * best.map_or(0.0, |b| b.explained),
                 100.0 * runner_up
             ),
         ),
     };
-    Ok(Diagnosis { verdict, best_effect, nrmse_baseline, nrmse_noise_floor, candidates, explanation })
+    let ladder = climb(&fit, specs, baseline, &candidates, (nrmse_baseline, nrmse_noise_floor))?;
+    let (verdict, best_effect, explanation) = match (verdict, ladder.effects.as_slice()) {
+        ("unexplained", [first, _, ..]) if ladder.nrmse_validation <= FLOOR_FACTOR * nrmse_noise_floor => (
+            "effect",
+            Some(*first),
+            format!(
+                "no single candidate explains the residual, but {} together bring the validation NRMSE from {nrmse_baseline:.4} to {:.4}, the noise floor {nrmse_noise_floor:.4} (see the ladder)",
+                ladder.effects.join(" + "),
+                ladder.nrmse_validation
+            ),
+        ),
+        ("effect", [_, _, ..]) => (
+            verdict,
+            best_effect,
+            format!("{explanation} With {} together the validation NRMSE is {:.4}.", ladder.effects.join(" + "), ladder.nrmse_validation),
+        ),
+        _ => (verdict, best_effect, explanation),
+    };
+    let effects = if verdict == "effect" { ladder.effects.clone() } else { Vec::new() };
+    Ok(Diagnosis { verdict, best_effect, nrmse_baseline, nrmse_noise_floor, candidates, explanation, ladder, effects })
 }
 
-fn try_candidate(
+/// What fitting a candidate needs: the model, the measured force, the train/validation split, and
+/// how many threads may fit candidates at once.
+pub struct FitSetup<'a> {
+    pub simulate: &'a Simulator<'a>,
+    pub measured: &'a [f64],
+    pub split: usize,
+    pub threads: usize,
+    pub progress: &'a (dyn Fn(&Candidate) + Sync),
+}
+
+impl FitSetup<'_> {
+    /// Fits every effect of `specs` on top of `params` (whose validation NRMSE is the first of
+    /// `errors`, the noise floor the second), in parallel; best first.
+    pub fn all(
+        &self,
+        specs: &[&'static EffectInfo],
+        params: &Parameters,
+        errors: (f64, f64),
+    ) -> Result<Vec<Candidate>, String> {
+        let next = std::sync::atomic::AtomicUsize::new(0);
+        let results = std::sync::Mutex::new(Vec::new());
+        std::thread::scope(|scope| {
+            for _ in 0..self.threads.clamp(1, specs.len().max(1)) {
+                scope.spawn(|| loop {
+                    let i = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                    let Some(spec) = specs.get(i) else { break };
+                    let c = try_candidate(self.simulate, params, self.measured, self.split, errors, spec);
+                    if let Ok(c) = &c {
+                        (self.progress)(c);
+                    }
+                    results.lock().unwrap().push((i, c));
+                });
+            }
+        });
+        let mut results = results.into_inner().unwrap();
+        results.sort_by_key(|r| r.0);
+        let mut candidates = results.into_iter().map(|(_, c)| c).collect::<Result<Vec<_>, _>>()?;
+        candidates.sort_by(|a, b| a.nrmse_validation.total_cmp(&b.nrmse_validation));
+        Ok(candidates)
+    }
+}
+
+/// Fits `spec` on top of `baseline` and scores it (`nrmse_baseline` is the error it starts from).
+pub fn try_candidate(
     simulate: &Simulator<'_>,
     baseline: &Parameters,
     measured: &[f64],
     split: usize,
     (nrmse_baseline, nrmse_floor): (f64, f64),
-    spec: &EffectSpec,
+    spec: &EffectInfo,
 ) -> Result<Candidate, String> {
     let mut start = *baseline;
     let action = if effect_on(baseline, spec.key)? { "refitted" } else { "switched on" };
     set_effect(&mut start, spec.key, true)?;
     let with = |x: &[f64]| -> Result<Parameters, String> {
         let mut p = start;
-        for (s, &v) in spec.params.iter().zip(x) {
+        for (s, &v) in spec.fitted.iter().zip(x) {
             set_real(&mut p, s.name, v)?;
         }
         Ok(p)
@@ -280,13 +263,14 @@ fn try_candidate(
         }
     };
     let x0: Vec<f64> = spec
-        .params
+        .fitted
         .iter()
-        .map(|s| get_real(&start, s.name).map(|v| v.clamp(s.bound.lo.max(1e-300), s.bound.hi)))
+        .map(|s| get_real(&start, s.name).map(|v| v.clamp(s.search.0.max(1e-300), s.search.1)))
         .collect::<Result<_, _>>()?;
-    let bounds: Vec<Bound> = spec.params.iter().map(|s| s.bound).collect();
-    let (fit, errors) = match spec.params {
-        [ParamSpec { bound, grid: Some(step), .. }] => {
+    let bounds: Vec<Bound> = spec.fitted.iter().map(bound).collect();
+    let (fit, errors) = match spec.fitted {
+        [p @ FittedParameter { grid: Some(step), .. }] => {
+            let bound = bound(p);
             // the whole grid: the answer is exact to half a step
             let n = ((bound.hi - bound.lo) / step).round() as usize;
             let best = (0..=n)
@@ -297,7 +281,7 @@ fn try_candidate(
             (Fit { x: vec![best.0], value: best.1, evaluations: n + 1 }, vec![Some(0.5 * step)])
         }
         _ => {
-            let fit = minimize(sse, &x0, &bounds, MAX_EVALS * spec.params.len());
+            let fit = minimize(sse, &x0, &bounds, MAX_EVALS * spec.fitted.len());
             let errors = standard_errors(sse, &fit.x, split, 1e-2);
             (fit, errors)
         }
@@ -307,8 +291,8 @@ fn try_candidate(
     let nrmse_validation = nrmse(&full[split..], &measured[split..]);
     let nrmse_train = nrmse(&full[..split], train);
     let mut flags = Vec::new();
-    for (s, &x) in spec.params.iter().zip(&fit.x) {
-        if s.bound.at_bound(x) {
+    for (s, &x) in spec.fitted.iter().zip(&fit.x) {
+        if bound(s).at_bound(x) {
             flags.push(format!("{} = {x:.4e} at its search bound", s.name));
         } else if x < s.plausible.0 || x > s.plausible.1 {
             flags.push(format!(
@@ -320,13 +304,11 @@ fn try_candidate(
     Ok(Candidate {
         effect: spec.key,
         action,
-        params: spec.params.iter().zip(&fit.x).zip(errors).map(|((s, &x), e)| (s.name, x, e)).collect(),
+        params: spec.fitted.iter().zip(&fit.x).zip(errors).map(|((s, &x), e)| (s.name, x, e)).collect(),
         nrmse_train,
         nrmse_validation,
         reduction: 1.0 - nrmse_validation / nrmse_baseline,
-        explained: ((nrmse_baseline.powi(2) - nrmse_validation.powi(2))
-            / (nrmse_baseline.powi(2) - nrmse_floor.powi(2)).max(1e-300))
-        .min(1.0),
+        explained: share(nrmse_baseline, nrmse_validation, nrmse_floor),
         plausible: flags.is_empty(),
         flags,
         signature: spec.signature,
@@ -355,12 +337,12 @@ mod tests {
     #[test]
     fn catalog_names_are_fmu_parameters() {
         let mut p = semi_active_damper::variables::default_parameters();
-        for e in CATALOG {
+        for e in catalog() {
             set_effect(&mut p, e.key, true).unwrap();
-            for s in e.params {
+            for s in e.fitted {
                 let v = get_real(&p, s.name).unwrap();
                 set_real(&mut p, s.name, v).unwrap();
-                assert!(s.plausible.0 >= s.bound.lo && s.plausible.1 <= s.bound.hi, "{}", s.name);
+                assert!(s.plausible.0 >= s.search.0 && s.plausible.1 <= s.search.1, "{}", s.name);
             }
         }
     }

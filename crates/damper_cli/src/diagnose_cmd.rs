@@ -1,39 +1,20 @@
 //! `damper diagnose`: compare (steps 1–2), then name the missing effect (step 3) and show the error
-//! fall as the candidates are added in turn (step 4, the ladder; a candidate that raises the error is shown, not kept). Writes `report.html` (the compare
-//! report with a diagnosis section) and `summary.json` (with `verdict`, `best_effect`,
-//! `nrmse_baseline`, `candidates`, `ladder`), and prints a terminal summary.
+//! fall as the candidates are added in turn (step 4, the ladder). Writes `report.html` (the
+//! compare report with a diagnosis section) and `summary.json` (with `verdict`, `best_effect`,
+//! `effects`, `nrmse_baseline`, `candidates`, `ladder`), and prints a terminal summary.
 
+use crate::before_after::{self, After};
 use crate::compare::{self, CompareOptions, Comparison};
-use crate::diagnose::{diagnose, nrmse, set_effect, Candidate, Diagnosis};
+use crate::diagnose::{diagnose, Candidate, Diagnosis};
 use crate::json::{obj, Json};
-use crate::model::force_simulator;
-use crate::parameters::set_real;
 use crate::units::Column;
-use semi_active_damper::physics::params::Parameters;
-
-/// A rung of the ladder: the model after adding one more candidate (kept only if it lowers the
-/// validation error of the model so far).
-#[derive(Clone, Debug)]
-pub struct Rung {
-    pub added: String,
-    pub nrmse_validation: f64,
-    pub kept: bool,
-}
 
 /// A finished diagnosis with its comparison.
 pub struct Diagnosed {
     pub comparison: Comparison,
     pub diagnosis: Diagnosis,
-    pub ladder: Vec<Rung>,
-}
-
-fn with_candidate(p: &Parameters, c: &Candidate) -> Result<Parameters, String> {
-    let mut q = *p;
-    set_effect(&mut q, c.effect, true)?;
-    for (name, value, _) in &c.params {
-        set_real(&mut q, name, *value)?;
-    }
-    Ok(q)
+    /// The model with the named effects, when the verdict is `effect`.
+    pub after: Option<After>,
 }
 
 /// Reads, compares and diagnoses (no files written).
@@ -41,8 +22,14 @@ pub fn diagnose_measurement(opts: &CompareOptions, threads: usize, verbose: bool
     let c = compare::compare(opts)?;
     let split = compare::split_index(&c.measurement, opts.split)?;
     let measured = c.measurement.get(Column::FDamper).ok_or("the measurement has no F_damper column")?.to_vec();
-    let simulate = force_simulator(&c.drive, opts.load_cell_lowpass_hz);
+    let simulate = c.setup.backend.force_simulator(&c.drive, opts.load_cell_lowpass_hz);
     let baseline = c.setup.model.params;
+    let skipped =
+        opts.skip.iter().map(|k| crate::parameters::effect(k).map(|e| e.key)).collect::<Result<Vec<_>, _>>()?;
+    let candidates: Vec<_> = crate::diagnose::catalog().filter(|e| !skipped.contains(&e.key)).collect();
+    if candidates.is_empty() {
+        return Err("--skip leaves no candidate effect".into());
+    }
     let progress = |cand: &Candidate| {
         if verbose {
             eprintln!(
@@ -55,36 +42,30 @@ pub fn diagnose_measurement(opts: &CompareOptions, threads: usize, verbose: bool
         }
     };
     if verbose {
-        eprintln!("damper diagnose: fitting {} candidate effects on {threads} threads", crate::diagnose::CATALOG.len());
+        eprintln!("damper diagnose: fitting {} candidate effects on {threads} threads", candidates.len());
     }
-    let d = diagnose(&simulate, &baseline, &measured, split, threads, &progress)?;
-    // the ladder: the candidates that helped, added in turn with their fitted values; one that
-    // raises the error of the model so far is shown but not kept
-    let mut ladder = vec![Rung { added: "baseline".into(), nrmse_validation: d.nrmse_baseline, kept: true }];
-    let (mut params, mut current) = (baseline, d.nrmse_baseline);
-    for cand in d.candidates.iter().filter(|c| c.reduction > 0.05 && c.plausible) {
-        let next = with_candidate(&params, cand)?;
-        let f = simulate(&next, measured.len())?;
-        let e = nrmse(&f[split..], &measured[split..]);
-        let kept = e < current;
-        if kept {
-            (params, current) = (next, e);
-        }
-        ladder.push(Rung { added: format!("+ {}", cand.effect), nrmse_validation: e, kept });
-    }
+    let d = diagnose(&simulate, &candidates, &baseline, &measured, split, threads, &progress)?;
     drop(simulate);
-    Ok(Diagnosed { comparison: c, diagnosis: d, ladder })
+    let after = match d.effects.as_slice() {
+        [] => None,
+        effects => Some(before_after::after(&c, effects, d.ladder.params)?),
+    };
+    Ok(Diagnosed { comparison: c, diagnosis: d, after })
 }
 
-fn candidate_json(c: &Candidate) -> Json {
-    let params = Json::Obj(
-        c.params
+fn params_json(params: &[(&str, f64, Option<f64>)]) -> Json {
+    Json::Obj(
+        params
             .iter()
             .map(|(n, v, e)| {
                 (n.to_string(), obj([("value", (*v).into()), ("std_error", e.map_or(Json::Null, Json::from))]))
             })
             .collect(),
-    );
+    )
+}
+
+fn candidate_json(c: &Candidate) -> Json {
+    let params = params_json(&c.params);
     obj([
         ("effect", c.effect.into()),
         ("action", c.action.into()),
@@ -111,6 +92,11 @@ pub fn summary_json(r: &Diagnosed) -> Json {
         };
         set("verdict", d.verdict.into());
         set("best_effect", d.best_effect.map_or(Json::Null, Json::from));
+        set("effects", Json::Arr(d.effects.iter().map(|e| Json::from(*e)).collect()));
+        set("nrmse_after_ladder", d.ladder.nrmse_validation.into());
+        if let Some(a) = &r.after {
+            set("after", before_after::json(&r.comparison, a));
+        }
         set("nrmse_baseline", d.nrmse_baseline.into());
         set("nrmse_noise_floor", d.nrmse_noise_floor.into());
         set("explanation", d.explanation.as_str().into());
@@ -118,12 +104,16 @@ pub fn summary_json(r: &Diagnosed) -> Json {
         set(
             "ladder",
             Json::Arr(
-                r.ladder
+                d.ladder
+                    .rungs
                     .iter()
                     .map(|l| {
                         obj([
-                            ("added", l.added.as_str().into()),
+                            ("added", l.added.into()),
+                            ("refit", l.refit.into()),
+                            ("params", params_json(&l.params)),
                             ("nrmse_validation", l.nrmse_validation.into()),
+                            ("explained", l.explained.into()),
                             ("kept", l.kept.into()),
                         ])
                     })
@@ -146,7 +136,7 @@ pub fn html_section(r: &Diagnosed) -> String {
          <p class=\"small\">Every effect of the catalog (docs/effects.md) is switched on, or refitted where the baseline has \
          it, its parameters are fitted on the train part (Nelder–Mead on bounded scales; delays on the controller's sample grid), \
          and the candidate is scored by the validation NRMSE. Named only when it explains at least {:.0} % of the validation error above the noise floor \
-         (b² − c²)/(b² − f²), clearly more than the runner-up, with plausible parameters. Noise floor: white sensor noise estimated from the second \
+         (b² − c²)/(b² − f²), clearly more than the best plausible runner-up, with plausible parameters. Noise floor: white sensor noise estimated from the second \
          differences of the residual. Parameter errors: Gauss–Newton from the curvature of the sum of squares (optimistic for \
          coloured residuals).</p>",
         d.verdict,
@@ -185,9 +175,18 @@ pub fn html_section(r: &Diagnosed) -> String {
         "<tr><th>model</th><th>validation NRMSE</th></tr><tr><td class=\"l\">noise floor</td><td>{:.4}</td></tr>",
         d.nrmse_noise_floor
     ));
-    for l in &r.ladder {
-        let note = if l.kept { "" } else { " (not kept: the error rises)" };
-        h.push_str(&format!("<tr><td class=\"l\">{}{note}</td><td>{:.4}</td></tr>", esc(&l.added), l.nrmse_validation));
+    for l in &d.ladder.rungs {
+        let note = match (l.kept, l.refit) {
+            (true, _) => "",
+            (false, true) => " (no better: unchanged)",
+            (false, false) => " (not kept)",
+        };
+        let what = match (l.added, l.refit) {
+            ("baseline", _) => "baseline".to_string(),
+            (e, true) => format!("{e} refitted"),
+            (e, false) => format!("+ {e}"),
+        };
+        h.push_str(&format!("<tr><td class=\"l\">{what}{note}</td><td>{:.4}</td></tr>", l.nrmse_validation));
     }
     h.push_str("</table>");
     h
@@ -216,8 +215,18 @@ pub fn terminal_summary(r: &Diagnosed) -> String {
         ));
     }
     t.push_str("  ladder:");
-    for l in &r.ladder {
-        t.push_str(&format!(" {} {:.4}{} →", l.added, l.nrmse_validation, if l.kept { "" } else { " (not kept)" }));
+    for l in &d.ladder.rungs {
+        let what = match (l.added, l.refit) {
+            ("baseline", _) => "baseline".to_string(),
+            (e, true) => format!("{e} refitted"),
+            (e, false) => format!("+ {e}"),
+        };
+        let note = match (l.kept, l.refit) {
+            (true, _) => "",
+            (false, true) => " (unchanged)",
+            (false, false) => " (not kept)",
+        };
+        t.push_str(&format!(" {what} {:.4}{note} →", l.nrmse_validation));
     }
     t.truncate(t.len() - " →".len());
     t.push_str(&format!(" (noise floor {:.4})\n", d.nrmse_noise_floor));
@@ -234,12 +243,18 @@ pub fn run(opts: &CompareOptions, threads: usize) -> Result<Diagnosed, String> {
     let cut = html.find("<h2>Which effect is missing</h2>").or_else(|| html.rfind("</body>")).unwrap_or(html.len());
     html.truncate(cut);
     html.push_str(&html_section(&r));
+    if let Some(a) = &r.after {
+        html.push_str(&before_after::html(&r.comparison, a));
+    }
     html.push_str("</body></html>");
     let html_path = opts.out.join("report.html");
     std::fs::write(&html_path, html).map_err(|e| format!("{}: {e}", html_path.display()))?;
     if !opts.quiet {
         print!("{}", compare::terminal_summary(&r.comparison));
         print!("{}", terminal_summary(&r));
+        if let Some(a) = &r.after {
+            print!("{}", before_after::terminal(&r.comparison, a));
+        }
         println!("report:  {}", html_path.display());
         println!("summary: {}", json_path.display());
     }

@@ -32,7 +32,7 @@ use crate::dsp::{lowpass, std};
 use crate::json::{obj, Json};
 use crate::model::{Demand, Drive, Model, Prediction};
 use crate::parameters::{
-    changed_parameters, effect, get_parameter, get_real, set_effect, set_parameter, set_real, Value,
+    changed_parameters, effect, get_parameter, get_real, set_effect, set_parameter, set_real, EffectExt, Value,
 };
 use crate::rng::Rng;
 use crate::units::Column;
@@ -228,17 +228,22 @@ fn truth_parameters(o: &GenerateOptions, rng: &mut Rng) -> Result<(Parameters, V
         let mut drawn = false;
         if !off {
             match value.filter(|v| !v.eq_ignore_ascii_case("on") && !v.eq_ignore_ascii_case("true")) {
-                Some(v) => set_parameter(&mut p, e.params[0], v).map_err(|err| format!("--effect {text}: {err}"))?,
+                Some(v) => {
+                    set_parameter(&mut p, e.size_parameter(), v).map_err(|err| format!("--effect {text}: {err}"))?
+                }
                 None => {
                     let (lo, hi) = e.hidden_range;
-                    let x = if e.log { rng.log_range(lo, hi) } else { rng.range(lo, hi) };
-                    set_real(&mut p, e.params[0], x)?;
+                    let x = if e.fitted[0].log { rng.log_range(lo, hi) } else { rng.range(lo, hi) };
+                    set_real(&mut p, e.size_parameter(), x)?;
                     drawn = true;
                 }
             }
         }
-        let params: Vec<(String, Json)> =
-            e.params.iter().map(|n| (n.to_string(), get_real(&p, n).map_or(Json::Null, Json::Num))).collect();
+        let params: Vec<(String, Json)> = e
+            .parameter_names()
+            .iter()
+            .map(|n| (n.to_string(), get_real(&p, n).map_or(Json::Null, Json::Num)))
+            .collect();
         records.push(obj([
             ("key", e.key.into()),
             ("switch", e.switch().into()),

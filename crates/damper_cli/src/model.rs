@@ -1,4 +1,5 @@
-//! The damper model driven by a measurement's inputs, in-process.
+//! The damper model driven by a measurement's inputs, in-process or through a packaged FMU
+//! ([`Backend`]; the FMU runner is [`crate::fmu_model`]).
 //!
 //! The model starts at rest at the first sample and is stepped from sample to sample: the
 //! communication step is the sample interval and the inputs are held over it (the FMU's
@@ -7,11 +8,13 @@
 //! [`Model`] is plain data, so fits may call it from several threads ([`run_parallel`]).
 
 use crate::dsp::lowpass;
+use crate::fmu_model::FmuModel;
 use crate::measurement::Measurement;
 use crate::units::Column;
 use semi_active_damper::damper::{Damper, Inputs};
 use semi_active_damper::physics::params::Parameters;
 use semi_active_damper::physics::plant::idx;
+use std::sync::Arc;
 
 /// What the controller is given.
 #[derive(Clone, Debug)]
@@ -57,7 +60,8 @@ impl Drive {
         }
     }
 
-    fn inputs(&self, k: usize) -> Inputs {
+    /// The inputs of sample `k` (the FMU runner sets the same values).
+    pub(crate) fn inputs(&self, k: usize) -> Inputs {
         let (force_demand, x_spool_demand) = match &self.demand {
             Demand::Force(f) => (f[k], 0.0),
             Demand::SpoolPosition(x) => (0.0, x[k]),
@@ -175,12 +179,80 @@ pub fn run_parallel(models: &[Model], drive: &Drive, threads: usize) -> Vec<Resu
 }
 
 /// The force predictor a fit needs, `(parameters, n) → F_damper over the first n samples`, for
-/// this drive and load-cell filter; `Sync`, so candidates can be fitted on several threads.
+/// this drive and load-cell filter, in-process; `Sync`, so candidates can be fitted on several
+/// threads.
 pub fn force_simulator(
     drive: &Drive,
     load_cell_lowpass_hz: Option<f64>,
 ) -> impl Fn(&Parameters, usize) -> Result<Vec<f64>, String> + Sync + '_ {
     move |params: &Parameters, n: usize| Model { params: *params, load_cell_lowpass_hz }.force(drive, n)
+}
+
+/// Where the model runs. Both run the same drive with the same stepping and give the same
+/// numbers; the FMU is the check that the packaged FMU is the model this program fits.
+#[derive(Clone, Debug, Default)]
+pub enum Backend {
+    /// The model compiled into this program (the default: no FMU to package, no FFI).
+    #[default]
+    InProcess,
+    /// A packaged `.fmu`, imported once and instantiated per run (`--fmu PATH.fmu`).
+    Fmu(Arc<FmuModel>),
+}
+
+impl Backend {
+    /// Imports the FMU at `path`, checked against this program's parameters.
+    pub fn fmu(path: &std::path::Path) -> Result<Backend, String> {
+        Ok(Backend::Fmu(Arc::new(FmuModel::load(path)?)))
+    }
+
+    /// As [`Model::run_first`], on this backend.
+    pub fn run_first(&self, model: &Model, drive: &Drive, n: usize, all: bool) -> Result<Prediction, String> {
+        match self {
+            Backend::InProcess => model.run_first(drive, n, all),
+            Backend::Fmu(fmu) => fmu.run_first(model, drive, n, all),
+        }
+    }
+
+    /// All predicted signals over the whole drive.
+    pub fn run(&self, model: &Model, drive: &Drive) -> Result<Prediction, String> {
+        self.run_first(model, drive, drive.len(), true)
+    }
+
+    /// [`force_simulator`] on this backend.
+    pub fn force_simulator<'a>(
+        &'a self,
+        drive: &'a Drive,
+        load_cell_lowpass_hz: Option<f64>,
+    ) -> impl Fn(&Parameters, usize) -> Result<Vec<f64>, String> + Sync + 'a {
+        move |params: &Parameters, n: usize| {
+            let model = Model { params: *params, load_cell_lowpass_hz };
+            Ok(self.run_first(&model, drive, n, false)?.f_damper)
+        }
+    }
+
+    /// `"in_process"` or `"fmu"` (summary.json).
+    pub fn name(&self) -> &'static str {
+        match self {
+            Backend::InProcess => "in_process",
+            Backend::Fmu(_) => "fmu",
+        }
+    }
+
+    /// The FMU's path, if the model runs through one.
+    pub fn fmu_path(&self) -> Option<&std::path::Path> {
+        match self {
+            Backend::InProcess => None,
+            Backend::Fmu(f) => Some(f.path()),
+        }
+    }
+
+    /// One phrase for the summary and the report.
+    pub fn describe(&self) -> String {
+        match self {
+            Backend::InProcess => "run in-process".into(),
+            Backend::Fmu(f) => format!("run through the FMU {}", f.path().display()),
+        }
+    }
 }
 
 /// Threads to use: the machine's parallelism.

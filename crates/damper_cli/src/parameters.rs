@@ -194,92 +194,47 @@ fn distance(a: &str, b: &str) -> usize {
     row[b.len()]
 }
 
-/// An effect of the catalog: its switch is the Boolean parameter `effect_<key>`.
-#[derive(Clone, Copy, Debug)]
-pub struct Effect {
-    pub key: &'static str,
-    /// The parameter a value in `--effect KEY=VALUE` sets, and a second one if the effect has it.
-    pub params: &'static [&'static str],
-    /// Range the generator draws the first parameter from when no value is given (log-uniform
-    /// when `log`): inside the plausible range of docs/effects.md, away from the model's default.
-    pub hidden_range: (f64, f64),
-    pub log: bool,
-    /// One line: what switching it on adds.
-    pub meaning: &'static str,
+pub use semi_active_damper::effects::EffectInfo as Effect;
+
+/// What the command line needs of an effect beyond its [`Effect`] description.
+pub trait EffectExt {
+    /// The name of its switch, `effect_<key>`.
+    fn switch(&self) -> String;
+    /// Whether the model's default has this effect on.
+    fn default_on(&self) -> bool;
+    /// The parameter that sets its size (what `--with KEY=VALUE` sets).
+    fn size_parameter(&self) -> &'static str;
+    /// All its parameters, fitted first.
+    fn parameter_names(&self) -> Vec<&'static str>;
 }
 
-impl Effect {
-    pub fn switch(&self) -> String {
+impl EffectExt for Effect {
+    fn switch(&self) -> String {
         format!("effect_{}", self.key)
     }
-
-    /// Whether the model's default has this effect on.
-    pub fn default_on(&self) -> bool {
+    fn default_on(&self) -> bool {
         get_parameter(&semi_active_damper::variables::default_parameters(), &self.switch())
             .map(|v| v == Value::Boolean(true))
             .unwrap_or(false)
     }
+    fn size_parameter(&self) -> &'static str {
+        self.fitted[0].name
+    }
+    fn parameter_names(&self) -> Vec<&'static str> {
+        self.fitted.iter().map(|f| f.name).chain(self.other.iter().copied()).collect()
+    }
 }
 
-/// The effect catalog (issue 4), with the parameter(s) of each.
-pub const EFFECTS: [Effect; 7] = [
-    Effect {
-        key: "compressibility",
-        params: &["air_fraction", "n_polytropic"],
-        hidden_range: (0.035, 0.05),
-        log: false,
-        meaning: "oil with entrained air (off: air-free oil)",
-    },
-    Effect {
-        key: "mount_compliance",
-        params: &["k1_mount", "k3_mount"],
-        hidden_range: (2.0e7, 3.5e7),
-        log: true,
-        meaning: "compliant mount in series (off: rigid mount)",
-    },
-    Effect {
-        key: "amplifier_delay",
-        params: &["tau_amp"],
-        // 7–8 ms makes the force loop oscillate (a 25 Hz limit cycle at 20 kN demands)
-        hidden_range: (0.004, 0.005),
-        log: false,
-        meaning: "pure delay of the power amplifier (off: none)",
-    },
-    Effect {
-        key: "flow_forces",
-        params: &["Cv_valve", "theta_jet"],
-        hidden_range: (0.9, 0.94),
-        log: false,
-        meaning: "steady flow force on the spool (off: none)",
-    },
-    Effect {
-        key: "seal_friction",
-        params: &["F_coulomb", "v_friction"],
-        hidden_range: (150.0, 400.0),
-        log: false,
-        meaning: "Coulomb seal friction F_coulomb·tanh(v/v_friction) (off: none)",
-    },
-    Effect {
-        key: "piston_leakage",
-        params: &["G_leak"],
-        hidden_range: (3e-13, 1e-12),
-        log: true,
-        meaning: "leakage past the piston G_leak·(p_ext − p_comp) (off: none)",
-    },
-    Effect {
-        key: "check_valve_cracking",
-        params: &["p_cv_crack"],
-        hidden_range: (0.6e5, 0.9e5),
-        log: false,
-        meaning: "check-valve cracking pressure (off: they open at zero pressure drop)",
-    },
-];
+/// The effect catalog of the model (`semi_active_damper::effects`), in its order.
+pub fn effects() -> impl Iterator<Item = &'static Effect> {
+    semi_active_damper::effects::CATALOG.into_iter().map(|e| e.info())
+}
 
 /// The catalog entry of `key` (with or without the `effect_` prefix).
 pub fn effect(key: &str) -> Result<&'static Effect, String> {
     let k = key.trim().strip_prefix("effect_").unwrap_or(key.trim());
-    EFFECTS.iter().find(|e| e.key == k).ok_or_else(|| {
-        let keys: Vec<&str> = EFFECTS.iter().map(|e| e.key).collect();
+    effects().find(|e| e.key == k).ok_or_else(|| {
+        let keys: Vec<&str> = effects().map(|e| e.key).collect();
         format!("unknown effect '{key}'; the catalog has {}", keys.join(", "))
     })
 }
@@ -338,11 +293,11 @@ mod tests {
     #[test]
     fn every_effect_has_its_switch_and_parameters() {
         let mut p = default_parameters();
-        for e in EFFECTS {
+        for e in effects() {
             let on = effect_on(&p, e.key).unwrap();
             set_effect(&mut p, e.key, !on).unwrap();
             assert_eq!(effect_on(&p, e.key).unwrap(), !on);
-            for name in e.params {
+            for name in e.parameter_names() {
                 get_real(&p, name).unwrap();
             }
         }

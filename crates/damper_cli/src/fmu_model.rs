@@ -1,0 +1,276 @@
+//! The damper model run through a packaged FMU (`--fmu PATH.fmu`) with rust-fmi's FMI 2.0
+//! importer, stepped exactly as [`Model::run_first`] steps the in-process model, so that the two
+//! backends give the same numbers.
+//!
+//! The FMU's parameters are matched by name with this program's (from its own
+//! `modelDescription.xml`): a parameter only one side has, or of another type, means the FMU is a
+//! different build, and it is refused rather than run with a default the user never sees.
+//!
+//! Every run instantiates its own FMU instance from the shared import (the shared library is
+//! loaded once per process; its instances share nothing), so fits on several threads run the FMU
+//! concurrently.
+
+use crate::dsp::lowpass;
+use crate::model::{Drive, Model, Prediction};
+use crate::parameters::{get_parameter, parameter_names, Value};
+use fmi::fmi2::import::Fmi2Import;
+use fmi::fmi2::instance::{CoSimulation, Common, InstanceCS};
+use fmi::fmi2::schema::{Causality, ScalarVariableElement};
+use fmi::fmi2::Fmi2Error;
+use fmi::traits::FmiImport;
+use semi_active_damper::model_description::MODEL_IDENTIFIER;
+use semi_active_damper::physics::params::Parameters;
+use semi_active_damper::variables::default_parameters;
+use std::path::{Path, PathBuf};
+
+/// The FMU's inputs, in the order [`FmuModel::set_inputs`] sets them.
+const INPUTS: [&str; 3] = ["v_damper", "F_demand", "x_spool_demand"];
+/// The outputs read, in the order of [`Prediction`]'s fields.
+const OUTPUTS: [&str; 8] =
+    ["F_damper", "x_spool", "x_spool_ref", "i_sol", "p_ext", "p_comp", "x_damper", "F_demand_clipped"];
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Kind {
+    Real,
+    Integer,
+    Boolean,
+}
+
+#[derive(Clone, Debug)]
+struct FmuParameter {
+    name: &'static str,
+    vr: u32,
+    kind: Kind,
+}
+
+/// A packaged damper FMU, imported (unzipped, its XML parsed) and checked against this program.
+#[derive(Debug)]
+pub struct FmuModel {
+    path: PathBuf,
+    import: Fmi2Import,
+    parameters: Vec<FmuParameter>,
+    inputs: [u32; 3],
+    outputs: [u32; 8],
+}
+
+/// The first few names of a list, for an error message.
+fn some<S: AsRef<str>>(names: &[S]) -> String {
+    let shown: Vec<&str> = names.iter().take(8).map(AsRef::as_ref).collect();
+    match names.len() - shown.len() {
+        0 => shown.join(", "),
+        more => format!("{} and {more} more", shown.join(", ")),
+    }
+}
+
+fn kind_of(e: &ScalarVariableElement) -> Option<Kind> {
+    match e {
+        ScalarVariableElement::Real(_) => Some(Kind::Real),
+        ScalarVariableElement::Integer(_) => Some(Kind::Integer),
+        ScalarVariableElement::Boolean(_) => Some(Kind::Boolean),
+        _ => None,
+    }
+}
+
+fn kind_of_value(v: Value) -> Kind {
+    match v {
+        Value::Real(_) => Kind::Real,
+        Value::Integer(_) => Kind::Integer,
+        Value::Boolean(_) => Kind::Boolean,
+    }
+}
+
+impl FmuModel {
+    /// Imports the FMU at `path`; the errors name the path and what does not match.
+    pub fn load(path: &Path) -> Result<FmuModel, String> {
+        let at = format!("--fmu {}", path.display());
+        if !path.is_file() {
+            return Err(format!("{at}: no such file (package the FMU with python3 scripts/package_fmu.py)"));
+        }
+        let import: Fmi2Import = fmi::import::from_path(path)
+            .map_err(|e| format!("{at}: not an FMI 2.0 FMU this program can import: {e}"))?;
+        let md = import.model_description();
+        let Some(cs) = &md.co_simulation else {
+            return Err(format!("{at}: the FMU has no Co-Simulation interface"));
+        };
+        if cs.model_identifier != MODEL_IDENTIFIER {
+            return Err(format!(
+                "{at}: not the damper FMU (its modelIdentifier is {}, the damper's {MODEL_IDENTIFIER})",
+                cs.model_identifier
+            ));
+        }
+        let known = parameter_names();
+        let defaults = default_parameters();
+        let (mut parameters, mut unknown, mut mistyped) = (Vec::new(), Vec::new(), Vec::new());
+        for v in md.get_model_variables().filter(|v| v.causality == Causality::Parameter) {
+            let Some(&name) = known.iter().find(|n| **n == v.name) else {
+                unknown.push(v.name.clone());
+                continue;
+            };
+            let ours = kind_of_value(get_parameter(&defaults, name)?);
+            if kind_of(&v.elem) != Some(ours) {
+                let theirs = kind_of(&v.elem).map_or_else(|| "String or Enumeration".into(), |k| format!("{k:?}"));
+                mistyped.push(format!("{name} ({theirs} in the FMU, {ours:?} here)"));
+                continue;
+            }
+            parameters.push(FmuParameter { name, vr: v.value_reference, kind: ours });
+        }
+        let is_parameter =
+            |n: &str| md.get_model_variables().any(|v| v.name == n && v.causality == Causality::Parameter);
+        let missing: Vec<&str> = known.iter().copied().filter(|n| !is_parameter(n)).collect();
+        let mut problems = Vec::new();
+        if !unknown.is_empty() {
+            problems.push(format!("the FMU has parameters this program does not know: {}", some(&unknown)));
+        }
+        if !missing.is_empty() {
+            problems.push(format!("the FMU lacks this program's parameters: {}", some(&missing)));
+        }
+        if !mistyped.is_empty() {
+            problems.push(format!("parameters of another type: {}", some(&mistyped)));
+        }
+        if !problems.is_empty() {
+            return Err(format!(
+                "{at}: a different build of the damper model ({}); repackage it from this source \
+                 (python3 scripts/package_fmu.py)",
+                problems.join("; ")
+            ));
+        }
+        let vr = |name: &str, causality: Causality| -> Result<u32, String> {
+            md.get_model_variables()
+                .find(|v| v.name == name && v.causality == causality && kind_of(&v.elem) == Some(Kind::Real))
+                .map(|v| v.value_reference)
+                .ok_or_else(|| format!("{at}: the FMU has no Real {causality} {name} (is it the damper FMU?)"))
+        };
+        let mut inputs = [0; 3];
+        for (slot, name) in inputs.iter_mut().zip(INPUTS) {
+            *slot = vr(name, Causality::Input)?;
+        }
+        let mut outputs = [0; 8];
+        for (slot, name) in outputs.iter_mut().zip(OUTPUTS) {
+            *slot = vr(name, Causality::Output)?;
+        }
+        // a missing or foreign binary shows here once, not in every run of every thread
+        import.instantiate_cs("damper", false, false).map_err(|e| format!("{at}: cannot instantiate the FMU: {e}"))?;
+        Ok(FmuModel { path: path.to_path_buf(), import, parameters, inputs, outputs })
+    }
+
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
+    /// As [`Model::run_first`], through the FMU: the first `n` samples; `all` records every
+    /// signal, otherwise only the force. Each call has its own FMU instance.
+    pub fn run_first(&self, model: &Model, drive: &Drive, n: usize, all: bool) -> Result<Prediction, String> {
+        let n = n.min(drive.len());
+        let t = &drive.time;
+        let mut out = Prediction::default();
+        if n == 0 {
+            return Ok(out);
+        }
+        let fail =
+            |call: &str, e: Fmi2Error| format!("the FMU {} failed at t = {} s: {call}: {e}", self.path.display(), t[0]);
+        let mut fmu = self
+            .import
+            .instantiate_cs("damper", false, false)
+            .map_err(|e| format!("the FMU {}: fmi2Instantiate failed: {e}", self.path.display()))?;
+        fmu.setup_experiment(None, t[0], None).map_err(|e| fail("fmi2SetupExperiment", e))?;
+        self.set_parameters(&mut fmu, &model.params)?;
+        // the in-process model starts at rest with the inputs of the first sample
+        // (Damper::new(params, inputs(0), t[0])); the FMU builds its damper on leaving
+        // initialisation mode, from the inputs set by then
+        fmu.enter_initialization_mode().map_err(|e| fail("fmi2EnterInitializationMode", e))?;
+        self.set_inputs(&mut fmu, drive, 0)?;
+        fmu.exit_initialization_mode().map_err(|e| fail("fmi2ExitInitializationMode", e))?;
+        self.read_outputs(&mut fmu, t[0], all, &mut out)?;
+        // The communication point is the FMU's own clock, the previous point plus the step, not
+        // t[k - 1]: the FMU aligns its clock to the point it is given, and the in-process model's
+        // clock is that sum, which can differ from t[k - 1] in the last bit (and the controller's
+        // sample grid is placed relative to the clock).
+        let mut now = t[0];
+        for k in 1..n {
+            let h = t[k] - t[k - 1];
+            fmu.do_step(now, h, true).map_err(|e| {
+                format!(
+                    "the FMU {} failed between t = {} s and {} s: fmi2DoStep: {e}",
+                    self.path.display(),
+                    t[k - 1],
+                    t[k]
+                )
+            })?;
+            now += h;
+            self.set_inputs(&mut fmu, drive, k)?;
+            self.read_outputs(&mut fmu, t[k], all, &mut out)?;
+        }
+        fmu.terminate().map_err(|e| format!("the FMU {}: fmi2Terminate: {e}", self.path.display()))?;
+        // dropping the instance frees it (fmi2FreeInstance)
+        drop(fmu);
+        if let Some(fc) = model.load_cell_lowpass_hz {
+            out.f_damper = lowpass(&t[..n], &out.f_damper, fc);
+        }
+        Ok(out)
+    }
+
+    /// Sets every parameter of the FMU by name, from `params`.
+    fn set_parameters(&self, fmu: &mut InstanceCS, params: &Parameters) -> Result<(), String> {
+        for p in &self.parameters {
+            let value = get_parameter(params, p.name)?;
+            let result = match (p.kind, value) {
+                (Kind::Real, Value::Real(x)) => fmu.set_real(&[p.vr], &[x]),
+                (Kind::Integer, Value::Integer(i)) => fmu.set_integer(&[p.vr], &[i]),
+                (Kind::Boolean, Value::Boolean(b)) => fmu.set_boolean(&[p.vr], &[i32::from(b)]),
+                _ => return Err(format!("parameter {} changed its type", p.name)),
+            };
+            result.map_err(|e| format!("the FMU {} refused {} = {value}: {e}", self.path.display(), p.name))?;
+        }
+        Ok(())
+    }
+
+    fn set_inputs(&self, fmu: &mut InstanceCS, drive: &Drive, k: usize) -> Result<(), String> {
+        let i = drive.inputs(k);
+        let values = [i.v_damper, i.force_demand, i.x_spool_demand];
+        fmu.set_real(&self.inputs, &values).map(|_| ()).map_err(|e| {
+            format!(
+                "the FMU {} refused the inputs at t = {} s (v_damper {}, F_demand {}, x_spool_demand {}): {e}",
+                self.path.display(),
+                drive.time[k],
+                values[0],
+                values[1],
+                values[2]
+            )
+        })
+    }
+
+    fn read_outputs(&self, fmu: &mut InstanceCS, t: f64, all: bool, out: &mut Prediction) -> Result<(), String> {
+        let mut y = [0.0; 8];
+        let count = if all { 8 } else { 1 };
+        fmu.get_real(&self.outputs[..count], &mut y[..count])
+            .map_err(|e| format!("the FMU {} failed at t = {t} s: fmi2GetReal: {e}", self.path.display()))?;
+        out.f_damper.push(y[0]);
+        if all {
+            let fields = [
+                &mut out.x_spool,
+                &mut out.x_spool_ref,
+                &mut out.i_sol,
+                &mut out.p_ext,
+                &mut out.p_comp,
+                &mut out.x_damper,
+                &mut out.f_demand_clipped,
+            ];
+            for (field, value) in fields.into_iter().zip(&y[1..]) {
+                field.push(*value);
+            }
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Fits share one import between threads.
+    #[test]
+    fn the_import_can_be_shared_between_threads() {
+        fn shared<T: Send + Sync>() {}
+        shared::<FmuModel>();
+    }
+}

@@ -1,0 +1,33 @@
+//! The power amplifier's pure delay on the coil command: the delay line of
+//! `control::amplifier`, round(τ_amp/T_sample) controller samples. Off: no delay.
+
+use super::{Effect, EffectInfo, FittedParameter};
+use crate::physics::params::Parameters;
+
+pub struct AmplifierDelay;
+
+static INFO: EffectInfo = EffectInfo {
+    key: "amplifier_delay",
+    meaning: "pure delay of the power amplifier (off: none)",
+    fitted: &[FittedParameter {
+        name: "tau_amp",
+        search: (0.0, 0.01),
+        log: false,
+        plausible: (0.001, 0.006),
+        grid: Some(0.5e-3),
+    }],
+    other: &[],
+    // 7–8 ms makes the force loop oscillate (a 25 Hz limit cycle at 20 kN demands)
+    hidden_range: (0.004, 0.005),
+    signature:
+        "a constant time shift between model and measurement, the same in both directions, largest after demand steps",
+};
+
+impl Effect for AmplifierDelay {
+    fn info(&self) -> &'static EffectInfo {
+        &INFO
+    }
+    fn is_on(&self, p: &Parameters) -> bool {
+        p.effect_amplifier_delay
+    }
+}

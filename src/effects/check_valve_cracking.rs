@@ -1,0 +1,32 @@
+//! The check valves' cracking pressure: their opening area of `physics::hydraulics` starts at
+//! p_cv_crack. Off: they open at zero pressure drop.
+
+use super::{Effect, EffectInfo, FittedParameter};
+use crate::physics::params::Parameters;
+
+pub struct CheckValveCracking;
+
+static INFO: EffectInfo = EffectInfo {
+    key: "check_valve_cracking",
+    meaning: "check-valve cracking pressure (off: they open at zero pressure drop)",
+    fitted: &[FittedParameter {
+        name: "p_cv_crack",
+        search: (0.0, 0.95e5),
+        log: false,
+        plausible: (0.2e5, 0.85e5),
+        grid: None,
+    }],
+    other: &[],
+    // below p_cv_full (1 bar), where the valve is fully open
+    hidden_range: (0.5e5, 0.8e5),
+    signature: "a small offset with the sign of the direction of motion and a delayed force build-up after reversals",
+};
+
+impl Effect for CheckValveCracking {
+    fn info(&self) -> &'static EffectInfo {
+        &INFO
+    }
+    fn is_on(&self, p: &Parameters) -> bool {
+        p.effect_check_valve_cracking
+    }
+}

@@ -1,0 +1,26 @@
+//! The steady flow (jet) force that pushes the spool towards closing: `physics::valve::flow_force`.
+//! Off: none. The controller's compensation stays, computed with its own nominal
+//! `Cv_compensation`, as on the real controller.
+
+use super::{Effect, EffectInfo, FittedParameter};
+use crate::physics::params::Parameters;
+
+pub struct FlowForces;
+
+static INFO: EffectInfo = EffectInfo {
+    key: "flow_forces",
+    meaning: "steady flow force on the spool (off: none)",
+    fitted: &[FittedParameter { name: "Cv_valve", search: (0.5, 1.0), log: false, plausible: (0.85, 1.0), grid: None }],
+    other: &["theta_jet"],
+    hidden_range: (0.9, 0.94),
+    signature: "a force error growing with velocity and force: spool pushed towards closing by the jet",
+};
+
+impl Effect for FlowForces {
+    fn info(&self) -> &'static EffectInfo {
+        &INFO
+    }
+    fn is_on(&self, p: &Parameters) -> bool {
+        p.effect_flow_forces
+    }
+}

@@ -1,0 +1,25 @@
+//! The compliant mount (bushes and frame) in series with the damper: the cubic spring of
+//! `physics::mount`, eliminated algebraically in `physics::plant`. Off: a rigid mount.
+
+use super::{Effect, EffectInfo, FittedParameter};
+use crate::physics::params::Parameters;
+
+pub struct MountCompliance;
+
+static INFO: EffectInfo = EffectInfo {
+    key: "mount_compliance",
+    meaning: "compliant mount in series (off: rigid mount)",
+    fitted: &[FittedParameter { name: "k1_mount", search: (2e6, 1e10), log: true, plausible: (1e7, 2e8), grid: None }],
+    other: &["k3_mount"],
+    hidden_range: (2.0e7, 3.5e7),
+    signature: "a phase lag growing with the force rate: a hysteresis loop of the error against velocity, the same in both directions",
+};
+
+impl Effect for MountCompliance {
+    fn info(&self) -> &'static EffectInfo {
+        &INFO
+    }
+    fn is_on(&self, p: &Parameters) -> bool {
+        p.effect_mount_compliance
+    }
+}

@@ -1,0 +1,35 @@
+//! Laminar leakage through the gap between piston and bore, bypassing the valve.
+
+use super::{Effect, EffectInfo, FittedParameter, PlantSignals};
+use crate::physics::params::Parameters;
+
+pub struct PistonLeakage;
+
+static INFO: EffectInfo = EffectInfo {
+    key: "piston_leakage",
+    meaning: "leakage past the piston G_leak·(p_ext − p_comp) (off: none)",
+    fitted: &[FittedParameter {
+        name: "G_leak",
+        search: (1e-15, 1e-10),
+        log: true,
+        plausible: (5e-14, 3e-12),
+        grid: None,
+    }],
+    other: &[],
+    hidden_range: (3e-13, 1e-12),
+    signature:
+        "the model too strong at low velocity, roughly proportional to the pressure; lost motion after reversals",
+};
+
+impl Effect for PistonLeakage {
+    fn info(&self) -> &'static EffectInfo {
+        &INFO
+    }
+    fn is_on(&self, p: &Parameters) -> bool {
+        p.effect_piston_leakage
+    }
+    /// Q = G·(p_ext − p_comp): a narrow gap's laminar (Poiseuille) flow is linear in Δp.
+    fn bypass_flow(&self, p: &Parameters, s: &PlantSignals) -> f64 {
+        p.g_leak * (s.p_ext - s.p_comp)
+    }
+}

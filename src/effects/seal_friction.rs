@@ -1,0 +1,32 @@
+//! Coulomb friction of the rod and piston seals, smoothed through zero velocity.
+
+use super::{Effect, EffectInfo, FittedParameter, PlantSignals};
+use crate::physics::params::Parameters;
+
+pub struct SealFriction;
+
+static INFO: EffectInfo = EffectInfo {
+    key: "seal_friction",
+    meaning: "Coulomb seal friction F_coulomb·tanh(v/v_friction) (off: none)",
+    fitted: &[
+        FittedParameter { name: "F_coulomb", search: (0.0, 2000.0), log: false, plausible: (50.0, 600.0), grid: None },
+        FittedParameter { name: "v_friction", search: (1e-4, 0.1), log: true, plausible: (5e-4, 0.05), grid: None },
+    ],
+    other: &[],
+    hidden_range: (150.0, 400.0),
+    signature:
+        "an error jump of twice the friction force at every velocity reversal, independent of the valve and the demand",
+};
+
+impl Effect for SealFriction {
+    fn info(&self) -> &'static EffectInfo {
+        &INFO
+    }
+    fn is_on(&self, p: &Parameters) -> bool {
+        p.effect_seal_friction
+    }
+    /// F = F_c·tanh(v/v_f): a friction that opposes the motion, so in tension when extending.
+    fn force(&self, p: &Parameters, s: &PlantSignals) -> f64 {
+        p.f_coulomb * (s.v_damper / p.v_friction).tanh()
+    }
+}

@@ -1,0 +1,36 @@
+//! Viscous friction of the seals: the oil film's shear, linear in velocity. The worked example of
+//! a user-written effect (docs/effects.md, "Writing a new effect"); together with
+//! `seal_friction` it makes the Coulomb + viscous seal friction of the catalog.
+
+use super::{Effect, EffectInfo, FittedParameter, PlantSignals};
+use crate::physics::params::Parameters;
+
+pub struct ViscousFriction;
+
+static INFO: EffectInfo = EffectInfo {
+    key: "viscous_friction",
+    meaning: "viscous seal friction c_viscous·v (off: none)",
+    fitted: &[FittedParameter {
+        name: "c_viscous",
+        search: (0.0, 20_000.0),
+        log: false,
+        plausible: (200.0, 3000.0),
+        grid: None,
+    }],
+    other: &[],
+    hidden_range: (800.0, 2500.0),
+    signature: "an error proportional to velocity, the same line through the origin in both directions, independent of the demand",
+};
+
+impl Effect for ViscousFriction {
+    fn info(&self) -> &'static EffectInfo {
+        &INFO
+    }
+    fn is_on(&self, p: &Parameters) -> bool {
+        p.effect_viscous_friction
+    }
+    /// F = c·v, opposing the motion: in tension when extending.
+    fn force(&self, p: &Parameters, s: &PlantSignals) -> f64 {
+        p.c_viscous * s.v_damper
+    }
+}
