@@ -136,7 +136,7 @@ pub fn html_section(r: &Diagnosed) -> String {
          <p class=\"small\">Every effect of the catalog (docs/effects.md) is switched on, or refitted where the baseline has \
          it, its parameters are fitted on the train part (Nelder–Mead on bounded scales; delays on the controller's sample grid), \
          and the candidate is scored by the validation NRMSE. Named only when it explains at least {:.0} % of the validation error above the noise floor \
-         (b² − c²)/(b² − f²), clearly more than the best plausible runner-up, with plausible parameters. Noise floor: white sensor noise estimated from the second \
+         (b² − c²)/(b² − f²), with plausible parameters, clearly more than the best plausible runner-up or alone down to the noise floor; or when the ladder's effects together reach the floor. Noise floor: white sensor noise estimated from the second \
          differences of the residual. Parameter errors: Gauss–Newton from the curvature of the sum of squares (optimistic for \
          coloured residuals).</p>",
         d.verdict,
@@ -170,7 +170,7 @@ pub fn html_section(r: &Diagnosed) -> String {
             esc(c.signature)
         ));
     }
-    h.push_str("</table><h3>Ladder: the validation NRMSE as the helpful candidates are added in turn</h3><table>");
+    h.push_str("</table><h3>Ladder: the validation NRMSE as effects are added one at a time, each fitted on top of those kept</h3><table>");
     h.push_str(&format!(
         "<tr><th>model</th><th>validation NRMSE</th></tr><tr><td class=\"l\">noise floor</td><td>{:.4}</td></tr>",
         d.nrmse_noise_floor
