@@ -1,13 +1,21 @@
 //! Step 4 of the diagnosis, the ladder: effects are added to the model one at a time (forward
 //! selection). The first rung is the best plausible candidate of the diagnosis; each further rung
 //! refits every effect not yet added on top of the ones kept, so that the next effect explains what
-//! they leave rather than what it explained alone, and adds the best. An effect is kept only when
-//! it explains at least [`MIN_EXPLAINED`] of the error still above the noise floor, with plausible
-//! parameters; the ladder stops at the noise floor or at the first effect not kept, which it shows.
-//! With two or more effects kept and error left above the floor, each kept effect is refitted once
-//! more with the others in place (an early effect's fit absorbed some of the later ones' error).
+//! they leave rather than what it explained alone, and adds the best. An effect is kept when it
+//! explains at least [`MIN_EXPLAINED`] of the error still above the noise floor, with plausible
+//! parameters (the first one already at half that: two effects of a size may each explain less than
+//! half alone); the ladder stops at the noise floor or at the first effect not kept, which it shows.
+//! With two or more effects kept and error left above the floor, the kept effects are refitted in
+//! turn with the others in place (an early effect's fit absorbed some of the later ones' error),
+//! up to [`POLISH_PASSES`] times while the error falls.
+//!
+//! The kept effects are the answer only when they reach the noise floor or the first of them is
+//! named on its own (the verdict of [`crate::diagnose`]).
 
 use crate::diagnose::{Candidate, FitSetup, FLOOR_FACTOR, MIN_EXPLAINED};
+
+/// Most rounds of refitting the kept effects with the others in place.
+pub const POLISH_PASSES: usize = 2;
 use crate::parameters::{set_effect, set_real};
 use semi_active_damper::effects::EffectInfo;
 use semi_active_damper::physics::params::Parameters;
@@ -36,6 +44,20 @@ pub struct Ladder {
     /// The baseline with the kept effects at their fitted values.
     pub params: Parameters,
     pub nrmse_validation: f64,
+}
+
+impl Ladder {
+    /// Adds `c` as a kept rung (an effect named near the noise floor, where the ladder stops).
+    pub fn add(&mut self, c: &Candidate) -> Result<(), String> {
+        if !self.effects.contains(&c.effect) {
+            self.params = with_effect(&self.params, c.effect, &c.params)?;
+            self.nrmse_validation = c.nrmse_validation;
+            self.effects.push(c.effect);
+            let (params, nrmse_validation, explained) = (c.params.clone(), c.nrmse_validation, c.explained);
+            self.rungs.push(Rung { added: c.effect, refit: false, params, nrmse_validation, explained, kept: true });
+        }
+        Ok(())
+    }
 }
 
 /// `p` with `effect` switched on at the fitted `params`.
@@ -73,7 +95,8 @@ pub fn climb(
     let mut round: Vec<Candidate> = ranked.to_vec();
     while ladder.nrmse_validation > FLOOR_FACTOR * nrmse_floor {
         let Some(best) = round.iter().find(|c| c.plausible).or(round.first()) else { break };
-        let kept = best.plausible && best.explained >= MIN_EXPLAINED;
+        let least = if ladder.effects.is_empty() { 0.5 * MIN_EXPLAINED } else { MIN_EXPLAINED };
+        let kept = best.plausible && best.explained >= least;
         ladder.rungs.push(Rung {
             added: best.effect,
             refit: false,
@@ -95,7 +118,11 @@ pub fn climb(
         }
         round = fit.all(&rest, &ladder.params, (ladder.nrmse_validation, nrmse_floor))?;
     }
-    if ladder.effects.len() >= 2 && ladder.nrmse_validation > FLOOR_FACTOR * nrmse_floor {
+    for _ in 0..POLISH_PASSES {
+        if ladder.effects.len() < 2 || ladder.nrmse_validation <= FLOOR_FACTOR * nrmse_floor {
+            break;
+        }
+        let start = ladder.nrmse_validation;
         for key in ladder.effects.clone() {
             let spec = specs.iter().copied().find(|s| s.key == key).ok_or("a kept effect outside the catalog")?;
             let c = fit.all(&[spec], &ladder.params, (ladder.nrmse_validation, nrmse_floor))?.remove(0);
@@ -106,6 +133,9 @@ pub fn climb(
             }
             let (params, nrmse_validation, explained) = (c.params, c.nrmse_validation, c.explained);
             ladder.rungs.push(Rung { added: key, refit: true, params, nrmse_validation, explained, kept });
+        }
+        if ladder.nrmse_validation > 0.99 * start {
+            break;
         }
     }
     Ok(ladder)
