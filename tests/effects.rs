@@ -68,3 +68,10 @@ fn switched_off_effects_add_nothing() {
     let f = semi_active_damper::effects::total_force(&p, &s);
     assert!((f - (p.f_coulomb * (0.4 / p.v_friction).tanh() + p.c_viscous * 0.4)).abs() < 1e-9, "{f}");
 }
+
+#[test]
+fn the_worked_example_in_the_docs_is_the_file() {
+    let docs = include_str!("../docs/effects.md");
+    let file = include_str!("../src/effects/viscous_friction.rs");
+    assert!(docs.contains(file), "docs/effects.md must show src/effects/viscous_friction.rs verbatim");
+}
