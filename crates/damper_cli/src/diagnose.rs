@@ -242,13 +242,17 @@ impl FitSetup<'_> {
         params: &Parameters,
         errors: (f64, f64),
     ) -> Result<Vec<Candidate>, String> {
+        // the costliest fits first, so that no thread is left alone with a long one at the end
+        let mut order: Vec<usize> = (0..specs.len()).collect();
+        order.sort_by_key(|&i| std::cmp::Reverse(model_runs(specs[i])));
         let next = std::sync::atomic::AtomicUsize::new(0);
         let results = std::sync::Mutex::new(Vec::new());
         std::thread::scope(|scope| {
             for _ in 0..self.threads.clamp(1, specs.len().max(1)) {
                 scope.spawn(|| loop {
-                    let i = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-                    let Some(spec) = specs.get(i) else { break };
+                    let k = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                    let Some(&i) = order.get(k) else { break };
+                    let spec = specs[i];
                     let c = try_candidate(self.simulate, params, self.measured, self.split, errors, spec);
                     if let Ok(c) = &c {
                         (self.progress)(c);
@@ -262,6 +266,14 @@ impl FitSetup<'_> {
         let mut candidates = results.into_iter().map(|(_, c)| c).collect::<Result<Vec<_>, _>>()?;
         candidates.sort_by(|a, b| a.nrmse_validation.total_cmp(&b.nrmse_validation));
         Ok(candidates)
+    }
+}
+
+/// Model runs a fit of `spec` takes, about: its grid, or the simplex's budget and the Hessian.
+fn model_runs(spec: &EffectInfo) -> usize {
+    match spec.fitted {
+        [FittedParameter { search, grid: Some(step), .. }] => ((search.1 - search.0) / step).round() as usize + 1,
+        p => MAX_EVALS * p.len() + 2 * p.len() * p.len(),
     }
 }
 
@@ -311,7 +323,7 @@ pub fn try_candidate(
         }
         _ => {
             let fit = minimize(sse, &x0, &bounds, MAX_EVALS * spec.fitted.len());
-            let errors = standard_errors(sse, &fit.x, split, 1e-2);
+            let errors = standard_errors(sse, (&fit.x, fit.value), split, 1e-2);
             (fit, errors)
         }
     };

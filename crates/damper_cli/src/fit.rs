@@ -108,11 +108,15 @@ pub fn minimize(f: impl Fn(&[f64]) -> f64, x0: &[f64], bounds: &[Bound], max_eva
 }
 
 /// Standard deviations of the parameters at the minimum `x` of `sse` (a sum of `n_residuals`
-/// squared residuals), from a central-difference Hessian with relative steps `rel_step`.
-/// `None` where the curvature is not positive (the data do not determine the parameter).
-pub fn standard_errors(sse: impl Fn(&[f64]) -> f64, x: &[f64], n_residuals: usize, rel_step: f64) -> Vec<Option<f64>> {
+/// squared residuals, `s0` at `x`), from a central-difference Hessian with relative steps
+/// `rel_step`. `None` where the curvature is not positive (the data do not determine the parameter).
+pub fn standard_errors(
+    sse: impl Fn(&[f64]) -> f64,
+    (x, s0): (&[f64], f64),
+    n_residuals: usize,
+    rel_step: f64,
+) -> Vec<Option<f64>> {
     let p = x.len();
-    let s0 = sse(x);
     let h: Vec<f64> = x.iter().map(|v| rel_step * v.abs().max(1e-300)).collect();
     let at = |d: &[(usize, f64)]| {
         let mut y = x.to_vec();
@@ -177,10 +181,11 @@ mod tests {
         // y_i = θ + noise: SSE(θ) = Σ (y_i − θ)², the estimate is the mean with σ/√N
         let y: Vec<f64> = (0..400).map(|i| 5.0 + if i % 2 == 0 { 0.3 } else { -0.3 }).collect();
         let sse = |x: &[f64]| y.iter().map(|v| (v - x[0]).powi(2)).sum::<f64>();
-        let se = standard_errors(sse, &[5.0], y.len(), 1e-3)[0].unwrap();
+        let s0 = sse(&[5.0]);
+        let se = standard_errors(sse, (&[5.0], s0), y.len(), 1e-3)[0].unwrap();
         let hand = (y.iter().map(|v| (v - 5.0f64).powi(2)).sum::<f64>() / 399.0).sqrt() / 20.0;
         assert!((se - hand).abs() < 1e-6 * hand, "{se} vs {hand}");
         // a parameter the data do not see has no finite error
-        assert_eq!(standard_errors(|_| 1.0, &[2.0], 10, 1e-3), vec![None]);
+        assert_eq!(standard_errors(|_| 1.0, (&[2.0], 1.0), 10, 1e-3), vec![None]);
     }
 }
