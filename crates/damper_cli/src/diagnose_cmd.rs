@@ -140,7 +140,7 @@ pub fn html_section(r: &Diagnosed) -> String {
          differences of the residual. Parameter errors: Gauss–Newton from the curvature of the sum of squares (optimistic for \
          coloured residuals).</p>",
         d.verdict,
-        d.best_effect.map_or(String::new(), |e| format!(": {e}")),
+        if d.effects.is_empty() { String::new() } else { format!(": {}", d.effects.join(" + ")) },
         esc(&d.explanation),
         100.0 * crate::diagnose::MIN_EXPLAINED
     );
@@ -172,7 +172,8 @@ pub fn html_section(r: &Diagnosed) -> String {
     }
     h.push_str("</table><h3>Ladder: the validation NRMSE as effects are added one at a time, each fitted on top of those kept</h3><table>");
     h.push_str(&format!(
-        "<tr><th>model</th><th>validation NRMSE</th></tr><tr><td class=\"l\">noise floor</td><td>{:.4}</td></tr>",
+        "<tr><th class=\"l\">model</th><th>validation NRMSE</th><th>share of the error left above the floor it explains</th>\
+         <th class=\"l\">its parameters on this rung</th></tr><tr><td class=\"l\">noise floor</td><td>{:.4}</td><td></td><td></td></tr>",
         d.nrmse_noise_floor
     ));
     for l in &d.ladder.rungs {
@@ -186,7 +187,13 @@ pub fn html_section(r: &Diagnosed) -> String {
             (e, true) => format!("{e} refitted"),
             (e, false) => format!("+ {e}"),
         };
-        h.push_str(&format!("<tr><td class=\"l\">{what}{note}</td><td>{:.4}</td></tr>", l.nrmse_validation));
+        let params: Vec<String> = l.params.iter().map(|(n, v, _)| format!("{n} = {v:.4e}")).collect();
+        let share = if l.added == "baseline" { String::new() } else { format!("{:.0} %", 100.0 * l.explained) };
+        h.push_str(&format!(
+            "<tr><td class=\"l\">{what}{note}</td><td>{:.4}</td><td>{share}</td><td class=\"l\">{}</td></tr>",
+            l.nrmse_validation,
+            esc(&params.join("; "))
+        ));
     }
     h.push_str("</table>");
     h
@@ -198,7 +205,7 @@ pub fn terminal_summary(r: &Diagnosed) -> String {
     let mut t = format!(
         "\nverdict: {}{}\n  {}\n",
         d.verdict,
-        d.best_effect.map_or(String::new(), |e| format!(" ({e})")),
+        if d.effects.is_empty() { String::new() } else { format!(" ({})", d.effects.join(" + ")) },
         d.explanation
     );
     t.push_str("  rank effect                 validation NRMSE   change  parameters\n");
