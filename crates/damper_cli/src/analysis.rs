@@ -483,9 +483,7 @@ pub fn analyse(m: &Measurement, drive: &Drive, p: &Prediction, split: usize) -> 
         .collect();
     let reversal_jump = (!jumps.is_empty()).then(|| mean(&jumps));
 
-    let d2: Vec<f64> = rv.windows(3).map(|w| w[0] - 2.0 * w[1] + w[2]).collect();
-    let noise_floor_estimate =
-        (d2.iter().map(|d| d * d).sum::<f64>() / d2.len() as f64 / 6.0).sqrt() / std(&y[split..]);
+    let noise_floor_estimate = crate::diagnose::noise_sigma(rv) / std(&y[split..]);
 
     Analysis {
         samples: n,

@@ -6,6 +6,7 @@ use crate::analysis::{analyse, Analysis};
 use crate::compare::Comparison;
 use crate::json::{obj, Json};
 use crate::model::{Model, Prediction};
+use crate::report::scaled;
 use crate::svg::{esc, Axis, Plot, Series, ACCENT, GREEN, MEASURED, RESIDUAL};
 use crate::units::Column;
 use semi_active_damper::physics::params::Parameters;
@@ -33,10 +34,6 @@ fn change(before: f64, after: f64) -> String {
     } else {
         "—".into()
     }
-}
-
-fn scaled(x: &[f64], f: f64) -> Vec<f64> {
-    x.iter().map(|v| v * f).collect()
 }
 
 /// Per regime: (group, name, time share, RMS before, RMS after), regimes with samples only.

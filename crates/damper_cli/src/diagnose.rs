@@ -101,21 +101,16 @@ pub struct Diagnosis {
     pub effects: Vec<&'static str>,
 }
 
-/// Runs the diagnosis over `candidates` (usually the whole [`catalog`]). `simulate(params, n)`
-/// returns the model's force for the first `n` samples of the measurement; `measured` is the
-/// measured force; samples `[..split]` train, the rest validate. Candidates run on `threads`
-/// threads; `progress` is told when each one is done.
+/// Runs the diagnosis over `specs` (usually the whole [`catalog`]) with the model, data and
+/// threads of `fit`, from the `baseline` parameters whose force over the measurement is `base`
+/// (the comparison has it already).
 pub fn diagnose(
-    simulate: &Simulator<'_>,
+    fit: &FitSetup<'_>,
     specs: &[&'static EffectInfo],
     baseline: &Parameters,
-    measured: &[f64],
-    split: usize,
-    threads: usize,
-    progress: &(dyn Fn(&Candidate) + Sync),
+    base: &[f64],
 ) -> Result<Diagnosis, String> {
-    let n = measured.len();
-    let base = simulate(baseline, n)?;
+    let (measured, split) = (fit.measured, fit.split);
     let nrmse_baseline = nrmse(&base[split..], &measured[split..]);
     let residual: Vec<f64> = base.iter().zip(measured).map(|(m, y)| m - y).collect();
     let sigma = noise_sigma(&residual[split..]);
@@ -125,7 +120,6 @@ pub fn diagnose(
     .sqrt();
     let nrmse_noise_floor = sigma / val_std;
 
-    let fit = FitSetup { simulate, measured, split, threads, progress };
     let candidates = fit.all(specs, baseline, (nrmse_baseline, nrmse_noise_floor))?;
 
     let at_floor = nrmse_baseline <= FLOOR_FACTOR * nrmse_noise_floor;
@@ -198,7 +192,7 @@ pub fn diagnose(
             ),
         ),
     };
-    let mut ladder = climb(&fit, specs, baseline, &candidates, (nrmse_baseline, nrmse_noise_floor))?;
+    let mut ladder = climb(fit, specs, baseline, &candidates, (nrmse_baseline, nrmse_noise_floor))?;
     if let Some(b) = weak {
         ladder.add(b)?;
     }

@@ -5,8 +5,10 @@
 
 use crate::before_after::{self, After};
 use crate::compare::{self, CompareOptions, Comparison};
-use crate::diagnose::{diagnose, Candidate, Diagnosis};
+use crate::diagnose::{diagnose, Candidate, Diagnosis, FitSetup};
 use crate::json::{obj, Json};
+use crate::ladder::Rung;
+use crate::svg::esc;
 use crate::units::Column;
 
 /// A finished diagnosis with its comparison.
@@ -44,7 +46,8 @@ pub fn diagnose_measurement(opts: &CompareOptions, threads: usize, verbose: bool
     if verbose {
         eprintln!("damper diagnose: fitting {} candidate effects on {threads} threads", candidates.len());
     }
-    let d = diagnose(&simulate, &candidates, &baseline, &measured, split, threads, &progress)?;
+    let fit = FitSetup { simulate: &simulate, measured: &measured, split, threads, progress: &progress };
+    let d = diagnose(&fit, &candidates, &baseline, &c.prediction.f_damper)?;
     drop(simulate);
     let after = match d.effects.as_slice() {
         [] => None,
@@ -124,8 +127,20 @@ pub fn summary_json(r: &Diagnosed) -> Json {
     s
 }
 
-fn esc(s: &str) -> String {
-    s.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;")
+/// A rung as the report and the terminal name it: `+ effect` or `effect refitted`, and a note
+/// when it was not kept.
+fn rung_label(l: &Rung) -> (String, &'static str) {
+    let what = match (l.added, l.refit) {
+        ("baseline", _) => "baseline".to_string(),
+        (e, true) => format!("{e} refitted"),
+        (e, false) => format!("+ {e}"),
+    };
+    let note = match (l.kept, l.refit) {
+        (true, _) => "",
+        (false, true) => " (unchanged)",
+        (false, false) => " (not kept)",
+    };
+    (what, note)
 }
 
 /// The diagnosis section of the report.
@@ -177,16 +192,7 @@ pub fn html_section(r: &Diagnosed) -> String {
         d.nrmse_noise_floor
     ));
     for l in &d.ladder.rungs {
-        let note = match (l.kept, l.refit) {
-            (true, _) => "",
-            (false, true) => " (no better: unchanged)",
-            (false, false) => " (not kept)",
-        };
-        let what = match (l.added, l.refit) {
-            ("baseline", _) => "baseline".to_string(),
-            (e, true) => format!("{e} refitted"),
-            (e, false) => format!("+ {e}"),
-        };
+        let (what, note) = rung_label(l);
         let params: Vec<String> = l.params.iter().map(|(n, v, _)| format!("{n} = {v:.4e}")).collect();
         let share = if l.added == "baseline" { String::new() } else { format!("{:.0} %", 100.0 * l.explained) };
         h.push_str(&format!(
@@ -223,16 +229,7 @@ pub fn terminal_summary(r: &Diagnosed) -> String {
     }
     t.push_str("  ladder:");
     for l in &d.ladder.rungs {
-        let what = match (l.added, l.refit) {
-            ("baseline", _) => "baseline".to_string(),
-            (e, true) => format!("{e} refitted"),
-            (e, false) => format!("+ {e}"),
-        };
-        let note = match (l.kept, l.refit) {
-            (true, _) => "",
-            (false, true) => " (unchanged)",
-            (false, false) => " (not kept)",
-        };
+        let (what, note) = rung_label(l);
         t.push_str(&format!(" {what} {:.4}{note} →", l.nrmse_validation));
     }
     t.truncate(t.len() - " →".len());

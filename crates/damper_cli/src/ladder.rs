@@ -49,13 +49,29 @@ pub struct Ladder {
 impl Ladder {
     /// Adds `c` as a kept rung (an effect named near the noise floor, where the ladder stops).
     pub fn add(&mut self, c: &Candidate) -> Result<(), String> {
-        if !self.effects.contains(&c.effect) {
+        if self.effects.contains(&c.effect) {
+            return Ok(());
+        }
+        self.push(c, false, true)
+    }
+
+    /// Records `c` as a rung (`refit`: of an effect already kept); a kept one enters the model.
+    fn push(&mut self, c: &Candidate, refit: bool, kept: bool) -> Result<(), String> {
+        if kept {
             self.params = with_effect(&self.params, c.effect, &c.params)?;
             self.nrmse_validation = c.nrmse_validation;
-            self.effects.push(c.effect);
-            let (params, nrmse_validation, explained) = (c.params.clone(), c.nrmse_validation, c.explained);
-            self.rungs.push(Rung { added: c.effect, refit: false, params, nrmse_validation, explained, kept: true });
+            if !refit {
+                self.effects.push(c.effect);
+            }
         }
+        self.rungs.push(Rung {
+            added: c.effect,
+            refit,
+            params: c.params.clone(),
+            nrmse_validation: c.nrmse_validation,
+            explained: c.explained,
+            kept,
+        });
         Ok(())
     }
 }
@@ -97,20 +113,10 @@ pub fn climb(
         let Some(best) = round.iter().find(|c| c.plausible).or(round.first()) else { break };
         let least = if ladder.effects.is_empty() { 0.5 * MIN_EXPLAINED } else { MIN_EXPLAINED };
         let kept = best.plausible && best.explained >= least;
-        ladder.rungs.push(Rung {
-            added: best.effect,
-            refit: false,
-            params: best.params.clone(),
-            nrmse_validation: best.nrmse_validation,
-            explained: best.explained,
-            kept,
-        });
+        ladder.push(best, false, kept)?;
         if !kept {
             break;
         }
-        ladder.params = with_effect(&ladder.params, best.effect, &best.params)?;
-        ladder.nrmse_validation = best.nrmse_validation;
-        ladder.effects.push(best.effect);
         let rest: Vec<&'static EffectInfo> =
             specs.iter().copied().filter(|s| !ladder.effects.contains(&s.key)).collect();
         if rest.is_empty() || ladder.nrmse_validation <= FLOOR_FACTOR * nrmse_floor {
@@ -127,12 +133,7 @@ pub fn climb(
             let spec = specs.iter().copied().find(|s| s.key == key).ok_or("a kept effect outside the catalog")?;
             let c = fit.all(&[spec], &ladder.params, (ladder.nrmse_validation, nrmse_floor))?.remove(0);
             let kept = c.plausible && c.nrmse_validation < ladder.nrmse_validation;
-            if kept {
-                ladder.params = with_effect(&ladder.params, key, &c.params)?;
-                ladder.nrmse_validation = c.nrmse_validation;
-            }
-            let (params, nrmse_validation, explained) = (c.params, c.nrmse_validation, c.explained);
-            ladder.rungs.push(Rung { added: key, refit: true, params, nrmse_validation, explained, kept });
+            ladder.push(&c, true, kept)?;
         }
         if ladder.nrmse_validation > 0.99 * start {
             break;

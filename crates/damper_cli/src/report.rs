@@ -51,7 +51,8 @@ fn eng(x: f64) -> String {
     }
 }
 
-fn scaled(x: &[f64], f: f64) -> Vec<f64> {
+/// `x` times `f` (a unit change for a plot).
+pub fn scaled(x: &[f64], f: f64) -> Vec<f64> {
     x.iter().map(|v| v * f).collect()
 }
 
