@@ -60,11 +60,12 @@ fn switched_off_effects_add_nothing() {
         let var = BooleanVar::ALL.into_iter().find(|v| v.name() == format!("effect_{}", e.info().key)).unwrap();
         *boolean_parameter(&mut p, var).unwrap() = false;
     }
-    assert_eq!(semi_active_damper::effects::contributions(&p, &s), (0.0, 0.0));
+    assert_eq!(semi_active_damper::effects::total_force(&p, &s), 0.0);
+    assert_eq!(semi_active_damper::effects::total_bypass_flow(&p, &s), 0.0);
     // friction opposes the motion: in tension when extending
     p.effect_seal_friction = true;
     p.effect_viscous_friction = true;
-    let (f, _) = semi_active_damper::effects::contributions(&p, &s);
+    let f = semi_active_damper::effects::total_force(&p, &s);
     assert!((f - (p.f_coulomb * (0.4 / p.v_friction).tanh() + p.c_viscous * 0.4)).abs() < 1e-9, "{f}");
 }
 

@@ -92,8 +92,7 @@ impl Plant<'_> {
             p_reservoir: p_r,
             x_spool: x_s,
         };
-        let (f_effects, q_leak) = effects::contributions(p, &signals);
-        let force = p_a * cyl.a_annulus - p_b * cyl.a_piston + f_effects;
+        let force = p_a * cyl.a_annulus - p_b * cyl.a_piston + effects::total_force(p, &signals);
         let delta = d.mount.map_or(0.0, |m| m.deflection(force));
         let (vol_a, vol_b) = cyl.volumes(y[idx::X_DAMPER] - delta);
 
@@ -112,6 +111,7 @@ impl Plant<'_> {
         } else {
             0.0
         };
+        let q_leak = effects::total_bypass_flow(p, &signals);
         let r_a = q_cv1 - q_valve - q_relief - q_leak;
         let r_b = -q_cv1 + q_cv2 + q_leak;
 
