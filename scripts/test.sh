@@ -6,7 +6,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-bash scripts/setup_env.sh
+bash scripts/setup.sh --importer
 echo "+ cargo fmt --check && cargo clippy --release --all-targets -- -D warnings"
 cargo fmt --check
 cargo clippy --release --all-targets -- -D warnings

@@ -1,6 +1,6 @@
 """Session fixtures of the Python suite.
 
-The FMUs under test are built (cargo build --release, which builds the whole workspace) and packaged
+The FMUs under test are built (cargo build --release of the two FMU packages) and packaged
 once per session into tests/python/work/, or taken from `--fmu PATH` (the damper) and
 `--truck-fmu PATH` (the quarter truck). scripts/ is put on sys.path so that tests import the same
 scenario and metric code as the scripts (rig_tests, roads, cosim, ssp, hil_scenarios, full_truck)

@@ -14,8 +14,8 @@ use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::ptr;
 
 /// The C types, for the shims that [`crate::export_fmi2!`] emits.
-pub use fmi_sys::fmi2;
-use fmi_sys::fmi2::*;
+pub use crate::fmi2;
+use crate::fmi2::*;
 
 /// Runs `f` on the instance behind `c`, turning a null instance into fmi2Error and a panic into
 /// fmi2Fatal (logged, instance marked unusable).

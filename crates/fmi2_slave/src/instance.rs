@@ -1,10 +1,10 @@
 //! One FMU instance behind the C API: the model, the FMI state, the experiment's times and the
 //! logger. Methods take Rust types (slices, options); pointer handling is in `api.rs`.
 
+use crate::fmi2::*;
 use crate::logger::{Logger, LOG_EVENTS};
 use crate::state_machine::{allowed, Api, Phase};
 use crate::{Causality, Model, VarInfo};
-use fmi_sys::fmi2::*;
 use std::fmt;
 
 /// Why a call did not succeed (fmi2Fatal only comes from caught panics).

@@ -5,10 +5,11 @@
 //! catch panics (a panic becomes fmi2Fatal, never an unwind into the host) and log through the
 //! importer's callback without allocating.
 //!
-//! Layout: `api` (pointer handling per entry point), `instance` (one FMU instance: state machine,
+//! Layout: `fmi2` (the C types), `api` (pointer handling per entry point), `instance` (one FMU instance: state machine,
 //! experiment times, variable access rules), `state_machine` (the legal-call table), `logger`,
 //! `guard` (panic guard and checked slices), `snapshot` (versioned byte format of FMU states).
 pub mod api;
+pub mod fmi2;
 mod guard;
 mod instance;
 mod logger;

@@ -3,7 +3,7 @@
 //! fmi2DoStep. Messages of status Warning and worse are always passed on; `logEvents` messages only
 //! when the importer switched that category on.
 
-use fmi_sys::fmi2::{fmi2CallbackLogger, fmi2ComponentEnvironment, fmi2Status, fmi2Status_fmi2OK};
+use crate::fmi2::{fmi2CallbackLogger, fmi2ComponentEnvironment, fmi2Status, fmi2Status_fmi2OK};
 use std::ffi::{c_char, CStr, CString};
 use std::fmt::{self, Write};
 

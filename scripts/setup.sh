@@ -1,0 +1,73 @@
+#!/usr/bin/env bash
+# Installs what the project needs, then creates the Python environment in .venv (idempotent).
+#
+#   bash scripts/setup.sh             # for the FMUs and the scripts (scripts/main.sh)
+#   bash scripts/setup.sh --importer  # also for the FMU importers in Rust (scripts/test.sh, damper CLI)
+#
+# - Rust (cargo) must be there already: rustup installs it (https://rustup.rs).
+# - The FMUs need only cargo. The Rust *importer* of FMUs (the `fmi` crate, used by `damper --fmu`
+#   and the import tests) generates its bindings with bindgen, which needs libclang:
+#   Debian's libclang-dev, installed with --importer.
+# - `python3 -m venv` needs ensurepip, which a Debian system Python has only with python3-venv.
+# Missing Debian packages are installed with apt-get when running as root; otherwise the script
+# stops with the one command to run. Then .venv is filled from the pinned
+# tests/python/requirements.txt.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+PYTHON=${PYTHON:-python3}
+REQUIREMENTS=tests/python/requirements.txt
+IMPORTS="import fmpy, fmu_manipulation_toolbox, libcosimpy, numpy, scipy, matplotlib, pytest"
+importer=false
+for arg in "$@"; do
+    case "$arg" in
+        --importer) importer=true ;;
+        *) echo "setup: unknown option $arg (use --importer or nothing)" >&2; exit 2 ;;
+    esac
+done
+
+command -v cargo >/dev/null || { echo "setup: cargo not found: install Rust with rustup (https://rustup.rs)" >&2; exit 1; }
+command -v "$PYTHON" >/dev/null || { echo "setup: $PYTHON not found: install Python >= 3.11" >&2; exit 1; }
+
+packages=()
+if $importer && [ -z "${LIBCLANG_PATH:-}" ]; then
+    if command -v dpkg-query >/dev/null; then
+        [ "$(dpkg-query -W -f='${Status}' libclang-dev 2>/dev/null)" = "install ok installed" ] || packages+=(libclang-dev)
+    elif ! ldconfig -p 2>/dev/null | grep -q 'libclang[-.0-9]*\.so'; then
+        echo "setup: libclang not found: install your system's libclang development package or set LIBCLANG_PATH" >&2
+        exit 1
+    fi
+fi
+venv_works() {
+    local scratch status
+    scratch=$(mktemp -d)
+    "$PYTHON" -m venv "$scratch/venv" >/dev/null 2>&1 && status=0 || status=1
+    rm -rf "$scratch"
+    return $status
+}
+if [ ! -x .venv/bin/python ] && ! venv_works; then
+    packages+=("python$("$PYTHON" -c 'import sys; print(f"{sys.version_info[0]}.{sys.version_info[1]}")')-venv")
+fi
+
+if [ ${#packages[@]} -gt 0 ]; then
+    if [ "$(id -u)" -ne 0 ]; then
+        echo "setup: missing Debian packages; run: sudo apt-get update && sudo apt-get install -y ${packages[*]}" >&2
+        exit 1
+    fi
+    echo "+ apt-get install ${packages[*]}"
+    apt-get update -qq
+    DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends "${packages[@]}" >/dev/null
+fi
+
+if [ ! -x .venv/bin/python ]; then
+    echo "+ $PYTHON -m venv .venv"
+    "$PYTHON" -m venv .venv
+    echo "+ .venv/bin/pip install -r $REQUIREMENTS"
+    .venv/bin/python -m pip install --quiet --upgrade pip
+    .venv/bin/python -m pip install --quiet -r "$REQUIREMENTS"
+elif ! .venv/bin/python -c "$IMPORTS" 2>/dev/null; then
+    echo "+ .venv/bin/pip install -r $REQUIREMENTS (packages missing)"
+    .venv/bin/python -m pip install --quiet -r "$REQUIREMENTS"
+fi
+.venv/bin/python -c "$IMPORTS"
+echo "setup: ready ($(.venv/bin/python --version)$($importer && echo ', libclang for the importer'))"

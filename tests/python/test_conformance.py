@@ -1,0 +1,118 @@
+"""Conformance of both packaged FMUs beyond what fmpy's validation checks.
+
+- The shared library exports exactly the FMI 2.0 Co-Simulation functions: nothing foreign (a
+  symbol of a linked C helper would clash with a host's or another FMU's), nothing missing.
+- ModelStructure tells the truth: for every output, the inputs that change it *without* a doStep
+  (direct feedthrough) are probed on the running FMU and compared with the declared
+  `dependencies`. A master that trusts a declared "no dependency" reads a stale value otherwise.
+"""
+
+import shutil
+import subprocess
+import zipfile
+from xml.etree import ElementTree
+
+import numpy as np
+import pytest
+from fmpy import extract, read_model_description
+from fmu_helpers import Slave
+
+# FMI 2.0.4, section 2.1 (fmi2Functions.h): the common functions and those of Co-Simulation.
+CO_SIMULATION_FUNCTIONS = {
+    "fmi2GetTypesPlatform", "fmi2GetVersion", "fmi2SetDebugLogging", "fmi2Instantiate",
+    "fmi2FreeInstance", "fmi2SetupExperiment", "fmi2EnterInitializationMode",
+    "fmi2ExitInitializationMode", "fmi2Terminate", "fmi2Reset", "fmi2GetReal", "fmi2GetInteger",
+    "fmi2GetBoolean", "fmi2GetString", "fmi2SetReal", "fmi2SetInteger", "fmi2SetBoolean",
+    "fmi2SetString", "fmi2GetFMUstate", "fmi2SetFMUstate", "fmi2FreeFMUstate",
+    "fmi2SerializedFMUstateSize", "fmi2SerializeFMUstate", "fmi2DeSerializeFMUstate",
+    "fmi2GetDirectionalDerivative", "fmi2SetRealInputDerivatives", "fmi2GetRealOutputDerivatives",
+    "fmi2DoStep", "fmi2CancelStep", "fmi2GetStatus", "fmi2GetRealStatus", "fmi2GetIntegerStatus",
+    "fmi2GetBooleanStatus", "fmi2GetStringStatus",
+}
+
+
+def exported_symbols(fmu_path, work_dir):
+    """Defined dynamic symbols of the FMU's linux64 binary (binutils' nm, which comes with the C
+    toolchain that links Rust)."""
+    md = read_model_description(str(fmu_path))
+    member = f"binaries/linux64/{md.coSimulation.modelIdentifier}.so"
+    with zipfile.ZipFile(fmu_path) as z:
+        library = z.extract(member, work_dir)
+    out = subprocess.run([shutil.which("nm") or "nm", "-D", "--defined-only", library],
+                         check=True, capture_output=True, text=True).stdout
+    return {line.split()[-1] for line in out.splitlines() if line.strip()}
+
+
+@pytest.mark.parametrize("which", ["damper", "truck"])
+def test_the_binary_exports_exactly_the_fmi2_co_simulation_functions(which, fmus, work_dir):
+    path = fmus["damper_fmu" if which == "damper" else "truck_fmu"]
+    symbols = exported_symbols(path, work_dir)
+    assert symbols - CO_SIMULATION_FUNCTIONS == set(), "foreign symbols exported"
+    assert CO_SIMULATION_FUNCTIONS - symbols == set(), "FMI functions missing"
+
+
+# Each probe: start values, the inputs held while the FMU runs into a generic state, and a
+# perturbation per input large enough to move any output that depends on it directly.
+DAMPER_PROBES = [
+    ({}, {"v_damper": 0.31, "F_demand": 6e3, "x_spool_demand": 1.5e-3}),
+    ({"effect_seal_friction": True, "effect_viscous_friction": True},
+     {"v_damper": -0.22, "F_demand": -4e3, "x_spool_demand": 1.5e-3}),
+    ({"control_mode": 1}, {"v_damper": 0.15, "F_demand": 0.0, "x_spool_demand": 1.2e-3}),
+]
+DAMPER_DELTA = {"v_damper": 0.05, "F_demand": 2e3, "x_spool_demand": 4e-4}
+TRUCK_PROBES = [
+    ({"damper_mode": mode, "c_tyre": c_tyre}, {"z_road": 0.012, "v_road": 0.08, "F_damper": 1.5e3})
+    for mode in (0, 1, 2) for c_tyre in (0.0, 2e3)
+]
+TRUCK_DELTA = {"z_road": 0.01, "v_road": 0.1, "F_damper": 2e3}
+
+
+def observed_feedthrough(unzipdir, md, start_values, inputs, delta):
+    """{output: set of inputs that change it between two doSteps}, probed on one running instance."""
+    slave = Slave(unzipdir, md, "probe", logging_on=False)
+    outputs = [u.variable.name for u in md.outputs]
+    slave.initialize(**start_values)
+    for k in range(40):
+        # vary the inputs so the state is generic, then hold them
+        slave.step(1e-3, **{name: value * (1.0 + 0.3 * np.sin(0.7 * k)) for name, value in inputs.items()})
+    slave.set(**inputs)
+    before = slave.get(outputs)
+    found = {name: set() for name in outputs}
+    for name, value in inputs.items():
+        slave.set(**{name: value + delta[name]})
+        after = slave.get(outputs)
+        slave.set(**{name: value})
+        np.testing.assert_array_equal(slave.get(outputs), before, err_msg=f"outputs not restored after {name}")
+        for out, b, a in zip(outputs, before, after):
+            if a != b:
+                found[out].add(name)
+    slave.free()
+    return found
+
+
+def declared_feedthrough(md):
+    return {u.variable.name: {v.name for v in (u.dependencies or [])} for u in md.outputs}
+
+
+@pytest.mark.parametrize("which", ["damper", "truck"])
+def test_declared_output_dependencies_match_the_probed_feedthrough(which, fmus, work_dir):
+    path = fmus["damper_fmu" if which == "damper" else "truck_fmu"]
+    probes, delta = (DAMPER_PROBES, DAMPER_DELTA) if which == "damper" else (TRUCK_PROBES, TRUCK_DELTA)
+    md = read_model_description(str(path))
+    unzipdir = work_dir / "fmu"
+    extract(str(path), unzipdir=str(unzipdir))
+    declared = declared_feedthrough(md)
+    # Every output's dependencies are declared explicitly (no attribute means "depends on all").
+    with zipfile.ZipFile(path) as z:
+        root = ElementTree.fromstring(z.read("modelDescription.xml"))
+    assert all("dependencies" in u.attrib for u in root.iterfind("ModelStructure/Outputs/Unknown"))
+    union = {name: set() for name in declared}
+    for start_values, inputs in probes:
+        observed = observed_feedthrough(unzipdir, md, start_values, inputs, delta)
+        for out, deps in observed.items():
+            assert deps <= declared[out], \
+                f"{out} changes with {sorted(deps - declared[out])} without a doStep ({start_values}), " \
+                f"but declares dependencies {sorted(declared[out])}"
+            union[out] |= deps
+    # and nothing is declared that no configuration shows (a needless algebraic loop for masters)
+    assert union == declared
