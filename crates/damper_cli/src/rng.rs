@@ -1,5 +1,6 @@
 //! A small seeded random generator (xoshiro256** seeded by SplitMix64), so that generated data
-//! depend only on `--seed`, on every platform.
+//! depend only on `--seed`, on every platform and in every version: written here rather than taken
+//! from `rand`, whose value streams are not promised to stay the same across releases.
 
 #[derive(Clone, Debug)]
 pub struct Rng {
@@ -85,5 +86,20 @@ mod tests {
         assert!(mean.abs() < 0.01 && (var - 1.0).abs() < 0.01, "{mean} {var}");
         assert_eq!(Rng::new(3).next_u64(), Rng::new(3).next_u64());
         assert_ne!(Rng::new(3).next_u64(), Rng::new(4).next_u64());
+    }
+
+    /// Generated data must not change between versions or platforms for a given `--seed`: the
+    /// stream is pinned to values of an independent implementation of SplitMix64 seeding and
+    /// xoshiro256** (0xe220a8397b1dcdaf is SplitMix64's published first output for seed 0).
+    #[test]
+    fn stream_is_pinned() {
+        assert_eq!(Rng::new(0).s[0], 0xe220_a839_7b1d_cdaf);
+        let mut r = Rng::new(1);
+        assert_eq!(
+            [r.next_u64(), r.next_u64(), r.next_u64()],
+            [0xb3f2_af6d_0fc7_10c5, 0x853b_5596_4736_4cea, 0x92f8_9756_082a_4514]
+        );
+        let mut r = Rng::new(u64::MAX);
+        assert_eq!([r.next_u64(), r.next_u64()], [0x8f55_20d5_2a7e_ad08, 0xc476_a018_caa1_802d]);
     }
 }
