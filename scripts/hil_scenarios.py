@@ -29,7 +29,7 @@ Metrics, over the record after the settling time:
                   (the table says which rule applied)
     tracking      F = damper F_damper, Fd = the truck's F_demand, both at the same communication
                   point. Extension: v_damper > 0.02 m/s and Fd > 0.5 kN; compression: v_damper <
-                  -0.02 m/s and Fd < -0.5 kN (as damper_reference.hil_run). Mean signed error
+                  -0.02 m/s and Fd < -0.5 kN (as the slow Python reference of docs/physics.md §6.5). Mean signed error
                   mean(|F| - |Fd|) and the fraction of time |F| > |Fd| (above) in each direction.
     spectrum      Welch (2 s Hann segments) of F - mean(F); the largest value above 3 Hz (as hil_run)
                   and the largest in the wheel-hop band 5-30 Hz.
@@ -433,7 +433,7 @@ def comparison_table(s, nat_hz):
     def verdict(ok):
         return "yes (sign)" if ok else "**no**"
 
-    rows = ["| Quantity | Paper (Fig. 7, minor road 14 m/s) | Slow Python reference (PHYSICS.md §6.5) | This run | Reproduced? |",
+    rows = ["| Quantity | Paper (Fig. 7, minor road 14 m/s) | Slow Python reference (docs/physics.md §6.5) | This run | Reproduced? |",
             "|---|---|---|---|---|",
             f"| Dominant frequency of the damper force | 15 Hz, wheel hop | 12.0 Hz (0.5 ms exchange, no extra latency); "
             f"16.5 Hz with 5 ms extra latency | largest PSD value above 3 Hz at {pk['damper_force']['peak_above_3Hz']:.1f} Hz; "

@@ -2,7 +2,7 @@
 //!
 //! ```text
 //! both:   s = sign(v),  e = s (F_dem − F) / max(|F_dem|, F_ref_min)        relative force error
-//! 0 (default, PHYSICS.md §4): u = Kp e + Ki Σe T + Kd ė
+//! 0 (default, docs/physics.md §4.3): u = Kp e + Ki Σe T + Kd ė
 //!         A_ff = Q̂ / (C_d sqrt(2 Δp_dem/ρ))     inverse valve law at the demanded force
 //!         A_dem = A_ff exp(−u),  x_dem = A⁻¹(A_dem)
 //! 1 (the paper's PID):  x_dem = x_bias − (Kp e + Ki Σe T + Kd ė)

@@ -47,8 +47,8 @@ mod tests {
     use super::*;
 
     #[test]
-    fn bulk_modulus_matches_the_physics_brief_table() {
-        // PHYSICS.md §3.2: α₀ 2.5 %, n 1.4, β_L 1.5 GPa.
+    fn bulk_modulus_matches_the_table_of_docs_physics() {
+        // docs/physics.md §3.2: α₀ 2.5 %, n 1.4, β_L 1.5 GPa.
         for (bar, mpa) in [(5.0, 112.0), (10.0, 277.8), (20.0, 611.1), (50.0, 1138.5), (100.0, 1366.1), (150.0, 1430.0)]
         {
             let b = effective_bulk_modulus(bar * 1e5, 1.5e9, 0.025, 1.4) / 1e6;

@@ -1,6 +1,6 @@
 //! The check-valve ("uniflow") circuit: annulus chamber A, full-bore chamber B, piston check valve
 //! CV1 (B→A), replenishing check valve CV2 (reservoir→B), proportional valve and relief valve
-//! A→reservoir, gas-charged reservoir (PHYSICS.md §2–3).
+//! A→reservoir, gas-charged reservoir (docs/physics.md §2–3).
 //!
 //! ```text
 //! A_p = πD_p²/4, A_r = πD_r²/4, A_a = A_p − A_r

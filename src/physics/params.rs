@@ -12,7 +12,7 @@ pub const MAX_DELAY_SAMPLES: usize = 200;
 /// Outer force-loop law.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum ForceController {
-    /// Inverse-valve feedforward + PI on ln(valve area) (PHYSICS.md §4).
+    /// Inverse-valve feedforward + PI on ln(valve area) (docs/physics.md §4.3).
     FeedforwardLogArea,
     /// The paper's plain PID from relative force error to spool position.
     PaperPid,

@@ -1,5 +1,5 @@
 //! The continuous plant: hydraulics, mount, spool and coil, with the damper stroke as a state
-//! (PHYSICS.md §3). The digital controller is outside; it holds the coil command `i_command`
+//! (docs/physics.md §3). The digital controller is outside; it holds the coil command `i_command`
 //! constant between samples.
 //!
 //! ```text

@@ -125,7 +125,7 @@ mod tests {
 
     #[test]
     fn inverse_area_round_trips() {
-        // PHYSICS.md operating points: 3.76 mm² ↔ x_s 1.009 mm, 25.06 mm² ↔ 3.032 mm.
+        // docs/physics.md §3.3 and §5.3 operating points: 3.76 mm² ↔ x_s 1.009 mm, 25.06 mm² ↔ 3.032 mm.
         assert!((PORTS.position_for_area(3.76e-6) - 1.009e-3).abs() < 2e-6);
         assert!((PORTS.position_for_area(25.06e-6) - 3.032e-3).abs() < 2e-6);
         for k in 1..100 {

@@ -13,7 +13,7 @@ C_VALUES = np.arange(10e3, 50e3 + 1, 2.5e3)  # N s/m: the part of the 5-60 kNs/m
 # better. 3 % keeps a margin for the shorter record and still demands a real improvement.
 RIDE_MARGIN = 0.03
 # Measured: extension +0.35 kN, 60 % of the time above the demand; compression -0.30 kN, 59 % below.
-# The reference (PHYSICS.md §6.5) found +0.71 kN / 73 % and -0.63 kN / 69 %, with a feedforward biased
+# The reference (docs/physics.md §6.5) found +0.71 kN / 73 % and -0.63 kN / 69 %, with a feedforward biased
 # by the gas force (see the README). The test asks only for the paper's signs: a positive mean error
 # and a majority above when extending, the reverse compressing.
 

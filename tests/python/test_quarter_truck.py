@@ -20,13 +20,13 @@ STEP = 1e-3  # s
 FREE_RESPONSE = 2 ** 15 * STEP  # 32.8 s
 ZERO_PAD = 16
 # Body 1.50 Hz and wheel hop 12.18 Hz: the eigenvalues of the undamped two-mass model with Table 1
-# (PHYSICS.md §6.4). The measured peak of a Hann-windowed, 16x zero-padded FFT of a 32.8 s free
+# (docs/physics.md §6.4). The measured peak of a Hann-windowed, 16x zero-padded FFT of a 32.8 s free
 # response (bin 0.03 Hz, interpolated grid 0.002 Hz) lies within ~0.002 Hz of the true frequency;
 # RK4 with 0.25 ms steps adds a phase error below 1e-8. 0.3 % (0.005 Hz at the body mode) leaves room
 # for the grid and the leakage of the other mode, and fails for any error in a mass or stiffness
 # (1 % in k_tyre moves the wheel hop by 0.4 %).
 FREQ_REL_TOL = 0.003
-PAPER_BODY_HZ, PAPER_WHEEL_HOP_HZ = 1.50, 12.2  # PHYSICS.md §6.4, from Table 1
+PAPER_BODY_HZ, PAPER_WHEEL_HOP_HZ = 1.50, 12.2  # docs/physics.md §6.4, from Table 1
 
 
 def test_truck_fmu_is_valid(truck_fmu):

@@ -1,4 +1,4 @@
-//! Quarter truck with a suspension damper, from static equilibrium (PHYSICS.md §3.4, §4):
+//! Quarter truck with a suspension damper, from static equilibrium (docs/physics.md §3.7, §4.5):
 //!
 //! ```text
 //! M_s z̈_s = −F_s,          F_s = k_s (z_s − z_u) + c_s (ż_s − ż_u) + F      (F: damper, tension +)
