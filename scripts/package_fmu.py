@@ -9,6 +9,7 @@ The FMU (target/fmu/SemiActiveDamper.fmu) holds
     modelDescription.xml
     binaries/linux64/SemiActiveDamper.so      (copy of target/release/libsemi_active_damper.so)
     documentation/index.html                  (generated here from modelDescription.xml)
+    documentation/physics.md                  (copy of docs/physics.md: equations, parameter reasoning)
 
 Entries are written with forward slashes and a fixed time stamp, so that the same inputs give
 the same bytes.
@@ -30,6 +31,14 @@ LIBRARY_NAME = "libsemi_active_damper.so"
 PLATFORM = "linux64"
 ZIP_DATE = (1980, 1, 1, 0, 0, 0)
 REQUIRED_SYMBOLS = ("fmi2Instantiate", "fmi2DoStep", "fmi2GetReal", "fmi2SetReal", "fmi2FreeInstance")
+# The model's physics document. Both FMUs ship it as documentation/physics.md, because the variable
+# descriptions cite its sections ("see physics.md §x") and a user of the FMU has no repository.
+PHYSICS_DOC = REPO / "docs" / "physics.md"
+# Link to it from index.html (relative, so it resolves inside the unpacked FMU).
+PHYSICS_LINK = ('<p>The equations of every component, the reasoning and source of every parameter value '
+                'and the checks behind them are in <a href="physics.md">physics.md</a> '
+                '(<code>documentation/physics.md</code> in this FMU); the variable descriptions cite its '
+                'sections as "physics.md §x".</p>')
 
 
 
@@ -227,6 +236,7 @@ clipped to 0 (<code>F_demand_clipped</code>).</li>
 </ul>
 
 <h2>Variables</h2>
+{PHYSICS_LINK}
 <p>Source tags in the descriptions: <span class="tag tag-P">[P]</span> stated in the paper,
 <span class="tag tag-S">[S]</span> from another public source, <span class="tag tag-A">[A]</span> an engineering
 assumption chosen so that the model is coherent and meets the paper's figures.</p>
@@ -276,12 +286,14 @@ def write_zip(fmu_path, files):
 
 
 def package(library, xml_path, fmu_path, documentation=None):
-    """Zips the FMU; `documentation(model)` writes its index.html (default: the damper's)."""
+    """Zips the FMU; `documentation(model)` writes its index.html (default: the damper's). Both FMUs
+    also carry docs/physics.md as documentation/physics.md."""
     model = read_model(xml_path)
     files = [
         ("modelDescription.xml", xml_path.read_bytes()),
         (f"binaries/{PLATFORM}/{model['modelIdentifier']}.so", library.read_bytes()),
         ("documentation/index.html", (documentation or documentation_html)(model).encode("utf-8")),
+        ("documentation/physics.md", PHYSICS_DOC.read_bytes()),
     ]
     write_zip(fmu_path, files)
     return fmu_path

@@ -9,6 +9,7 @@ The FMU (target/fmu/QuarterTruck.fmu) holds
     modelDescription.xml                  (crates/quarter_truck/modelDescription.xml)
     binaries/linux64/QuarterTruck.so      (copy of target/release/libquarter_truck.so)
     documentation/index.html              (generated here from modelDescription.xml)
+    documentation/physics.md              (copy of docs/physics.md, shared with the damper's FMU)
 
 It reuses the zip and documentation helpers of scripts/package_fmu.py (same fixed time stamps, so the
 same inputs give the same bytes).
@@ -61,6 +62,7 @@ Integration: classical RK4, each communication step split into equal steps ≤ h
 SemiActiveDamper.fmu's inputs and its <code>F_damper</code> (with <code>tare_load_cell</code> = true) to
 <code>F_damper</code>. Provenance tags: <span class="tag tag-P">[P]</span> paper,
 <span class="tag tag-S">[S]</span> other public source, <span class="tag tag-A">[A]</span> assumption.</p>
+{package_fmu.PHYSICS_LINK}
 <h2>Variables</h2>
 {chr(10).join(sections)}
 </body></html>
