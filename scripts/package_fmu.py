@@ -37,8 +37,8 @@ PHYSICS_DOC = REPO / "docs" / "physics.md"
 # Link to it from index.html (relative, so it resolves inside the unpacked FMU).
 PHYSICS_LINK = ('<p>The equations of every component, the reasoning and source of every parameter value '
                 'and the checks behind them are in <a href="physics.md">physics.md</a> '
-                '(<code>documentation/physics.md</code> in this FMU); the variable descriptions cite its '
-                'sections as "physics.md §x".</p>')
+                '(<code>documentation/physics.md</code> in this FMU); a reference "physics.md §x" in a '
+                'variable description names one of its sections.</p>')
 
 
 
