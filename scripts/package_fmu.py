@@ -251,7 +251,7 @@ assumption chosen so that the model is coherent and meets the paper's figures.</
 −p_reservoir0·A_r = −{gas_force / 1e3:.2f} kN with the default parameters. <code>F_damper</code> includes it,
 like the load cell of the rig.</li>
 <li>Semi-active: only dissipative forces can be produced. With the valve wide open the force cannot go below
-a velocity-dependent minimum (≈0.1 kN at 0.15 m/s, ≈3–4 kN at 1 m/s); the relief valve caps it near 37 kN.</li>
+a velocity-dependent minimum (≈0.1 kN at 0.15 m/s, ≈5 kN at 1 m/s, see physics.md §5.3); the relief valve caps it near 37 kN.</li>
 <li>Velocity range: the input accepts |v_damper| ≤ 5 m/s, but the valve is well behaved up to about 0.6 m/s.
 Above ~0.6–1 m/s at high force, flow forces make the spool show small limit cycles (≈0.1 mm, a few % of force).</li>
 <li>Stroke: there are no end stops. Keep |x_damper| below L_half_stroke = {l_half * 1e3:.0f} mm; beyond it the
