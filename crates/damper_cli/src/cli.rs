@@ -444,8 +444,12 @@ fn run_diagnose(a: DiagnoseArgs, g: &Global) -> Result<(), String> {
     let fits = AtomicUsize::new(0);
     let progress = |c: &Candidate, done: usize, total: usize| {
         fits.fetch_add(1, Ordering::Relaxed);
-        bar.set_length(total as u64);
-        bar.set_position(done as u64);
+        // both at once: each round of the ladder has its own total, and a bar drawn between the
+        // two would read e.g. 8/7
+        bar.update(|s| {
+            s.set_len(total as u64);
+            s.set_pos(done as u64);
+        });
         if g.verbose > 0 {
             bar.suspend(|| {
                 eprintln!(
