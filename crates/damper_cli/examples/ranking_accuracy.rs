@@ -392,7 +392,7 @@ fn run_case(c: &Case, dir: &Path) -> Result<Record, String> {
     // the HiL load cell is tared (README, `--tare-load-cell`); the rig's is raw
     co.tare_load_cell = c.input == InputStyle::Hil;
     let t1 = Instant::now();
-    let r = diagnose_measurement(&co, THREADS, false)?;
+    let r = diagnose_measurement(&co, THREADS, &|_, _, _| {})?;
     let seconds_diagnose = t1.elapsed().as_secs_f64();
     let d = &r.diagnosis;
     let ranks: Vec<Option<usize>> =

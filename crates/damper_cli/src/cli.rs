@@ -1,173 +1,414 @@
-//! The command line: `damper diagnose`, `damper compare`, `damper generate`, `damper effects`.
+//! The command line: `damper diagnose`, `damper compare`, `damper generate`, `damper effects`
+//! (clap's derive API; every value is checked while parsing, with the parse functions the
+//! commands use).
 
 use crate::compare::{self, CompareOptions};
+use crate::diagnose::Candidate;
+use crate::diagnose_cmd;
 use crate::generate::{self, GenerateOptions, InputStyle, Noise};
-use crate::measurement::Mapping;
+use crate::measurement::{Mapping, Measurement};
 use crate::parameters::{effects, parse_assignment, EffectExt};
+use clap::error::{ContextKind, ContextValue, ErrorKind};
+use clap::{ArgAction, Args, CommandFactory, Parser, Subcommand, ValueEnum};
+use indicatif::{ProgressBar, ProgressStyle};
+use std::io::IsTerminal;
+use std::path::PathBuf;
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::time::Instant;
 
-const USAGE: &str = "\
-damper — the semi-active damper model against measurements
+const EXAMPLES: &str = "\
+Examples:
+  damper diagnose data/measurements/rig_valve_test.csv --out out/diagnose --load-cell-lowpass 400
+  damper compare data/measurements/rig_valve_test.csv --out out/compare --with seal_friction=150
+  damper generate --out g.csv --truth g.json --effect seal_friction --seed 7
+  damper help diagnose
 
-USAGE:
-  damper diagnose MEASUREMENT.csv --out DIR [options]
-  damper compare MEASUREMENT.csv --out DIR [options]
-  damper generate --out FILE.csv --truth TRUTH.json [options]
+Exit status: 0 done, 1 bad data or model failure, 2 bad command line.";
+
+// the measurement's columns, for the help of compare and of diagnose
+macro_rules! columns {
+    () => {
+        "\
+Columns (SI, named like the FMU's variables): time, v_damper (or x_damper), F_demand (or only
+x_spool_demand: spool-position control), F_damper; optional x_spool, i_sol, p_ext, p_comp,
+x_spool_demand. A header cell may carry its unit: 'F_damper [kN]'."
+    };
+}
+
+const DIAGNOSE_HELP: &str = concat!(
+    columns!(),
+    "
+
+Examples:
+  damper diagnose data/measurements/rig_valve_test.csv --out out/diagnose --load-cell-lowpass 400
+  damper diagnose rig.csv --out out/rig --map vel=v_damper:mm/s --skip amplifier_delay -v"
+);
+
+const COMPARE_HELP: &str = concat!(
+    columns!(),
+    "
+
+Examples:
+  damper compare data/measurements/rig_valve_test.csv --out out/compare --load-cell-lowpass 400
+  damper compare rig.csv --out out/friction --with seal_friction=150 --set air_fraction=0.02"
+);
+
+const GENERATE_HELP: &str = "\
+Examples:
+  damper generate --out g.csv --truth g.json --seed 7 --duration 3
+  damper generate --out hil.csv --truth hil.json --input hil --road B --effect piston_leakage";
+
+const EFFECTS_HELP: &str = "\
+Examples:
   damper effects
-  damper help [COMMAND]
+  damper diagnose data/measurements/rig_valve_test.csv --out out/diagnose --skip amplifier_delay";
 
-diagnose: compare, then name the missing effect: each catalog effect is switched on (or refitted),
-  its parameters fitted on the train part and scored on the validation part; ranked, with a verdict
-  (effect / none / unexplained) and a ladder of the error as the effects are added one at a time
-  (two or more when one does not explain the residual). Options of compare, and:
-  --skip EFFECT             leave this effect out of the candidates; repeatable
-
-compare: drives the model with the measured inputs and shows where it fails.
-  Writes DIR/report.html (self-contained) and DIR/summary.json, prints a summary.
-  --with EFFECT[=VALUE]     switch an effect on (VALUE sets its first parameter); repeatable
-  --without EFFECT          switch an effect off; repeatable
-  --set NAME=VALUE          set a model parameter by its FMU name; repeatable, applied last
-  --map SOURCE=NAME[:UNIT]  CSV column SOURCE is the variable NAME, in UNIT; repeatable
-                            units: s ms m cm mm m/s cm/s mm/s N kN Pa kPa MPa bar A mA
-  --split FRACTION          train share, the rest validates (default 0.7)
-  --tare-load-cell          the measured force has its rest offset (the reservoir gas force,
-                            about -1 kN) removed; default: raw load cell, as the FMU's default
-  --load-cell-lowpass HZ    first-order low-pass of the load cell, applied to the model's force
-                            (default: none)
-  --fmu PATH.fmu            run the model through this packaged FMU (python3 scripts/package_fmu.py
-                            makes target/fmu/SemiActiveDamper.fmu) instead of in-process; same
-                            numbers, its parameters must match this program's
-  --quiet                   print nothing
-  Columns (SI, named like the FMU's variables): time, v_damper (or x_damper), F_demand (or only
-  x_spool_demand: spool-position control), F_damper; optional x_spool, i_sol, p_ext, p_comp,
-  x_spool_demand. A header cell may carry its unit: 'F_damper [kN]'.
-
-generate: measurement-like CSV from the model with hidden effects; the truth goes to a separate
-  JSON file that compare never reads.
-  --effect KEY[=VALUE|off]  effect on at VALUE (its first parameter), at a random plausible value
-                            when none is given, or off; repeatable
-  --set NAME=VALUE          move any parameter, e.g. --set air_fraction=0.04; repeatable
-  --seed N                  random seed (default 1)
-  --input rig|hil           rig: velocity blocks with demand steps, sine sweep, random velocity;
-                            hil: quarter truck on a random road with the MSD demand (default rig)
-  --duration S --rate HZ    record length and sample rate (default 10 s, 1000 Hz)
-  --control force|spool     spool: x_spool_demand instead of F_demand (rig only; default force)
-  --displacement            write x_damper instead of v_damper
-  --minimal                 only time, velocity, demand and F_damper
-  --errors-in-variables     drive the truth with the true velocity; default: with the measured one,
-                            as the rig's controller sees it (then velocity noise stays out of the
-                            force residual)
-  --lowpass HZ|off          load-cell low-pass (default 400 Hz)
-  --noise K                 multiply every sensor noise level by K (default 1; 0: quantisation only)
-  --sensor NAME=NOISE[:Q]   one sensor's noise standard deviation and resolution, SI; repeatable
-                            (defaults: F_damper 20:1 N, v_damper 1e-4:1e-5 m/s, x_damper 2e-6:1e-6 m,
-                            x_spool 1e-6:1e-7 m, i_sol 5e-3:1e-3 A, p_ext/p_comp 1e4:1e3 Pa)
-  --tare-load-cell / --raw-load-cell   default: raw for rig, tared for hil
-  --road NAME --speed M/S   hil road (motorway, major, minor or class A-H; default minor, 14)
-
-effects: lists the effect catalog (keys, switches, parameters).
-
-Exit status: 0 done, 1 bad data or model failure, 2 bad command line.
-";
-
-/// Parsed options: repeated `--name value` pairs, flags and positional arguments.
-struct Args {
-    pairs: Vec<(String, String)>,
-    flags: Vec<String>,
-    positional: Vec<String>,
+/// damper — the semi-active damper model against measurements
+#[derive(Parser, Debug)]
+#[command(name = "damper", version, after_help = EXAMPLES, subcommand_required = true, arg_required_else_help = true)]
+struct Cli {
+    #[command(flatten)]
+    global: Global,
+    #[command(subcommand)]
+    command: Command,
 }
 
-fn parse(args: &[String], with_value: &[&str], flags: &[&str]) -> Result<Args, String> {
-    let mut out = Args { pairs: Vec::new(), flags: Vec::new(), positional: Vec::new() };
-    let mut i = 0;
-    while i < args.len() {
-        let a = &args[i];
-        if let Some(name) = a.strip_prefix("--") {
-            let (name, inline) = match name.split_once('=') {
-                Some((n, v)) => (n, Some(v.to_string())),
-                None => (name, None),
-            };
-            if with_value.contains(&name) {
-                let value = match inline {
-                    Some(v) => v,
-                    None => {
-                        i += 1;
-                        args.get(i).cloned().ok_or_else(|| format!("--{name} needs a value"))?
-                    }
-                };
-                out.pairs.push((name.to_string(), value));
-            } else if flags.contains(&name) {
-                if inline.is_some() {
-                    return Err(format!("--{name} takes no value"));
-                }
-                out.flags.push(name.to_string());
-            } else {
-                return Err(format!("unknown option --{name} (see damper help)"));
+// Options every command takes, before or after its name (a doc comment here would be the
+// command's description).
+#[derive(Args, Debug)]
+struct Global {
+    /// Threads that fit candidates or run models in parallel [default: the machine's parallelism]
+    #[arg(long, global = true, value_name = "N", value_parser = threads_arg, allow_negative_numbers = true, help_heading = "Global options")]
+    threads: Option<usize>,
+    /// Print nothing but errors (the report and the summary are still written)
+    #[arg(short, long, global = true, conflicts_with = "verbose", help_heading = "Global options")]
+    quiet: bool,
+    /// Also print what the reader decided (columns, units, notes), each candidate fit and the timing
+    #[arg(short, long, global = true, action = ArgAction::Count, help_heading = "Global options")]
+    verbose: u8,
+}
+
+#[derive(Subcommand, Debug)]
+enum Command {
+    /// Compare, then name the missing physical effect
+    ///
+    /// Compares (as `damper compare`), then names the missing effect: each catalog effect is
+    /// switched on (or refitted), its parameters fitted on the train part and scored on the
+    /// validation part; ranked, with a verdict (effect / none / unexplained) and a ladder of the
+    /// error as the effects are added one at a time (two or more when one does not explain the
+    /// residual). Writes DIR/report.html and DIR/summary.json, prints a summary.
+    #[command(after_help = DIAGNOSE_HELP)]
+    Diagnose(DiagnoseArgs),
+    /// Drive the model with the measured inputs and show where it fails
+    ///
+    /// Writes DIR/report.html (self-contained) and DIR/summary.json, prints a summary.
+    #[command(after_help = COMPARE_HELP)]
+    Compare(CompareArgs),
+    /// Write measurement-like data from the model with hidden effects
+    ///
+    /// The truth goes to a separate JSON file that compare and diagnose never read.
+    #[command(after_help = GENERATE_HELP)]
+    Generate(GenerateArgs),
+    /// List the effect catalog (keys, switches, parameters)
+    #[command(after_help = EFFECTS_HELP)]
+    Effects,
+}
+
+#[derive(Args, Debug)]
+struct DiagnoseArgs {
+    #[command(flatten)]
+    compare: CompareArgs,
+    /// Leave this effect out of the candidates; repeatable
+    #[arg(long, value_name = "EFFECT", value_parser = effect_arg, help_heading = "Diagnosis")]
+    skip: Vec<String>,
+}
+
+// The options of compare, which diagnose shares.
+#[derive(Args, Debug)]
+struct CompareArgs {
+    /// The measurement CSV (see the columns below)
+    #[arg(value_name = "MEASUREMENT.csv")]
+    measurement: PathBuf,
+    /// Directory for report.html and summary.json
+    #[arg(long, value_name = "DIR")]
+    out: PathBuf,
+
+    /// Switch an effect on (VALUE sets its first parameter); repeatable
+    #[arg(long, value_name = "EFFECT[=VALUE]", value_parser = effect_arg, help_heading = "Model")]
+    with: Vec<String>,
+    /// Switch an effect off; repeatable
+    #[arg(long, value_name = "EFFECT", value_parser = effect_arg, help_heading = "Model")]
+    without: Vec<String>,
+    /// Set a model parameter by its FMU name; repeatable, applied last
+    #[arg(long, value_name = "NAME=VALUE", value_parser = set_arg, help_heading = "Model")]
+    set: Vec<(String, String)>,
+    /// Run the model through this packaged FMU instead of in-process
+    ///
+    /// python3 scripts/package_fmu.py makes target/fmu/SemiActiveDamper.fmu. Same numbers; its
+    /// parameters must match this program's.
+    #[arg(long, value_name = "PATH.fmu", help_heading = "Model")]
+    fmu: Option<PathBuf>,
+
+    /// CSV column SOURCE is the variable NAME, in UNIT; repeatable
+    ///
+    /// Units: s ms m cm mm m/s cm/s mm/s N kN Pa kPa MPa bar A mA.
+    #[arg(long, value_name = "SOURCE=NAME[:UNIT]", value_parser = map_arg, help_heading = "Measurement")]
+    map: Vec<Mapping>,
+    /// Train share, the rest validates
+    #[arg(long, value_parser = number_arg, value_name = "FRACTION", default_value_t = 0.7, allow_negative_numbers = true, help_heading = "Measurement")]
+    split: f64,
+    /// The measured force has its rest offset removed
+    ///
+    /// The rest offset is the reservoir gas force, about -1 kN. Default: raw load cell, as the
+    /// FMU's default.
+    #[arg(long, help_heading = "Measurement")]
+    tare_load_cell: bool,
+    /// First-order low-pass of the load cell, applied to the model's force [default: none]
+    #[arg(long, value_parser = number_arg, value_name = "HZ", allow_negative_numbers = true, help_heading = "Measurement")]
+    load_cell_lowpass: Option<f64>,
+}
+
+impl CompareArgs {
+    fn options(self, quiet: bool) -> CompareOptions {
+        let mut o = CompareOptions::new(self.measurement, self.out);
+        o.with = self.with;
+        o.without = self.without;
+        o.maps = self.map;
+        o.sets = self.set;
+        o.split = self.split;
+        o.tare_load_cell = self.tare_load_cell;
+        o.load_cell_lowpass_hz = self.load_cell_lowpass;
+        o.fmu = self.fmu;
+        o.quiet = quiet;
+        o
+    }
+}
+
+#[derive(Args, Debug)]
+struct GenerateArgs {
+    /// The measurement-like CSV to write
+    #[arg(long, value_name = "FILE.csv")]
+    out: PathBuf,
+    /// The JSON file for the truth (the effects and parameters used)
+    #[arg(long, value_name = "TRUTH.json")]
+    truth: PathBuf,
+
+    /// Effect on at VALUE (its first parameter), at a random plausible value, or off; repeatable
+    ///
+    /// With no VALUE the effect's size is drawn at random from a plausible range (recorded in the
+    /// truth file).
+    #[arg(long, value_name = "KEY[=VALUE|off]", value_parser = effect_arg, help_heading = "Truth model")]
+    effect: Vec<String>,
+    /// Move any parameter, e.g. --set air_fraction=0.04; repeatable
+    #[arg(long, value_name = "NAME=VALUE", value_parser = set_arg, help_heading = "Truth model")]
+    set: Vec<(String, String)>,
+    /// Random seed
+    #[arg(long, value_name = "N", default_value_t = 1, value_parser = seed_arg, allow_negative_numbers = true, help_heading = "Truth model")]
+    seed: u64,
+
+    /// rig: velocity blocks with demand steps, sine sweep, random velocity; hil: quarter truck on
+    /// a random road with the MSD demand
+    #[arg(long, value_enum, default_value_t = Input::Rig, help_heading = "Inputs")]
+    input: Input,
+    /// Record length [s]
+    #[arg(long, value_parser = number_arg, value_name = "S", default_value_t = 10.0, allow_negative_numbers = true, help_heading = "Inputs")]
+    duration: f64,
+    /// Sample rate [Hz]
+    #[arg(long, value_parser = number_arg, value_name = "HZ", default_value_t = 1000.0, allow_negative_numbers = true, help_heading = "Inputs")]
+    rate: f64,
+    /// spool: x_spool_demand instead of F_demand (rig only)
+    #[arg(long, value_enum, default_value_t = Control::Force, help_heading = "Inputs")]
+    control: Control,
+    /// HiL road: motorway, major, minor or ISO 8608 class A-H
+    #[arg(long, value_name = "NAME", default_value = "minor", help_heading = "Inputs")]
+    road: String,
+    /// HiL vehicle speed [m/s]
+    #[arg(long, value_parser = number_arg, value_name = "M/S", default_value_t = 14.0, allow_negative_numbers = true, help_heading = "Inputs")]
+    speed: f64,
+    /// Drive the truth with the true velocity, not the measured one
+    ///
+    /// Default: with the measured one, as the rig's controller sees it (then velocity noise stays
+    /// out of the force residual).
+    #[arg(long, help_heading = "Inputs")]
+    errors_in_variables: bool,
+
+    /// Write x_damper instead of v_damper
+    #[arg(long, help_heading = "Columns and sensors")]
+    displacement: bool,
+    /// Only time, velocity, demand and F_damper
+    #[arg(long, help_heading = "Columns and sensors")]
+    minimal: bool,
+    /// Load-cell low-pass [Hz], or off
+    #[arg(long, value_name = "HZ|off", default_value = "400", value_parser = lowpass_arg, help_heading = "Columns and sensors")]
+    lowpass: Lowpass,
+    /// Multiply every sensor noise level by K (0: quantisation only)
+    #[arg(long, value_name = "K", default_value_t = 1.0, value_parser = noise_arg, allow_negative_numbers = true, help_heading = "Columns and sensors")]
+    noise: f64,
+    /// One sensor's noise standard deviation and resolution, SI; repeatable
+    ///
+    /// Defaults: F_damper 20:1 N, v_damper 1e-4:1e-5 m/s, x_damper 2e-6:1e-6 m, x_spool
+    /// 1e-6:1e-7 m, i_sol 5e-3:1e-3 A, p_ext/p_comp 1e4:1e3 Pa.
+    #[arg(long, value_name = "NAME=NOISE[:Q]", value_parser = sensor_arg, help_heading = "Columns and sensors")]
+    sensor: Vec<String>,
+    /// The measured force has its rest offset removed [default: for hil]
+    #[arg(long, conflicts_with = "raw_load_cell", help_heading = "Columns and sensors")]
+    tare_load_cell: bool,
+    /// The measured force keeps its rest offset [default: for rig]
+    #[arg(long, help_heading = "Columns and sensors")]
+    raw_load_cell: bool,
+}
+
+#[derive(Clone, Copy, Debug, ValueEnum)]
+enum Input {
+    Rig,
+    Hil,
+}
+
+#[derive(Clone, Copy, Debug, ValueEnum)]
+enum Control {
+    Force,
+    Spool,
+}
+
+/// A load-cell low-pass in Hz, or none (`off`); a type of its own because clap reads a plain
+/// `Option` as "may be left out".
+#[derive(Clone, Copy, Debug)]
+struct Lowpass(Option<f64>);
+
+impl GenerateArgs {
+    fn options(self, quiet: bool) -> GenerateOptions {
+        let mut o = GenerateOptions::new(self.out, self.truth);
+        o.effects = self.effect;
+        o.sets = self.set;
+        o.seed = self.seed;
+        o.input = match self.input {
+            Input::Rig => InputStyle::Rig,
+            Input::Hil => InputStyle::Hil,
+        };
+        o.duration = self.duration;
+        o.rate = self.rate;
+        o.spool_control = matches!(self.control, Control::Spool);
+        o.lowpass_hz = self.lowpass.0;
+        o.noise = Noise::default().scaled(self.noise);
+        for text in &self.sensor {
+            o.noise.set(text).expect("checked by sensor_arg");
+        }
+        o.tare_load_cell = match (self.tare_load_cell, self.raw_load_cell) {
+            (true, _) => Some(true),
+            (_, true) => Some(false),
+            _ => None,
+        };
+        o.road = self.road;
+        o.speed = self.speed;
+        o.displacement = self.displacement;
+        o.minimal = self.minimal;
+        o.errors_in_variables = self.errors_in_variables;
+        o.quiet = quiet;
+        o
+    }
+}
+
+/// clap names the option and the value already; the parse functions shared with the library do
+/// too, so their prefix `OPTION VALUE: ` is dropped.
+fn unprefixed(e: String, option: &str, text: &str) -> String {
+    match e.strip_prefix(&format!("{option} {text}: ")) {
+        Some(rest) => rest.to_string(),
+        None => e,
+    }
+}
+
+fn threads_arg(text: &str) -> Result<usize, String> {
+    match text.parse::<usize>() {
+        Ok(n) if n >= 1 => Ok(n),
+        _ => Err("a number of threads, at least 1".into()),
+    }
+}
+
+/// `KEY` or `KEY=VALUE`: the key is checked against the catalog here, the value where it is set.
+fn effect_arg(text: &str) -> Result<String, String> {
+    crate::parameters::effect(text.split_once('=').map_or(text, |(key, _)| key))?;
+    Ok(text.to_string())
+}
+
+fn set_arg(text: &str) -> Result<(String, String), String> {
+    parse_assignment(text, "--set").map_err(|e| unprefixed(e, "--set", text))
+}
+
+fn map_arg(text: &str) -> Result<Mapping, String> {
+    Mapping::parse(text).map_err(|e| unprefixed(e, "--map", text))
+}
+
+fn sensor_arg(text: &str) -> Result<String, String> {
+    Noise::default().set(text).map_err(|e| unprefixed(e, "--sensor", text))?;
+    Ok(text.to_string())
+}
+
+fn number_arg(text: &str) -> Result<f64, String> {
+    text.parse().map_err(|_| "not a number".into())
+}
+
+fn seed_arg(text: &str) -> Result<u64, String> {
+    text.parse().map_err(|_| "not a non-negative integer".into())
+}
+
+fn lowpass_arg(text: &str) -> Result<Lowpass, String> {
+    if text == "off" || text == "none" {
+        return Ok(Lowpass(None));
+    }
+    text.parse().map(|hz| Lowpass(Some(hz))).map_err(|_| "a frequency in Hz, or off".into())
+}
+
+fn noise_arg(text: &str) -> Result<f64, String> {
+    match text.parse::<f64>() {
+        Ok(k) if k >= 0.0 => Ok(k),
+        Ok(_) => Err("must be ≥ 0".into()),
+        Err(_) => Err("not a number".into()),
+    }
+}
+
+/// Runs the command line (`args` without the program name); returns the exit status.
+pub fn main(args: impl IntoIterator<Item = std::ffi::OsString>) -> i32 {
+    let cli = match Cli::try_parse_from(std::iter::once("damper".into()).chain(args)) {
+        Ok(cli) => cli,
+        Err(e) => return usage_error(e),
+    };
+    let g = &cli.global;
+    let result = match cli.command {
+        Command::Diagnose(a) => run_diagnose(a, g),
+        Command::Compare(a) => run_compare(a, g),
+        Command::Generate(a) => run_generate(a, g),
+        Command::Effects => {
+            if !g.quiet {
+                print_effects();
             }
-        } else {
-            out.positional.push(a.clone());
-        }
-        i += 1;
-    }
-    Ok(out)
-}
-
-impl Args {
-    fn all(&self, name: &str) -> Vec<String> {
-        self.pairs.iter().filter(|(n, _)| n == name).map(|(_, v)| v.clone()).collect()
-    }
-    fn one(&self, name: &str) -> Result<Option<String>, String> {
-        let v = self.all(name);
-        if v.len() > 1 {
-            return Err(format!("--{name} given {} times", v.len()));
-        }
-        Ok(v.into_iter().next())
-    }
-    fn number(&self, name: &str) -> Result<Option<f64>, String> {
-        self.one(name)?.map(|v| v.parse::<f64>().map_err(|_| format!("--{name} {v}: not a number"))).transpose()
-    }
-    fn flag(&self, name: &str) -> bool {
-        self.flags.iter().any(|f| f == name)
-    }
-}
-
-enum Failure {
-    Usage(String),
-    Data(String),
-}
-
-/// Runs the command line; returns the exit status.
-pub fn main(args: &[String]) -> i32 {
-    let result = match args.first().map(String::as_str) {
-        None | Some("help" | "--help" | "-h") => {
-            print!("{USAGE}");
             Ok(())
-        }
-        Some("--version" | "-V") => {
-            println!("damper {}", env!("CARGO_PKG_VERSION"));
-            Ok(())
-        }
-        Some("compare") => run_compare(&args[1..]),
-        Some("generate") => run_generate(&args[1..]),
-        Some("effects") => {
-            print_effects();
-            Ok(())
-        }
-        Some("diagnose") => run_diagnose(&args[1..]),
-        Some(other) => {
-            Err(Failure::Usage(format!("unknown command '{other}' (commands: compare, generate, effects, help)")))
         }
     };
     match result {
         Ok(()) => 0,
-        Err(Failure::Usage(e)) => {
-            eprintln!("damper: error: {e}");
-            2
-        }
-        Err(Failure::Data(e)) => {
+        Err(e) => {
             eprintln!("damper: error: {e}");
             1
         }
     }
+}
+
+/// Prints clap's message (help and version too) and returns its exit status: 2 for a bad command
+/// line, 0 for help and version. An unknown command gets the list of the commands, as clap names
+/// only a similar one.
+fn usage_error(mut e: clap::Error) -> i32 {
+    if e.kind() == ErrorKind::InvalidSubcommand {
+        let names: Vec<String> = Cli::command().get_subcommands().map(|c| c.get_name().to_string()).collect();
+        let tip = format!("the commands are {}, help", names.join(", "));
+        let mut tips = match e.get(ContextKind::Suggested) {
+            Some(ContextValue::StyledStrs(tips)) => tips.clone(),
+            _ => Vec::new(),
+        };
+        tips.push(tip.into());
+        e.insert(ContextKind::Suggested, ContextValue::StyledStrs(tips));
+    }
+    let _ = e.print();
+    e.exit_code()
 }
 
 fn print_effects() {
@@ -184,131 +425,100 @@ fn print_effects() {
     }
 }
 
-fn run_compare(args: &[String]) -> Result<(), Failure> {
-    let o = compare_options(args, "compare")?;
-    compare::run(&o).map(|_| ()).map_err(Failure::Data)
+fn run_compare(a: CompareArgs, g: &Global) -> Result<(), String> {
+    let t0 = Instant::now();
+    let c = compare::run(&a.options(g.quiet))?;
+    if g.verbose > 0 {
+        print_reader(&c.measurement);
+        eprintln!("time: {:.2} s in all, {:.2} s of it the model run", t0.elapsed().as_secs_f64(), c.run_seconds);
+    }
+    Ok(())
 }
 
-fn run_diagnose(args: &[String]) -> Result<(), Failure> {
-    let o = compare_options(args, "diagnose")?;
-    crate::diagnose_cmd::run(&o, crate::model::default_threads()).map(|_| ()).map_err(Failure::Data)
-}
-
-/// The options shared by compare and diagnose.
-fn compare_options(args: &[String], command: &str) -> Result<CompareOptions, Failure> {
-    let mut with_value = vec!["out", "with", "without", "map", "set", "split", "load-cell-lowpass", "fmu"];
-    if command == "diagnose" {
-        with_value.push("skip");
-    }
-    let a = parse(args, &with_value, &["tare-load-cell", "quiet"]).map_err(Failure::Usage)?;
-    let [measurement] = a.positional.as_slice() else {
-        return Err(Failure::Usage(format!(
-            "{command} needs exactly one MEASUREMENT.csv, got {}: damper {command} MEASUREMENT.csv --out DIR",
-            a.positional.len()
-        )));
-    };
-    let out =
-        a.one("out").map_err(Failure::Usage)?.ok_or_else(|| Failure::Usage(format!("{command} needs --out DIR")))?;
-    let mut o = CompareOptions::new(measurement, out);
-    o.with = a.all("with");
-    o.without = a.all("without");
-    o.maps = a.all("map").iter().map(|m| Mapping::parse(m)).collect::<Result<_, _>>().map_err(Failure::Usage)?;
-    o.sets =
-        a.all("set").iter().map(|s| parse_assignment(s, "--set")).collect::<Result<_, _>>().map_err(Failure::Usage)?;
-    if let Some(s) = a.number("split").map_err(Failure::Usage)? {
-        o.split = s;
-    }
-    o.tare_load_cell = a.flag("tare-load-cell");
-    o.load_cell_lowpass_hz = a.number("load-cell-lowpass").map_err(Failure::Usage)?;
-    o.fmu = a.one("fmu").map_err(Failure::Usage)?.map(std::path::PathBuf::from);
-    o.quiet = a.flag("quiet");
-    o.skip = a.all("skip");
-    for key in o.with.iter().chain(&o.without).chain(&o.skip) {
-        crate::parameters::effect(key.split('=').next().unwrap_or(key)).map_err(Failure::Usage)?;
-    }
-    Ok(o)
-}
-
-fn run_generate(args: &[String]) -> Result<(), Failure> {
-    let a = parse(
-        args,
-        &[
-            "out", "truth", "effect", "set", "seed", "input", "duration", "rate", "control", "lowpass", "noise",
-            "sensor", "road", "speed",
-        ],
-        &["displacement", "minimal", "errors-in-variables", "tare-load-cell", "raw-load-cell", "quiet"],
-    )
-    .map_err(Failure::Usage)?;
-    if let Some(p) = a.positional.first() {
-        return Err(Failure::Usage(format!("generate takes no positional argument ('{p}'); use --out FILE.csv")));
-    }
-    let out =
-        a.one("out").map_err(Failure::Usage)?.ok_or_else(|| Failure::Usage("generate needs --out FILE.csv".into()))?;
-    let truth = a
-        .one("truth")
-        .map_err(Failure::Usage)?
-        .ok_or_else(|| Failure::Usage("generate needs --truth TRUTH.json (the truth goes to its own file)".into()))?;
-    let mut o = GenerateOptions::new(out, truth);
-    o.effects = a.all("effect");
-    for e in &o.effects {
-        crate::parameters::effect(e.split('=').next().unwrap_or(e)).map_err(Failure::Usage)?;
-    }
-    o.sets =
-        a.all("set").iter().map(|s| parse_assignment(s, "--set")).collect::<Result<_, _>>().map_err(Failure::Usage)?;
-    if let Some(s) = a.one("seed").map_err(Failure::Usage)? {
-        o.seed = s.parse().map_err(|_| Failure::Usage(format!("--seed {s}: not a non-negative integer")))?;
-    }
-    if let Some(s) = a.one("input").map_err(Failure::Usage)? {
-        o.input = match s.as_str() {
-            "rig" => InputStyle::Rig,
-            "hil" => InputStyle::Hil,
-            _ => return Err(Failure::Usage(format!("--input {s}: use rig or hil"))),
-        };
-    }
-    if let Some(d) = a.number("duration").map_err(Failure::Usage)? {
-        o.duration = d;
-    }
-    if let Some(r) = a.number("rate").map_err(Failure::Usage)? {
-        o.rate = r;
-    }
-    if let Some(c) = a.one("control").map_err(Failure::Usage)? {
-        o.spool_control = match c.as_str() {
-            "force" => false,
-            "spool" => true,
-            _ => return Err(Failure::Usage(format!("--control {c}: use force or spool"))),
-        };
-    }
-    if let Some(l) = a.one("lowpass").map_err(Failure::Usage)? {
-        o.lowpass_hz = if l == "off" || l == "none" {
-            None
-        } else {
-            Some(l.parse().map_err(|_| Failure::Usage(format!("--lowpass {l}: a frequency in Hz, or off")))?)
-        };
-    }
-    if let Some(k) = a.number("noise").map_err(Failure::Usage)? {
-        if k.is_nan() || k < 0.0 {
-            return Err(Failure::Usage(format!("--noise {k}: must be ≥ 0")));
+fn run_diagnose(a: DiagnoseArgs, g: &Global) -> Result<(), String> {
+    let t0 = Instant::now();
+    let mut o = a.compare.options(g.quiet);
+    o.skip = a.skip;
+    let threads = g.threads.unwrap_or_else(crate::model::default_threads);
+    let bar = fit_bar(g.quiet);
+    let fits = AtomicUsize::new(0);
+    let progress = |c: &Candidate, done: usize, total: usize| {
+        fits.fetch_add(1, Ordering::Relaxed);
+        // both at once: each round of the ladder has its own total, and a bar drawn between the
+        // two would read e.g. 8/7
+        bar.update(|s| {
+            s.set_len(total as u64);
+            s.set_pos(done as u64);
+        });
+        if g.verbose > 0 {
+            bar.suspend(|| {
+                eprintln!(
+                    "  fitted {:<22} validation NRMSE {:.4} ({:+.0} %), {} model runs",
+                    c.effect,
+                    c.nrmse_validation,
+                    -100.0 * c.reduction,
+                    c.evaluations
+                )
+            });
         }
-        o.noise = Noise::default().scaled(k);
+    };
+    if g.verbose > 0 {
+        eprintln!("damper diagnose: fitting the candidate effects on {threads} threads");
     }
-    for text in a.all("sensor") {
-        o.noise.set(&text).map_err(Failure::Usage)?;
+    let r = diagnose_cmd::diagnose_measurement(&o, threads, &progress);
+    bar.finish_and_clear();
+    let r = r?;
+    diagnose_cmd::write(&o, &r)?;
+    if g.verbose > 0 {
+        print_reader(&r.comparison.measurement);
+        eprintln!(
+            "time: {:.2} s in all: {} candidate fits on {threads} threads, one model run {:.2} s",
+            t0.elapsed().as_secs_f64(),
+            fits.load(Ordering::Relaxed),
+            r.comparison.run_seconds
+        );
     }
-    match (a.flag("tare-load-cell"), a.flag("raw-load-cell")) {
-        (true, true) => return Err(Failure::Usage("--tare-load-cell and --raw-load-cell contradict".into())),
-        (true, false) => o.tare_load_cell = Some(true),
-        (false, true) => o.tare_load_cell = Some(false),
-        _ => {}
+    Ok(())
+}
+
+/// The candidate fits' progress on stderr, while the summary is for stdout: only when stdout is a
+/// terminal that a person watches, and not with --quiet.
+fn fit_bar(quiet: bool) -> ProgressBar {
+    if quiet || !std::io::stdout().is_terminal() {
+        return ProgressBar::hidden();
     }
-    if let Some(r) = a.one("road").map_err(Failure::Usage)? {
-        o.road = r;
+    let bar = ProgressBar::new(0);
+    bar.set_style(
+        ProgressStyle::with_template("fitting candidate effects [{bar:30}] {pos}/{len} {elapsed}")
+            .expect("a valid template")
+            .progress_chars("=> "),
+    );
+    bar
+}
+
+/// What the reader made of the file: which column is which variable in which unit, and what it
+/// left out (-v).
+fn print_reader(m: &Measurement) {
+    eprintln!("read {}: {} samples", m.path, m.len());
+    for s in &m.sources {
+        eprintln!("  {:<15} ← column {} ('{}') in {}", s.column.name(), s.index, s.header, s.unit);
     }
-    if let Some(s) = a.number("speed").map_err(Failure::Usage)? {
-        o.speed = s;
+    if m.velocity_from_displacement {
+        eprintln!("  v_damper        ← differentiated x_damper");
     }
-    o.displacement = a.flag("displacement");
-    o.minimal = a.flag("minimal");
-    o.errors_in_variables = a.flag("errors-in-variables");
-    o.quiet = a.flag("quiet");
-    generate::run(&o).map(|_| ()).map_err(Failure::Data)
+    if !m.ignored.is_empty() {
+        eprintln!("  not used: {}", m.ignored.join(", "));
+    }
+    for n in &m.notes {
+        eprintln!("  note: {n}");
+    }
+}
+
+fn run_generate(a: GenerateArgs, g: &Global) -> Result<(), String> {
+    let t0 = Instant::now();
+    generate::run(&a.options(g.quiet))?;
+    if g.verbose > 0 {
+        eprintln!("time: {:.2} s", t0.elapsed().as_secs_f64());
+    }
+    Ok(())
 }

@@ -102,7 +102,7 @@ pub struct Diagnosis {
 }
 
 /// Runs the diagnosis over `specs` (usually the whole [`catalog`]) with the model, data and
-/// threads of `fit`, from the `baseline` parameters whose force over the measurement is `base`
+/// thread pool of `fit`, from the `baseline` parameters whose force over the measurement is `base`
 /// (the comparison has it already).
 pub fn diagnose(
     fit: &FitSetup<'_>,
@@ -217,45 +217,53 @@ pub fn diagnose(
     Ok(Diagnosis { verdict, best_effect, nrmse_baseline, nrmse_noise_floor, candidates, explanation, ladder, effects })
 }
 
-/// What fitting a candidate needs: the model, the measured force, the train/validation split, and
-/// how many threads may fit candidates at once.
+/// Told of each fitted candidate, with how many of the fits of this round are done and how many
+/// the round has (a round: the ranking, then each step of the ladder). Calls come one at a time,
+/// `done` counting up, so a progress display needs no locking of its own.
+pub type Progress<'a> = dyn Fn(&Candidate, usize, usize) + Sync + 'a;
+
+/// What fitting a candidate needs: the model, the measured force, the train/validation split, the
+/// threads that fit candidates at once, and whom to tell of each fit.
 pub struct FitSetup<'a> {
     pub simulate: &'a Simulator<'a>,
     pub measured: &'a [f64],
     pub split: usize,
-    pub threads: usize,
-    pub progress: &'a (dyn Fn(&Candidate) + Sync),
+    pub pool: &'a rayon::ThreadPool,
+    pub progress: &'a Progress<'a>,
 }
 
 impl FitSetup<'_> {
     /// Fits every effect of `specs` on top of `params` (whose validation NRMSE is the first of
-    /// `errors`, the noise floor the second), in parallel; best first.
+    /// `errors`, the noise floor the second), in parallel; best first. Each fit is a pure function
+    /// of its inputs and the ranking is made in catalog order, so the result does not depend on
+    /// the thread count.
     pub fn all(
         &self,
         specs: &[&'static EffectInfo],
         params: &Parameters,
         errors: (f64, f64),
     ) -> Result<Vec<Candidate>, String> {
-        // the costliest fits first, so that no thread is left alone with a long one at the end
+        use rayon::prelude::*;
+        // the costliest fits first (par_bridge hands the items out in this order), so that no
+        // thread is left alone with a long one at the end
         let mut order: Vec<usize> = (0..specs.len()).collect();
         order.sort_by_key(|&i| std::cmp::Reverse(model_runs(specs[i])));
-        let next = std::sync::atomic::AtomicUsize::new(0);
-        let results = std::sync::Mutex::new(Vec::new());
-        std::thread::scope(|scope| {
-            for _ in 0..self.threads.clamp(1, specs.len().max(1)) {
-                scope.spawn(|| loop {
-                    let k = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-                    let Some(&i) = order.get(k) else { break };
-                    let spec = specs[i];
-                    let c = try_candidate(self.simulate, params, self.measured, self.split, errors, spec);
+        let done = std::sync::Mutex::new(0);
+        let mut results: Vec<(usize, Result<Candidate, String>)> = self.pool.install(|| {
+            order
+                .into_iter()
+                .par_bridge()
+                .map(|i| {
+                    let c = try_candidate(self.simulate, params, self.measured, self.split, errors, specs[i]);
                     if let Ok(c) = &c {
-                        (self.progress)(c);
+                        let mut done = done.lock().expect("no fit panicked");
+                        *done += 1;
+                        (self.progress)(c, *done, specs.len());
                     }
-                    results.lock().unwrap().push((i, c));
-                });
-            }
+                    (i, c)
+                })
+                .collect()
         });
-        let mut results = results.into_inner().unwrap();
         results.sort_by_key(|r| r.0);
         let mut candidates = results.into_iter().map(|(_, c)| c).collect::<Result<Vec<_>, _>>()?;
         candidates.sort_by(|a, b| a.nrmse_validation.total_cmp(&b.nrmse_validation));

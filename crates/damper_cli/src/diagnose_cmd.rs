@@ -5,7 +5,7 @@
 
 use crate::before_after::{self, After};
 use crate::compare::{self, CompareOptions, Comparison};
-use crate::diagnose::{diagnose, Candidate, Diagnosis, FitSetup};
+use crate::diagnose::{diagnose, Candidate, Diagnosis, FitSetup, Progress};
 use crate::json::{obj, Json};
 use crate::ladder::Rung;
 use crate::svg::esc;
@@ -19,8 +19,13 @@ pub struct Diagnosed {
     pub after: Option<After>,
 }
 
-/// Reads, compares and diagnoses (no files written).
-pub fn diagnose_measurement(opts: &CompareOptions, threads: usize, verbose: bool) -> Result<Diagnosed, String> {
+/// Reads, compares and diagnoses (no files written, nothing printed) on `threads` threads;
+/// `progress` is told of each candidate fitted.
+pub fn diagnose_measurement(
+    opts: &CompareOptions,
+    threads: usize,
+    progress: &Progress<'_>,
+) -> Result<Diagnosed, String> {
     let c = compare::compare(opts)?;
     let split = compare::split_index(&c.measurement, opts.split)?;
     let measured = c.measurement.get(Column::FDamper).ok_or("the measurement has no F_damper column")?.to_vec();
@@ -32,21 +37,8 @@ pub fn diagnose_measurement(opts: &CompareOptions, threads: usize, verbose: bool
     if candidates.is_empty() {
         return Err("--skip leaves no candidate effect".into());
     }
-    let progress = |cand: &Candidate| {
-        if verbose {
-            eprintln!(
-                "  fitted {:<22} validation NRMSE {:.4} ({:+.0} %), {} model runs",
-                cand.effect,
-                cand.nrmse_validation,
-                -100.0 * cand.reduction,
-                cand.evaluations
-            );
-        }
-    };
-    if verbose {
-        eprintln!("damper diagnose: fitting {} candidate effects on {threads} threads", candidates.len());
-    }
-    let fit = FitSetup { simulate: &simulate, measured: &measured, split, threads, progress: &progress };
+    let pool = crate::model::thread_pool(threads)?;
+    let fit = FitSetup { simulate: &simulate, measured: &measured, split, pool: &pool, progress };
     let d = diagnose(&fit, &candidates, &baseline, &c.prediction.f_damper)?;
     drop(simulate);
     let after = match d.effects.as_slice() {
@@ -237,16 +229,16 @@ pub fn terminal_summary(r: &Diagnosed) -> String {
     t
 }
 
-/// `damper diagnose`: diagnose, write the report and the summary, print the summary.
-pub fn run(opts: &CompareOptions, threads: usize) -> Result<Diagnosed, String> {
-    let r = diagnose_measurement(opts, threads, !opts.quiet)?;
+/// The end of `damper diagnose`: writes the report and the summary of `r` to `opts.out`, prints
+/// the summary unless `opts.quiet`.
+pub fn write(opts: &CompareOptions, r: &Diagnosed) -> Result<(), String> {
     std::fs::create_dir_all(&opts.out).map_err(|e| format!("{}: cannot create: {e}", opts.out.display()))?;
     let json_path = opts.out.join("summary.json");
-    std::fs::write(&json_path, summary_json(&r).pretty()).map_err(|e| format!("{}: {e}", json_path.display()))?;
+    std::fs::write(&json_path, summary_json(r).pretty()).map_err(|e| format!("{}: {e}", json_path.display()))?;
     let mut html = crate::report::html(&r.comparison);
     let cut = html.find("<h2>Which effect is missing</h2>").or_else(|| html.rfind("</body>")).unwrap_or(html.len());
     html.truncate(cut);
-    html.push_str(&html_section(&r));
+    html.push_str(&html_section(r));
     if let Some(a) = &r.after {
         html.push_str(&before_after::html(&r.comparison, a));
     }
@@ -255,12 +247,12 @@ pub fn run(opts: &CompareOptions, threads: usize) -> Result<Diagnosed, String> {
     std::fs::write(&html_path, html).map_err(|e| format!("{}: {e}", html_path.display()))?;
     if !opts.quiet {
         print!("{}", compare::terminal_summary(&r.comparison));
-        print!("{}", terminal_summary(&r));
+        print!("{}", terminal_summary(r));
         if let Some(a) = &r.after {
             print!("{}", before_after::terminal(&r.comparison, a));
         }
         println!("report:  {}", html_path.display());
         println!("summary: {}", json_path.display());
     }
-    Ok(r)
+    Ok(())
 }

@@ -1,4 +1,3 @@
 fn main() {
-    let args: Vec<String> = std::env::args().skip(1).collect();
-    std::process::exit(damper_cli::cli::main(&args));
+    std::process::exit(damper_cli::cli::main(std::env::args_os().skip(1)));
 }

@@ -161,21 +161,23 @@ impl Model {
     }
 }
 
-/// Runs several models on the same drive on up to `threads` threads; results in input order.
+/// Runs several models on the same drive on `threads` threads; results in input order, so they
+/// do not depend on the thread count.
 pub fn run_parallel(models: &[Model], drive: &Drive, threads: usize) -> Vec<Result<Prediction, String>> {
-    let next = std::sync::atomic::AtomicUsize::new(0);
-    let results: Vec<std::sync::Mutex<Option<Result<Prediction, String>>>> =
-        models.iter().map(|_| std::sync::Mutex::new(None)).collect();
-    std::thread::scope(|s| {
-        for _ in 0..threads.clamp(1, models.len().max(1)) {
-            s.spawn(|| loop {
-                let i = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-                let Some(m) = models.get(i) else { break };
-                *results[i].lock().expect("lock") = Some(m.run(drive));
-            });
-        }
-    });
-    results.into_iter().map(|r| r.into_inner().expect("lock").expect("every model ran")).collect()
+    use rayon::prelude::*;
+    match thread_pool(threads) {
+        Ok(pool) => pool.install(|| models.par_iter().map(|m| m.run(drive)).collect()),
+        Err(e) => models.iter().map(|_| Err(e.clone())).collect(),
+    }
+}
+
+/// A thread pool of its own for one command's parallel model runs: the thread count is the
+/// caller's (`--threads`), whatever else in the process uses rayon's global pool.
+pub fn thread_pool(threads: usize) -> Result<rayon::ThreadPool, String> {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads.max(1))
+        .build()
+        .map_err(|e| format!("cannot start {threads} threads: {e}"))
 }
 
 /// The force predictor a fit needs, `(parameters, n) → F_damper over the first n samples`, for

@@ -22,7 +22,7 @@ fn run(csv: &std::path::Path, dir: &std::path::Path) -> Diagnosed {
     let mut o = CompareOptions::new(csv, dir.join("out"));
     o.load_cell_lowpass_hz = Some(400.0);
     o.quiet = true;
-    diagnose_measurement(&o, 2, false).expect("diagnose")
+    diagnose_measurement(&o, 2, &|_, _, _| {}).expect("diagnose")
 }
 
 #[test]
@@ -154,11 +154,11 @@ fn a_user_written_effect_turns_unexplained_into_named() {
     let mut o = CompareOptions::new(&csv, dir.join("before"));
     o.load_cell_lowpass_hz = Some(400.0);
     o.skip = vec!["viscous_friction".into()];
-    let before = diagnose_measurement(&o, 2, false).unwrap().diagnosis;
+    let before = diagnose_measurement(&o, 2, &|_, _, _| {}).unwrap().diagnosis;
     assert_eq!(before.verdict, "unexplained", "{}", before.explanation);
     assert!(before.effects.is_empty());
     o.skip.clear();
-    let r = diagnose_measurement(&o, 2, false).unwrap();
+    let r = diagnose_measurement(&o, 2, &|_, _, _| {}).unwrap();
     let d = &r.diagnosis;
     assert_eq!((d.verdict, d.best_effect), ("effect", Some("viscous_friction")), "{}", d.explanation);
     let fitted = d.candidates[0].params[0].1;
@@ -190,7 +190,7 @@ fn hil_inputs_name_every_effect() {
         let mut o = CompareOptions::new(&csv, dir.join("out"));
         o.load_cell_lowpass_hz = Some(400.0);
         o.tare_load_cell = true;
-        let d = diagnose_measurement(&o, 2, false).unwrap().diagnosis;
+        let d = diagnose_measurement(&o, 2, &|_, _, _| {}).unwrap().diagnosis;
         let best = &d.candidates[0];
         let (fitted, truth) = (best.params[0].1, get_real(&g.params, param).unwrap());
         let what = format!(

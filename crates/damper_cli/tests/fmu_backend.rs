@@ -42,7 +42,7 @@ fn diagnose(csv: &Path, out: PathBuf, fmu: Option<PathBuf>) -> Diagnosed {
     let mut o = CompareOptions::new(csv, out);
     o.load_cell_lowpass_hz = Some(400.0);
     o.fmu = fmu;
-    diagnose_measurement(&o, 2, false).expect("diagnose")
+    diagnose_measurement(&o, 2, &|_, _, _| {}).expect("diagnose")
 }
 
 fn same(a: &[f64], b: &[f64]) -> bool {

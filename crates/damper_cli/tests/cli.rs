@@ -1,0 +1,134 @@
+//! The `damper` command line as a user meets it: per-command help, usage errors with exit status
+//! 2, the global options, and results that do not depend on `--threads`.
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+fn damper<I, S>(args: I) -> Output
+where
+    I: IntoIterator<Item = S>,
+    S: AsRef<std::ffi::OsStr>,
+{
+    Command::new(env!("CARGO_BIN_EXE_damper")).args(args).output().expect("run damper")
+}
+
+fn stdout(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+#[test]
+fn compare_help_shows_compare_s_options_only() {
+    let o = damper(["compare", "--help"]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let help = stdout(&o);
+    assert!(help.contains("--load-cell-lowpass"), "{help}");
+    assert!(!help.contains("--truth"), "generate's option in compare's help:\n{help}");
+    assert!(help.contains("Examples:"), "{help}");
+}
+
+#[test]
+fn help_command_prints_that_command_s_help_only() {
+    let o = damper(["help", "compare"]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let help = stdout(&o);
+    assert!(help.contains("--load-cell-lowpass"), "{help}");
+    assert!(!help.contains("--errors-in-variables"), "generate's option in compare's help:\n{help}");
+}
+
+#[test]
+fn short_help_flag_is_help_not_a_file_name() {
+    let o = damper(["compare", "-h"]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert!(stdout(&o).contains("Usage: damper compare"), "{}", stdout(&o));
+    let o = damper(["diagnose", "-h"]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert!(stdout(&o).contains("--skip"), "{}", stdout(&o));
+}
+
+#[test]
+fn an_unknown_command_is_a_usage_error_that_names_the_commands() {
+    for typo in ["diagnos", "frobnicate"] {
+        let o = damper([typo]);
+        assert_eq!(o.status.code(), Some(2), "{typo}");
+        let err = stderr(&o);
+        for command in ["diagnose", "compare", "generate", "effects"] {
+            assert!(err.contains(command), "{typo}: {command} not named in:\n{err}");
+        }
+    }
+}
+
+#[test]
+fn version_is_the_package_version() {
+    let o = damper(["--version"]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert_eq!(stdout(&o).trim(), format!("damper {}", env!("CARGO_PKG_VERSION")));
+}
+
+#[test]
+fn threads_must_be_a_positive_whole_number() {
+    for bad in ["0", "x", "-2", "1.5"] {
+        let o = damper(["--threads", bad, "effects"]);
+        assert_eq!(o.status.code(), Some(2), "--threads {bad}");
+        let err = stderr(&o);
+        assert!(err.contains(&format!("invalid value '{bad}' for '--threads <N>'")), "{err}");
+        assert!(err.contains("at least 1"), "{err}");
+    }
+}
+
+#[test]
+fn bad_values_name_the_option_and_what_it_takes() {
+    let cases: [(&[&str], &str); 6] = [
+        (&["--input", "lab"], "[possible values: rig, hil]"),
+        (&["--control", "current"], "[possible values: force, spool]"),
+        (&["--noise", "-1"], "'-1' for '--noise <K>': must be ≥ 0"),
+        (&["--lowpass", "fast"], "'fast' for '--lowpass <HZ|off>': a frequency in Hz, or off"),
+        (&["--effect", "seal"], "the catalog has compressibility"),
+        (&["--sensor", "F_damper=loud"], "expected NAME=NOISE[:QUANTUM]"),
+    ];
+    for (args, expected) in cases {
+        let o = damper(["generate", "--out", "never.csv", "--truth", "never.json"].iter().chain(args));
+        assert_eq!(o.status.code(), Some(2), "{args:?}");
+        let err = stderr(&o);
+        assert!(err.contains("invalid value") && err.contains(expected), "{args:?}: {err}");
+    }
+    assert!(!Path::new("never.csv").exists());
+}
+
+/// summary.json without its one timing field, the model's wall time.
+fn summary_without_timing(dir: &Path) -> String {
+    let text = std::fs::read_to_string(dir.join("summary.json")).expect("summary.json");
+    assert!(text.contains("\"verdict\""), "{text}");
+    text.lines().filter(|l| !l.trim_start().starts_with("\"model_run_s\"")).collect::<Vec<_>>().join("\n")
+}
+
+#[test]
+fn diagnose_gives_the_same_numbers_on_one_and_on_two_threads() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let d = dir.path();
+    // in the temp dir, with file names relative to it
+    let run = |args: &[&str]| {
+        Command::new(env!("CARGO_BIN_EXE_damper")).current_dir(d).args(args).output().expect("run damper")
+    };
+    let o =
+        run(&["generate", "--out", "a.csv", "--truth", "t.json", "--seed", "3", "--duration", "2", "--minimal", "-q"]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert!(o.stdout.is_empty() && o.stderr.is_empty(), "-q printed something");
+
+    let one = run(&["diagnose", "a.csv", "--out", "one", "--threads", "1", "-v"]);
+    assert_eq!(one.status.code(), Some(0), "{}", stderr(&one));
+    // -v: what the reader decided, every candidate fit, the timing
+    let err = stderr(&one);
+    assert!(err.contains("← column 4 ('F_damper')"), "{err}");
+    assert!(err.contains("fitted seal_friction") && err.contains("on 1 threads") && err.contains("time:"), "{err}");
+    assert!(stdout(&one).contains("verdict:"), "{}", stdout(&one));
+
+    let two = run(&["diagnose", "a.csv", "--out", "two", "--threads", "2", "-q"]);
+    assert_eq!(two.status.code(), Some(0), "{}", stderr(&two));
+    assert!(two.stdout.is_empty() && two.stderr.is_empty(), "-q printed something");
+
+    assert_eq!(summary_without_timing(&d.join("one")), summary_without_timing(&d.join("two")));
+}
