@@ -9,7 +9,7 @@ use crate::generate::{self, GenerateOptions, InputStyle, Noise};
 use crate::measurement::{Mapping, Measurement};
 use crate::parameters::{effects, parse_assignment, EffectExt};
 use clap::error::{ContextKind, ContextValue, ErrorKind};
-use clap::{ArgAction, Args, CommandFactory, Parser, Subcommand, ValueEnum};
+use clap::{Args, CommandFactory, Parser, Subcommand, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::io::IsTerminal;
 use std::path::PathBuf;
@@ -77,15 +77,15 @@ struct Cli {
 // command's description).
 #[derive(Args, Debug)]
 struct Global {
-    /// Threads that fit candidates or run models in parallel [default: the machine's parallelism]
+    /// Threads that fit diagnose's candidates in parallel [default: the machine's parallelism]
     #[arg(long, global = true, value_name = "N", value_parser = threads_arg, allow_negative_numbers = true, help_heading = "Global options")]
     threads: Option<usize>,
     /// Print nothing but errors (the report and the summary are still written)
     #[arg(short, long, global = true, conflicts_with = "verbose", help_heading = "Global options")]
     quiet: bool,
     /// Also print what the reader decided (columns, units, notes), each candidate fit and the timing
-    #[arg(short, long, global = true, action = ArgAction::Count, help_heading = "Global options")]
-    verbose: u8,
+    #[arg(short, long, global = true, help_heading = "Global options")]
+    verbose: bool,
 }
 
 #[derive(Subcommand, Debug)]
@@ -428,7 +428,7 @@ fn print_effects() {
 fn run_compare(a: CompareArgs, g: &Global) -> Result<(), String> {
     let t0 = Instant::now();
     let c = compare::run(&a.options(g.quiet))?;
-    if g.verbose > 0 {
+    if g.verbose {
         print_reader(&c.measurement);
         eprintln!("time: {:.2} s in all, {:.2} s of it the model run", t0.elapsed().as_secs_f64(), c.run_seconds);
     }
@@ -450,7 +450,7 @@ fn run_diagnose(a: DiagnoseArgs, g: &Global) -> Result<(), String> {
             s.set_len(total as u64);
             s.set_pos(done as u64);
         });
-        if g.verbose > 0 {
+        if g.verbose {
             bar.suspend(|| {
                 eprintln!(
                     "  fitted {:<22} validation NRMSE {:.4} ({:+.0} %), {} model runs",
@@ -462,14 +462,14 @@ fn run_diagnose(a: DiagnoseArgs, g: &Global) -> Result<(), String> {
             });
         }
     };
-    if g.verbose > 0 {
+    if g.verbose {
         eprintln!("damper diagnose: fitting the candidate effects on {threads} threads");
     }
     let r = diagnose_cmd::diagnose_measurement(&o, threads, &progress);
     bar.finish_and_clear();
     let r = r?;
     diagnose_cmd::write(&o, &r)?;
-    if g.verbose > 0 {
+    if g.verbose {
         print_reader(&r.comparison.measurement);
         eprintln!(
             "time: {:.2} s in all: {} candidate fits on {threads} threads, one model run {:.2} s",
@@ -517,7 +517,7 @@ fn print_reader(m: &Measurement) {
 fn run_generate(a: GenerateArgs, g: &Global) -> Result<(), String> {
     let t0 = Instant::now();
     generate::run(&a.options(g.quiet))?;
-    if g.verbose > 0 {
+    if g.verbose {
         eprintln!("time: {:.2} s", t0.elapsed().as_secs_f64());
     }
     Ok(())
