@@ -29,8 +29,10 @@ use damper_cli::compare::CompareOptions;
 use damper_cli::diagnose::Diagnosis;
 use damper_cli::diagnose_cmd::diagnose_measurement;
 use damper_cli::generate::{self, GenerateOptions, Generated, InputStyle};
-use damper_cli::json::{obj, Json};
 use damper_cli::parameters::{effect, get_real};
+use damper_cli::summary::to_json;
+use indexmap::IndexMap;
+use serde::Serialize;
 use std::io::Write as _;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -178,7 +180,8 @@ struct Record {
     /// Singles: the true effect's candidate; pairs: the ladder's end; otherwise the ladder's end.
     nrmse_after: f64,
     nrmse_ladder: f64,
-    ladder: Json,
+    /// None when the run failed.
+    ladder: Option<Vec<RungRecord>>,
     expected_floor: f64,
     oracle_nrmse: f64,
     truth_tared: bool,
@@ -233,78 +236,147 @@ impl Record {
         }
     }
 
-    fn json(&self) -> Json {
+    fn json(&self) -> RecordJson<'_> {
         let c = &self.case;
-        obj([
-            ("group", c.group.into()),
-            ("input", c.input_name().into()),
-            ("hidden", Json::Arr(c.hidden.iter().map(|h| Json::from(*h)).collect())),
-            (
-                "out_of_catalog",
-                if c.kind == Kind::Drift { format!("load-cell drift +{DRIFT_N} N linear").into() } else { Json::Null },
-            ),
-            ("seed", c.seed.into()),
-            ("duration_s", c.duration.into()),
-            ("error", self.error.clone().into()),
-            ("verdict", self.verdict.clone().into()),
-            ("best_effect", self.best_effect.clone().into()),
-            ("effects", Json::Arr(self.effects.iter().map(|e| Json::from(e.as_str())).collect())),
-            ("ladder_effects", Json::Arr(self.ladder_effects.iter().map(|e| Json::from(e.as_str())).collect())),
-            ("ranks", Json::Arr(self.ranks.iter().map(|r| Json::from(*r)).collect())),
-            ("nrmse_baseline", self.nrmse_baseline.into()),
-            ("nrmse_after", self.nrmse_after.into()),
-            ("nrmse_after_ladder", self.nrmse_ladder.into()),
-            ("nrmse_noise_floor", self.nrmse_floor.into()),
-            ("expected_floor_sensor", self.expected_floor.into()),
-            ("oracle_nrmse", self.oracle_nrmse.into()),
-            ("baseline_over_floor", (self.nrmse_baseline / self.nrmse_floor).into()),
-            ("reduction", self.reduction().into()),
-            ("at_floor", self.at_floor().into()),
-            ("room_for_halving", self.room_for_halving().into()),
-            ("halved", self.halved().into()),
-            (
-                "fits",
-                Json::Arr(
-                    self.fits
-                        .iter()
-                        .map(|f| {
-                            obj([
-                                ("effect", f.effect.into()),
-                                ("param", f.param.into()),
-                                ("truth", f.truth.into()),
-                                ("fitted", f.fitted.into()),
-                                ("relative_error", f.error().into()),
-                                ("source", f.source.into()),
-                                ("within_tolerance", f.ok().into()),
-                            ])
-                        })
-                        .collect(),
-                ),
-            ),
-            ("ok", self.ok().into()),
-            ("truth_tare_load_cell", self.truth_tared.into()),
-            (
-                "candidates",
-                Json::Arr(
-                    self.candidates
-                        .iter()
-                        .map(|(e, n, p, x)| {
-                            obj([
-                                ("effect", e.as_str().into()),
-                                ("nrmse_validation", (*n).into()),
-                                ("plausible", (*p).into()),
-                                ("explained", (*x).into()),
-                            ])
-                        })
-                        .collect(),
-                ),
-            ),
-            ("ladder", self.ladder.clone()),
-            ("explanation", self.explanation.as_str().into()),
-            ("seconds_generate", self.seconds_generate.into()),
-            ("seconds_diagnose", self.seconds_diagnose.into()),
-        ])
+        RecordJson {
+            group: c.group,
+            input: c.input_name(),
+            hidden: &c.hidden,
+            out_of_catalog: (c.kind == Kind::Drift).then(|| format!("load-cell drift +{DRIFT_N} N linear")),
+            seed: c.seed,
+            duration_s: c.duration,
+            error: self.error.as_deref(),
+            verdict: &self.verdict,
+            best_effect: self.best_effect.as_deref(),
+            effects: &self.effects,
+            ladder_effects: &self.ladder_effects,
+            ranks: &self.ranks,
+            nrmse_baseline: self.nrmse_baseline,
+            nrmse_after: self.nrmse_after,
+            nrmse_after_ladder: self.nrmse_ladder,
+            nrmse_noise_floor: self.nrmse_floor,
+            expected_floor_sensor: self.expected_floor,
+            oracle_nrmse: self.oracle_nrmse,
+            baseline_over_floor: self.nrmse_baseline / self.nrmse_floor,
+            reduction: self.reduction(),
+            at_floor: self.at_floor(),
+            room_for_halving: self.room_for_halving(),
+            halved: self.halved(),
+            fits: self
+                .fits
+                .iter()
+                .map(|f| FitJson {
+                    effect: f.effect,
+                    param: f.param,
+                    truth: f.truth,
+                    fitted: f.fitted,
+                    relative_error: f.error(),
+                    source: f.source,
+                    within_tolerance: f.ok(),
+                })
+                .collect(),
+            ok: self.ok(),
+            truth_tare_load_cell: self.truth_tared,
+            candidates: self
+                .candidates
+                .iter()
+                .map(|(e, n, p, x)| CandidateJson { effect: e, nrmse_validation: *n, plausible: *p, explained: *x })
+                .collect(),
+            ladder: self.ladder.as_deref(),
+            explanation: &self.explanation,
+            seconds_generate: self.seconds_generate,
+            seconds_diagnose: self.seconds_diagnose,
+        }
     }
+}
+
+/// A record in the `--out` file (numbers that are not finite are written as null).
+#[derive(Serialize)]
+struct RecordJson<'a> {
+    group: &'a str,
+    input: &'a str,
+    hidden: &'a [&'static str],
+    out_of_catalog: Option<String>,
+    seed: u64,
+    duration_s: f64,
+    error: Option<&'a str>,
+    verdict: &'a str,
+    best_effect: Option<&'a str>,
+    effects: &'a [String],
+    ladder_effects: &'a [String],
+    ranks: &'a [Option<usize>],
+    nrmse_baseline: f64,
+    nrmse_after: f64,
+    nrmse_after_ladder: f64,
+    nrmse_noise_floor: f64,
+    expected_floor_sensor: f64,
+    oracle_nrmse: f64,
+    baseline_over_floor: f64,
+    reduction: f64,
+    at_floor: bool,
+    room_for_halving: bool,
+    halved: bool,
+    fits: Vec<FitJson<'a>>,
+    ok: bool,
+    truth_tare_load_cell: bool,
+    candidates: Vec<CandidateJson<'a>>,
+    ladder: Option<&'a [RungRecord]>,
+    explanation: &'a str,
+    seconds_generate: f64,
+    seconds_diagnose: f64,
+}
+
+#[derive(Serialize)]
+struct FitJson<'a> {
+    effect: &'a str,
+    param: &'a str,
+    truth: f64,
+    fitted: Option<f64>,
+    relative_error: Option<f64>,
+    source: &'a str,
+    within_tolerance: bool,
+}
+
+#[derive(Serialize)]
+struct CandidateJson<'a> {
+    effect: &'a str,
+    nrmse_validation: f64,
+    plausible: bool,
+    explained: f64,
+}
+
+/// A ladder rung as recorded: the fitted values without their errors.
+#[derive(Serialize)]
+struct RungRecord {
+    added: &'static str,
+    refit: bool,
+    params: IndexMap<&'static str, f64>,
+    nrmse_validation: f64,
+    explained: f64,
+    kept: bool,
+}
+
+/// The `--out` file.
+#[derive(Serialize)]
+struct Out<'a> {
+    config: Config,
+    summary: IndexMap<&'static str, Vec<String>>,
+    total_seconds: f64,
+    records: Vec<RecordJson<'a>>,
+}
+
+#[derive(Serialize)]
+struct Config {
+    seeds: u64,
+    pair_seeds: u64,
+    rig_seconds: f64,
+    hil_seconds: f64,
+    load_cell_lowpass_hz: f64,
+    threads: usize,
+    at_floor_factor: f64,
+    min_cut: f64,
+    param_tolerance: f64,
+    drift_n: f64,
 }
 
 /// Adds `DRIFT_N` · k/n to the F_damper column of `csv`, written to `out`.
@@ -326,23 +398,19 @@ fn add_drift(csv: &Path, out: &Path) -> Result<(), String> {
     std::fs::write(out, s).map_err(|e| format!("{}: {e}", out.display()))
 }
 
-fn ladder_json(d: &Diagnosis) -> Json {
-    Json::Arr(
-        d.ladder
-            .rungs
-            .iter()
-            .map(|r| {
-                obj([
-                    ("added", r.added.into()),
-                    ("refit", r.refit.into()),
-                    ("params", Json::Obj(r.params.iter().map(|(n, v, _)| (n.to_string(), Json::from(*v))).collect())),
-                    ("nrmse_validation", r.nrmse_validation.into()),
-                    ("explained", r.explained.into()),
-                    ("kept", r.kept.into()),
-                ])
-            })
-            .collect(),
-    )
+fn ladder(d: &Diagnosis) -> Vec<RungRecord> {
+    d.ladder
+        .rungs
+        .iter()
+        .map(|r| RungRecord {
+            added: r.added,
+            refit: r.refit,
+            params: r.params.iter().map(|(n, v, _)| (*n, *v)).collect(),
+            nrmse_validation: r.nrmse_validation,
+            explained: r.explained,
+            kept: r.kept,
+        })
+        .collect()
 }
 
 /// The fitted size parameter of `key`: from its candidate (single), or from the ladder (pairs:
@@ -421,7 +489,7 @@ fn run_case(c: &Case, dir: &Path) -> Result<Record, String> {
         nrmse_floor: d.nrmse_noise_floor,
         nrmse_after,
         nrmse_ladder: d.ladder.nrmse_validation,
-        ladder: ladder_json(d),
+        ladder: Some(ladder(d)),
         expected_floor: g.expected_floor,
         oracle_nrmse: g.oracle_nrmse,
         truth_tared: g.params.tare_load_cell,
@@ -446,7 +514,7 @@ fn failed(c: &Case, e: String) -> Record {
         nrmse_floor: f64::NAN,
         nrmse_after: f64::NAN,
         nrmse_ladder: f64::NAN,
-        ladder: Json::Null,
+        ladder: None,
         expected_floor: f64::NAN,
         oracle_nrmse: f64::NAN,
         truth_tared: false,
@@ -736,7 +804,7 @@ fn main() {
         o.hil_seconds
     );
     let mut all: Vec<Record> = Vec::new();
-    let mut summaries: Vec<(String, Json)> = Vec::new();
+    let mut summaries = IndexMap::new();
     for group in groups {
         let (kind, cs) = cases(group, &o);
         println!("\n== {group}: {} runs ==", cs.len());
@@ -754,36 +822,33 @@ fn main() {
         for l in &lines {
             println!("{l}");
         }
-        summaries.push((group.to_string(), Json::Arr(lines.into_iter().map(Json::from).collect())));
+        summaries.insert(group, lines);
     }
     let total = start.elapsed().as_secs_f64();
     println!("\ntotal: {} runs in {total:.0} s ({:.1} min)", all.len(), total / 60.0);
     let _ = std::fs::remove_dir_all(&scratch);
     if let Some(path) = &o.out {
-        let j = obj([
-            (
-                "config",
-                obj([
-                    ("seeds", o.seeds.into()),
-                    ("pair_seeds", (o.seeds / 2).max(1).into()),
-                    ("rig_seconds", RIG_SECONDS.into()),
-                    ("hil_seconds", o.hil_seconds.into()),
-                    ("load_cell_lowpass_hz", 400.0.into()),
-                    ("threads", THREADS.into()),
-                    ("at_floor_factor", AT_FLOOR.into()),
-                    ("min_cut", MIN_CUT.into()),
-                    ("param_tolerance", PARAM_TOLERANCE.into()),
-                    ("drift_n", DRIFT_N.into()),
-                ]),
-            ),
-            ("summary", Json::Obj(summaries)),
-            ("total_seconds", total.into()),
-            ("records", Json::Arr(all.iter().map(Record::json).collect())),
-        ]);
+        let out = Out {
+            config: Config {
+                seeds: o.seeds,
+                pair_seeds: (o.seeds / 2).max(1),
+                rig_seconds: RIG_SECONDS,
+                hil_seconds: o.hil_seconds,
+                load_cell_lowpass_hz: 400.0,
+                threads: THREADS,
+                at_floor_factor: AT_FLOOR,
+                min_cut: MIN_CUT,
+                param_tolerance: PARAM_TOLERANCE,
+                drift_n: DRIFT_N,
+            },
+            summary: summaries,
+            total_seconds: total,
+            records: all.iter().map(Record::json).collect(),
+        };
         if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
             let _ = std::fs::create_dir_all(dir);
         }
-        match std::fs::write(path, j.pretty()) {
+        match std::fs::write(path, to_json(&out)) {
             Ok(()) => println!("records: {}", path.display()),
             Err(e) => {
                 eprintln!("{}: {e}", path.display());

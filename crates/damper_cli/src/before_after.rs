@@ -4,9 +4,9 @@
 
 use crate::analysis::{analyse, Analysis};
 use crate::compare::Comparison;
-use crate::json::{obj, Json};
 use crate::model::{Model, Prediction};
 use crate::report::scaled;
+use crate::summary;
 use crate::svg::{esc, Axis, Plot, Series, ACCENT, GREEN, MEASURED, RESIDUAL};
 use crate::units::Column;
 use semi_active_damper::physics::params::Parameters;
@@ -136,45 +136,30 @@ pub fn html(c: &Comparison, after: &After) -> String {
 }
 
 /// The summary's `after` object.
-pub fn json(c: &Comparison, after: &After) -> Json {
+pub fn summary(c: &Comparison, after: &After) -> summary::After {
     let (b, a) = (&c.analysis, &after.analysis);
-    obj([
-        ("effects", Json::Arr(after.effects.iter().map(|e| Json::from(*e)).collect())),
-        (
-            "validation_nrmse",
-            Json::Obj(
-                b.fits
-                    .iter()
-                    .zip(&a.fits)
-                    .map(|(fb, fa)| {
-                        (
-                            fb.column.name().to_string(),
-                            obj([("before", fb.validation.nrmse.into()), ("after", fa.validation.nrmse.into())]),
-                        )
-                    })
-                    .collect(),
-            ),
-        ),
-        ("white_after", a.whiteness.white.into()),
-        ("ljung_box_q", obj([("before", b.whiteness.ljung_box_q.into()), ("after", a.whiteness.ljung_box_q.into())])),
-        (
-            "regimes",
-            Json::Arr(
-                regime_rows(b, a)
-                    .into_iter()
-                    .map(|(g, n, share, rb, ra)| {
-                        obj([
-                            ("group", g.into()),
-                            ("regime", n.into()),
-                            ("time_share", share.into()),
-                            ("rms_before", rb.into()),
-                            ("rms_after", ra.into()),
-                        ])
-                    })
-                    .collect(),
-            ),
-        ),
-    ])
+    let before_after = |before, after| summary::BeforeAfter { before, after };
+    summary::After {
+        effects: after.effects.iter().map(|e| e.to_string()).collect(),
+        validation_nrmse: b
+            .fits
+            .iter()
+            .zip(&a.fits)
+            .map(|(fb, fa)| (fb.column.name().to_string(), before_after(fb.validation.nrmse, fa.validation.nrmse)))
+            .collect(),
+        white_after: a.whiteness.white,
+        ljung_box_q: before_after(b.whiteness.ljung_box_q, a.whiteness.ljung_box_q),
+        regimes: regime_rows(b, a)
+            .into_iter()
+            .map(|(g, n, share, rb, ra)| summary::RegimeChange {
+                group: g.into(),
+                regime: n.into(),
+                time_share: share,
+                rms_before: rb,
+                rms_after: ra,
+            })
+            .collect(),
+    }
 }
 
 /// The terminal lines: the regimes where the error was largest, before → after.

@@ -3,12 +3,12 @@
 
 use crate::analysis::{analyse, Analysis};
 use crate::dsp::mean;
-use crate::json::{obj, Json};
 use crate::measurement::{Mapping, Measurement};
 use crate::model::{Backend, Drive, Model, Prediction};
 use crate::parameters::{
     changed_parameters, effect, effect_on, effects, set_effect, set_parameter, set_real, EffectExt, Value,
 };
+use crate::summary::{self, Summary};
 use crate::units::Column;
 use semi_active_damper::variables::default_parameters;
 use std::path::PathBuf;
@@ -211,9 +211,8 @@ fn tare_hint(m: &Measurement, p: &Prediction, tare: bool) -> Option<String> {
 pub fn run(opts: &CompareOptions) -> Result<Comparison, String> {
     let c = compare(opts)?;
     std::fs::create_dir_all(&opts.out).map_err(|e| format!("{}: cannot create: {e}", opts.out.display()))?;
-    let summary = summary_json(&c);
     let json_path = opts.out.join("summary.json");
-    std::fs::write(&json_path, summary.pretty()).map_err(|e| format!("{}: {e}", json_path.display()))?;
+    std::fs::write(&json_path, summary::to_json(&summary(&c))).map_err(|e| format!("{}: {e}", json_path.display()))?;
     let html_path = opts.out.join("report.html");
     std::fs::write(&html_path, crate::report::html(&c)).map_err(|e| format!("{}: {e}", html_path.display()))?;
     if !opts.quiet {
@@ -224,196 +223,153 @@ pub fn run(opts: &CompareOptions) -> Result<Comparison, String> {
     Ok(c)
 }
 
-fn metrics_json(m: &crate::dsp::Metrics) -> Json {
-    obj([
-        ("fit_percent", m.fit_percent.into()),
-        ("nrmse", m.nrmse.into()),
-        ("rmse", m.rmse.into()),
-        ("bias", m.bias.into()),
-        ("std_measured", m.std_measured.into()),
-        ("samples", m.samples.into()),
-    ])
+fn metrics(m: &crate::dsp::Metrics) -> summary::Metrics {
+    summary::Metrics {
+        fit_percent: m.fit_percent,
+        nrmse: m.nrmse,
+        rmse: m.rmse,
+        bias: m.bias,
+        std_measured: m.std_measured,
+        samples: m.samples,
+    }
 }
 
-/// The model settings as JSON.
-pub fn model_json(setup: &ModelSetup) -> Json {
+/// The model settings of the summary.
+pub fn model_settings(setup: &ModelSetup) -> summary::ModelSettings {
     let p = &setup.model.params;
-    obj([
-        ("control_mode", p.control_mode.into()),
-        ("tare_load_cell", p.tare_load_cell.into()),
-        ("load_cell_lowpass_hz", setup.model.load_cell_lowpass_hz.into()),
-        ("backend", setup.backend.name().into()),
-        ("fmu", setup.backend.fmu_path().map_or(Json::Null, |p| p.display().to_string().into())),
-        ("effects", Json::Obj(setup.effects.iter().map(|(k, on)| (k.to_string(), Json::Bool(*on))).collect())),
-        (
-            "changed_parameters",
-            Json::Obj(
-                setup
-                    .changed
-                    .iter()
-                    .map(|(n, v)| {
-                        let j = match v {
-                            Value::Real(x) => Json::Num(*x),
-                            Value::Integer(i) => Json::Int(*i as i64),
-                            Value::Boolean(b) => Json::Bool(*b),
-                        };
-                        (n.to_string(), j)
-                    })
-                    .collect(),
-            ),
-        ),
-    ])
+    summary::ModelSettings {
+        control_mode: p.control_mode.into(),
+        tare_load_cell: p.tare_load_cell,
+        load_cell_lowpass_hz: setup.model.load_cell_lowpass_hz,
+        backend: setup.backend.name().into(),
+        fmu: setup.backend.fmu_path().map(|p| p.display().to_string()),
+        effects: setup.effects.iter().map(|(k, on)| (k.to_string(), *on)).collect(),
+        changed_parameters: setup.changed.iter().map(|(n, v)| (n.to_string(), (*v).into())).collect(),
+    }
 }
 
-/// `summary.json`.
-pub fn summary_json(c: &Comparison) -> Json {
+/// `summary.json`, with the diagnosis empty.
+pub fn summary(c: &Comparison) -> Summary {
     let a = &c.analysis;
     let m = &c.measurement;
     let f = a.force();
-    let signals = Json::Obj(
-        a.fits
+    let w = &a.whiteness;
+    Summary {
+        tool: "damper compare".into(),
+        version: env!("CARGO_PKG_VERSION").into(),
+        measurement: m.path.clone(),
+        samples: m.len(),
+        sample_interval_s: a.dt,
+        duration_s: m.time[m.len() - 1] - m.time[0],
+        control_mode: if c.drive.control_mode() == 0 { "force" } else { "spool_position" }.into(),
+        velocity_from_displacement: m.velocity_from_displacement,
+        model: model_settings(&c.setup),
+        split: summary::Split {
+            train_fraction: c.options.split,
+            first_validation_sample: a.split,
+            t_split: m.time[a.split],
+        },
+        residual_definition: "model - measured (as in docs/effects.md)".into(),
+        nrmse_baseline: f.validation.nrmse,
+        observations: crate::analysis::observations(a),
+        noise_floor_estimate: a.noise_floor_estimate,
+        signals: a
+            .fits
             .iter()
             .map(|s| {
-                (
-                    s.column.name().to_string(),
-                    obj([
-                        ("unit", s.column.si_unit().into()),
-                        ("train", metrics_json(&s.train)),
-                        ("validation", metrics_json(&s.validation)),
-                        ("lag_s", s.lag.seconds.into()),
-                        ("lag_refined_s", s.lag.refined_seconds.into()),
-                        ("lag_of_changes_s", s.lag.changes_seconds.into()),
-                    ]),
-                )
+                let signal = summary::Signal {
+                    unit: s.column.si_unit().into(),
+                    train: metrics(&s.train),
+                    validation: metrics(&s.validation),
+                    lag_s: s.lag.seconds,
+                    lag_refined_s: s.lag.refined_seconds,
+                    lag_of_changes_s: s.lag.changes_seconds,
+                };
+                (s.column.name().to_string(), signal)
             })
             .collect(),
-    );
-    let regimes: Vec<Json> = a
-        .regimes
-        .iter()
-        .map(|r| {
-            obj([
-                ("group", r.group.into()),
-                ("regime", r.name.clone().into()),
-                ("samples", r.samples.into()),
-                ("time_share", r.time_share.into()),
-                ("rms_residual", r.rms.into()),
-                ("mean_residual", r.mean.into()),
-                ("error_share", r.error_share.into()),
-                ("concentration", r.concentration.into()),
-            ])
-        })
-        .collect();
-    let bands: Vec<Json> = a
-        .bands
-        .iter()
-        .map(|b| {
-            obj([
-                ("f_lo_hz", b.lo.into()),
-                ("f_hi_hz", b.hi.into()),
-                ("residual_share", b.residual_share.into()),
-                ("residual_rms", b.residual_rms.into()),
-                ("band_nrmse", b.band_nrmse.into()),
-            ])
-        })
-        .collect();
-    let worst: Vec<Json> = a
-        .worst
-        .iter()
-        .map(|w| {
-            obj([
-                ("t_start", w.t_start.into()),
-                ("t_end", w.t_end.into()),
-                ("rms_residual", w.rms.into()),
-                ("mean_residual", w.mean.into()),
-                ("mean_abs_velocity", w.mean_abs_velocity.into()),
-                ("tags", w.tags.clone().into()),
-            ])
-        })
-        .collect();
-    let w = &a.whiteness;
-    let xcorr: Vec<(String, Json)> = a
-        .input_correlations
-        .iter()
-        .map(|x| {
-            (
-                x.input.name().to_string(),
-                obj([
-                    ("max_abs", x.max_abs.into()),
-                    ("at_lag_s", x.at_lag_seconds.into()),
-                    ("band", x.band.into()),
-                    ("within_band", (x.max_abs <= x.band).into()),
-                ]),
-            )
-        })
-        .collect();
-    obj([
-        ("tool", "damper compare".into()),
-        ("version", env!("CARGO_PKG_VERSION").into()),
-        ("measurement", m.path.clone().into()),
-        ("samples", m.len().into()),
-        ("sample_interval_s", a.dt.into()),
-        ("duration_s", (m.time[m.len() - 1] - m.time[0]).into()),
-        ("control_mode", if c.drive.control_mode() == 0 { "force" } else { "spool_position" }.into()),
-        ("velocity_from_displacement", m.velocity_from_displacement.into()),
-        ("model", model_json(&c.setup)),
-        (
-            "split",
-            obj([
-                ("train_fraction", c.options.split.into()),
-                ("first_validation_sample", a.split.into()),
-                ("t_split", m.time[a.split].into()),
-            ]),
-        ),
-        ("residual_definition", "model - measured (as in docs/effects.md)".into()),
-        ("nrmse_baseline", f.validation.nrmse.into()),
-        ("observations", crate::analysis::observations(a).into()),
-        ("noise_floor_estimate", a.noise_floor_estimate.into()),
-        ("signals", signals),
-        ("regimes", Json::Arr(regimes)),
-        ("frequency_bands", Json::Arr(bands)),
-        ("worst_windows", Json::Arr(worst)),
-        (
-            "lag",
-            obj([
-                ("samples", f.lag.samples.into()),
-                ("seconds", f.lag.seconds.into()),
-                ("refined_seconds", f.lag.refined_seconds.into()),
-                ("peak_correlation", f.lag.peak.into()),
-                ("search_range_s", f.lag.max_seconds.into()),
-                ("of_changes_s", f.lag.changes_seconds.into()),
-                ("definition", "argmax_k sum_t y(t+k) yhat(t): positive = the measured force comes later".into()),
-            ]),
-        ),
-        (
-            "whiteness",
-            obj([
-                ("part", "validation".into()),
-                ("samples", w.samples.into()),
-                ("max_lag", w.max_lag.into()),
-                ("band", w.band.into()),
-                ("fraction_outside", w.fraction_outside.into()),
-                ("ljung_box_q", w.ljung_box_q.into()),
-                ("ljung_box_lags", w.ljung_box_lags.into()),
-                ("chi2_95", w.chi2_95.into()),
-                ("white", w.white.into()),
-            ]),
-        ),
-        ("input_cross_correlation", Json::Obj(xcorr)),
-        (
-            "events",
-            obj([
-                ("velocity_reversals", a.reversals.len().into()),
-                ("demand_steps", a.demand_steps.len().into()),
-                ("residual_jump_at_reversals", a.reversal_jump.into()),
-            ]),
-        ),
-        ("model_run_s", c.run_seconds.into()),
-        ("warnings", c.warnings.clone().into()),
-        ("verdict", Json::Null),
-        ("best_effect", Json::Null),
-        ("candidates", Json::Null),
-    ])
+        regimes: a
+            .regimes
+            .iter()
+            .map(|r| summary::Regime {
+                group: r.group.into(),
+                regime: r.name.clone(),
+                samples: r.samples,
+                time_share: r.time_share,
+                rms_residual: r.rms,
+                mean_residual: r.mean,
+                error_share: r.error_share,
+                concentration: r.concentration,
+            })
+            .collect(),
+        frequency_bands: a
+            .bands
+            .iter()
+            .map(|b| summary::Band {
+                f_lo_hz: b.lo,
+                f_hi_hz: b.hi,
+                residual_share: b.residual_share,
+                residual_rms: b.residual_rms,
+                band_nrmse: b.band_nrmse,
+            })
+            .collect(),
+        worst_windows: a
+            .worst
+            .iter()
+            .map(|w| summary::Window {
+                t_start: w.t_start,
+                t_end: w.t_end,
+                rms_residual: w.rms,
+                mean_residual: w.mean,
+                mean_abs_velocity: w.mean_abs_velocity,
+                tags: w.tags.clone(),
+            })
+            .collect(),
+        lag: summary::Lag {
+            samples: f.lag.samples as i64,
+            seconds: f.lag.seconds,
+            refined_seconds: f.lag.refined_seconds,
+            peak_correlation: f.lag.peak,
+            search_range_s: f.lag.max_seconds,
+            of_changes_s: f.lag.changes_seconds,
+            definition: "argmax_k sum_t y(t+k) yhat(t): positive = the measured force comes later".into(),
+        },
+        whiteness: summary::Whiteness {
+            part: "validation".into(),
+            samples: w.samples,
+            max_lag: w.max_lag,
+            band: w.band,
+            fraction_outside: w.fraction_outside,
+            ljung_box_q: w.ljung_box_q,
+            ljung_box_lags: w.ljung_box_lags,
+            chi2_95: w.chi2_95,
+            white: w.white,
+        },
+        input_cross_correlation: a
+            .input_correlations
+            .iter()
+            .map(|x| {
+                let xc = summary::CrossCorrelation {
+                    max_abs: x.max_abs,
+                    at_lag_s: x.at_lag_seconds,
+                    band: x.band,
+                    within_band: x.max_abs <= x.band,
+                };
+                (x.input.name().to_string(), xc)
+            })
+            .collect(),
+        events: summary::Events {
+            velocity_reversals: a.reversals.len(),
+            demand_steps: a.demand_steps.len(),
+            residual_jump_at_reversals: a.reversal_jump,
+        },
+        model_run_s: c.run_seconds,
+        warnings: c.warnings.clone(),
+        verdict: None,
+        best_effect: None,
+        candidates: None,
+        diagnosis: None,
+    }
 }
 
 /// The terminal summary.

@@ -6,8 +6,8 @@
 use crate::before_after::{self, After};
 use crate::compare::{self, CompareOptions, Comparison};
 use crate::diagnose::{diagnose, Candidate, Diagnosis, FitSetup, Progress};
-use crate::json::{obj, Json};
 use crate::ladder::Rung;
+use crate::summary::{self, Summary};
 use crate::svg::esc;
 use crate::units::Column;
 
@@ -48,75 +48,52 @@ pub fn diagnose_measurement(
     Ok(Diagnosed { comparison: c, diagnosis: d, after })
 }
 
-fn params_json(params: &[(&str, f64, Option<f64>)]) -> Json {
-    Json::Obj(
-        params
-            .iter()
-            .map(|(n, v, e)| {
-                (n.to_string(), obj([("value", (*v).into()), ("std_error", e.map_or(Json::Null, Json::from))]))
-            })
-            .collect(),
-    )
-}
-
-fn candidate_json(c: &Candidate) -> Json {
-    let params = params_json(&c.params);
-    obj([
-        ("effect", c.effect.into()),
-        ("action", c.action.into()),
-        ("nrmse_train", c.nrmse_train.into()),
-        ("nrmse_validation", c.nrmse_validation.into()),
-        ("reduction", c.reduction.into()),
-        ("explained", c.explained.into()),
-        ("params", params),
-        ("plausible", c.plausible.into()),
-        ("flags", Json::Arr(c.flags.iter().map(|f| f.as_str().into()).collect())),
-        ("signature", c.signature.into()),
-        ("model_runs", c.evaluations.into()),
-    ])
+fn candidate(c: &Candidate) -> summary::Candidate {
+    summary::Candidate {
+        effect: c.effect.into(),
+        action: c.action.into(),
+        nrmse_train: c.nrmse_train,
+        nrmse_validation: c.nrmse_validation,
+        reduction: c.reduction,
+        explained: c.explained,
+        params: summary::fitted(&c.params),
+        plausible: c.plausible,
+        flags: c.flags.clone(),
+        signature: c.signature.into(),
+        model_runs: c.evaluations,
+    }
 }
 
 /// The summary of compare with the diagnosis filled in.
-pub fn summary_json(r: &Diagnosed) -> Json {
+pub fn summary(r: &Diagnosed) -> Summary {
     let d = &r.diagnosis;
-    let mut s = compare::summary_json(&r.comparison);
-    if let Json::Obj(fields) = &mut s {
-        let mut set = |key: &str, value: Json| match fields.iter_mut().find(|(k, _)| k == key) {
-            Some(slot) => slot.1 = value,
-            None => fields.push((key.to_string(), value)),
-        };
-        set("verdict", d.verdict.into());
-        set("best_effect", d.best_effect.map_or(Json::Null, Json::from));
-        set("effects", Json::Arr(d.effects.iter().map(|e| Json::from(*e)).collect()));
-        set("nrmse_after_ladder", d.ladder.nrmse_validation.into());
-        if let Some(a) = &r.after {
-            set("after", before_after::json(&r.comparison, a));
-        }
-        set("nrmse_baseline", d.nrmse_baseline.into());
-        set("nrmse_noise_floor", d.nrmse_noise_floor.into());
-        set("explanation", d.explanation.as_str().into());
-        set("candidates", Json::Arr(d.candidates.iter().map(candidate_json).collect()));
-        set(
-            "ladder",
-            Json::Arr(
-                d.ladder
-                    .rungs
-                    .iter()
-                    .map(|l| {
-                        obj([
-                            ("added", l.added.into()),
-                            ("refit", l.refit.into()),
-                            ("params", params_json(&l.params)),
-                            ("nrmse_validation", l.nrmse_validation.into()),
-                            ("explained", l.explained.into()),
-                            ("kept", l.kept.into()),
-                        ])
-                    })
-                    .collect(),
-            ),
-        );
+    Summary {
+        nrmse_baseline: d.nrmse_baseline,
+        verdict: Some(d.verdict.into()),
+        best_effect: d.best_effect.map(String::from),
+        candidates: Some(d.candidates.iter().map(candidate).collect()),
+        diagnosis: Some(summary::Diagnosis {
+            effects: d.effects.iter().map(|e| e.to_string()).collect(),
+            nrmse_after_ladder: d.ladder.nrmse_validation,
+            after: r.after.as_ref().map(|a| before_after::summary(&r.comparison, a)),
+            nrmse_noise_floor: d.nrmse_noise_floor,
+            explanation: d.explanation.clone(),
+            ladder: d
+                .ladder
+                .rungs
+                .iter()
+                .map(|l| summary::Rung {
+                    added: l.added.into(),
+                    refit: l.refit,
+                    params: summary::fitted(&l.params),
+                    nrmse_validation: l.nrmse_validation,
+                    explained: l.explained,
+                    kept: l.kept,
+                })
+                .collect(),
+        }),
+        ..compare::summary(&r.comparison)
     }
-    s
 }
 
 /// A rung as the report and the terminal name it: `+ effect` or `effect refitted`, and a note
@@ -234,7 +211,7 @@ pub fn terminal_summary(r: &Diagnosed) -> String {
 pub fn write(opts: &CompareOptions, r: &Diagnosed) -> Result<(), String> {
     std::fs::create_dir_all(&opts.out).map_err(|e| format!("{}: cannot create: {e}", opts.out.display()))?;
     let json_path = opts.out.join("summary.json");
-    std::fs::write(&json_path, summary_json(r).pretty()).map_err(|e| format!("{}: {e}", json_path.display()))?;
+    std::fs::write(&json_path, summary::to_json(&summary(r))).map_err(|e| format!("{}: {e}", json_path.display()))?;
     let mut html = crate::report::html(&r.comparison);
     let cut = html.find("<h2>Which effect is missing</h2>").or_else(|| html.rfind("</body>")).unwrap_or(html.len());
     html.truncate(cut);

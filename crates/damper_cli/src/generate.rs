@@ -29,16 +29,18 @@
 //! 50–500 N after some reversals).
 
 use crate::dsp::{lowpass, std};
-use crate::json::{obj, Json};
 use crate::model::{Demand, Drive, Model, Prediction};
 use crate::parameters::{
-    changed_parameters, effect, get_parameter, get_real, set_effect, set_parameter, set_real, EffectExt, Value,
+    changed_parameters, effect, get_parameter, get_real, set_effect, set_parameter, set_real, EffectExt,
 };
 use crate::rng::Rng;
+use crate::summary::{nan_if_null, ParameterValue};
 use crate::units::Column;
+use indexmap::IndexMap;
 use semi_active_damper::damper::{Damper, Inputs};
 use semi_active_damper::physics::params::Parameters;
 use semi_active_damper::variables::default_parameters;
+use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
 use std::fmt::Write as _;
 use std::path::PathBuf;
@@ -203,7 +205,7 @@ pub struct Generated {
     pub columns: Vec<(Column, Vec<f64>)>,
     /// The truth model's outputs on the true inputs.
     pub clean: Prediction,
-    pub truth: Json,
+    pub truth: Truth,
     /// Validation NRMSE of F_damper the sensor noise and quantisation alone give (split 0.7).
     pub expected_floor: f64,
     /// Validation NRMSE of the truth model (with the load-cell filter) driven by the measured
@@ -211,8 +213,137 @@ pub struct Generated {
     pub oracle_nrmse: f64,
 }
 
+/// The truth file: what was hidden in the data and how they were measured. SI units unless the
+/// name says otherwise.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Truth {
+    /// `damper generate` and its version.
+    pub generator: String,
+    pub note: String,
+    /// The CSV written.
+    pub measurement: String,
+    /// The seed of the random streams (effects, inputs, noise).
+    pub seed: u64,
+    pub samples: usize,
+    /// Sample rate [Hz].
+    pub rate_hz: f64,
+    /// Record length [s].
+    pub duration_s: f64,
+    /// The truth model's control_mode: 0 force, 1 spool position.
+    pub control_mode: i64,
+    /// The truth model's force has its rest offset removed (as a tared load cell).
+    pub tare_load_cell: bool,
+    /// Which velocity drives the truth model.
+    pub velocity_driving_the_truth: String,
+    pub inputs: TruthInputs,
+    /// The effects of `--effect`, in the order given.
+    pub effects: Vec<TruthEffect>,
+    /// The parameters of `--set` as the truth has them; null: not readable back.
+    pub set: IndexMap<String, Option<ParameterValue>>,
+    /// Every parameter of the truth that differs from the model's defaults.
+    pub changed_parameters: IndexMap<String, ParameterValue>,
+    pub sensors: TruthSensors,
+    pub noise_floor: TruthNoiseFloor,
+}
+
+/// The inputs' style.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+#[serde(tag = "style", rename_all = "lowercase")]
+pub enum TruthInputs {
+    Rig {
+        description: String,
+    },
+    Hil {
+        /// Road class (ISO 8608 A–H or motorway/major/minor).
+        road: String,
+        /// Road roughness Gd(n0) at n0 = 0.1 cycle/m [m³].
+        road_gd_n0_m3: f64,
+        /// Vehicle speed [m/s].
+        speed_m_s: f64,
+        description: String,
+    },
+}
+
+/// An effect of `--effect`.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct TruthEffect {
+    /// The catalog's key.
+    pub key: String,
+    /// Its switch parameter.
+    pub switch: String,
+    /// Switched on in the truth (`KEY=off` switches it off).
+    pub on: bool,
+    pub on_by_default: bool,
+    /// The effect's parameters in the truth (SI); null: not a Real parameter.
+    pub params: IndexMap<String, Option<f64>>,
+    /// The size parameter was drawn from `random_range` (no value given).
+    pub value_drawn_at_random: bool,
+    /// [lo, hi] of the draw, in the size parameter's unit; null: not drawn.
+    pub random_range: Option<[f64; 2]>,
+}
+
+/// The sensors of the CSV's columns: noise and resolution in the column's SI unit. Those whose
+/// columns were not written are absent.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct TruthSensors {
+    #[serde(rename = "F_damper")]
+    pub f_damper: LoadCell,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub x_damper: Option<TruthSensor>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub v_damper: Option<TruthSensor>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub x_spool: Option<TruthSensor>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub i_sol: Option<TruthSensor>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub p_ext: Option<TruthSensor>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub p_comp: Option<TruthSensor>,
+}
+
+/// A sensor's white noise and resolution.
+#[derive(Clone, Copy, Debug, Serialize, Deserialize)]
+pub struct TruthSensor {
+    /// Standard deviation of the white noise.
+    pub noise_std: f64,
+    /// Resolution (the values are rounded to it).
+    pub quantum: f64,
+}
+
+impl From<Sensor> for TruthSensor {
+    fn from(s: Sensor) -> TruthSensor {
+        TruthSensor { noise_std: s.noise, quantum: s.quantum }
+    }
+}
+
+/// The load cell: noise [N], resolution [N] and its low-pass.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct LoadCell {
+    pub noise_std: f64,
+    pub quantum: f64,
+    /// Low-pass cut-off [Hz]; null: none.
+    pub lowpass_hz: Option<f64>,
+    pub lowpass: String,
+}
+
+/// The validation NRMSE of F_damper the best model could reach.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct TruthNoiseFloor {
+    /// Share of the samples in the train part [1].
+    pub train_fraction: f64,
+    /// From the force sensor's noise and resolution alone [1].
+    #[serde(deserialize_with = "nan_if_null")]
+    pub expected_nrmse_validation: f64,
+    pub expected_definition: String,
+    /// The truth model itself, driven by the measured inputs [1].
+    #[serde(deserialize_with = "nan_if_null")]
+    pub oracle_nrmse_validation: f64,
+    pub oracle_definition: String,
+}
+
 /// The truth parameters from the options; the records of each effect for the truth file.
-fn truth_parameters(o: &GenerateOptions, rng: &mut Rng) -> Result<(Parameters, Vec<Json>), String> {
+fn truth_parameters(o: &GenerateOptions, rng: &mut Rng) -> Result<(Parameters, Vec<TruthEffect>), String> {
     let mut p = default_parameters();
     p.control_mode = i32::from(o.spool_control);
     p.tare_load_cell = o.tare_load_cell.unwrap_or(o.input == InputStyle::Hil);
@@ -239,20 +370,15 @@ fn truth_parameters(o: &GenerateOptions, rng: &mut Rng) -> Result<(Parameters, V
                 }
             }
         }
-        let params: Vec<(String, Json)> = e
-            .parameter_names()
-            .iter()
-            .map(|n| (n.to_string(), get_real(&p, n).map_or(Json::Null, Json::Num)))
-            .collect();
-        records.push(obj([
-            ("key", e.key.into()),
-            ("switch", e.switch().into()),
-            ("on", (!off).into()),
-            ("on_by_default", e.default_on().into()),
-            ("params", Json::Obj(params)),
-            ("value_drawn_at_random", drawn.into()),
-            ("random_range", if drawn { vec![e.hidden_range.0, e.hidden_range.1].into() } else { Json::Null }),
-        ]));
+        records.push(TruthEffect {
+            key: e.key.into(),
+            switch: e.switch(),
+            on: !off,
+            on_by_default: e.default_on(),
+            params: e.parameter_names().iter().map(|n| (n.to_string(), get_real(&p, n).ok())).collect(),
+            value_drawn_at_random: drawn,
+            random_range: drawn.then_some([e.hidden_range.0, e.hidden_range.1]),
+        });
     }
     for (name, value) in &o.sets {
         set_parameter(&mut p, name, value).map_err(|e| format!("--set {name}={value}: {e}"))?;
@@ -556,122 +682,69 @@ pub fn generate(o: &GenerateOptions) -> Result<Generated, String> {
     let oracle = Model { params, load_cell_lowpass_hz: o.lowpass_hz }.force(&oracle_drive, n)?;
     let oracle_nrmse = crate::dsp::metrics(&f_meas[split..], &oracle[split..]).nrmse;
 
-    let sensor = |s: Sensor| obj([("noise_std", s.noise.into()), ("quantum", s.quantum.into())]);
-    let mut sensors = vec![(
-        "F_damper".to_string(),
-        obj([
-            ("noise_std", nz.f_damper.noise.into()),
-            ("quantum", nz.f_damper.quantum.into()),
-            ("lowpass_hz", o.lowpass_hz.into()),
-            (
-                "lowpass",
-                "first-order, applied to the sampled force before noise and quantisation (exact for a force linear between samples)"
-                    .into(),
-            ),
-        ]),
-    )];
-    if o.displacement {
-        sensors.push(("x_damper".into(), sensor(nz.x_damper)));
-    } else {
-        sensors.push(("v_damper".into(), sensor(nz.v_damper)));
-    }
-    if !o.minimal {
-        sensors.push(("x_spool".into(), sensor(nz.x_spool)));
-        sensors.push(("i_sol".into(), sensor(nz.i_sol)));
-        sensors.push(("p_ext".into(), sensor(nz.pressure)));
-        sensors.push(("p_comp".into(), sensor(nz.pressure)));
-    }
-    let changed: Vec<(String, Json)> = changed_parameters(&params)
-        .into_iter()
-        .map(|(name, v)| {
-            let j = match v {
-                Value::Real(x) => Json::Num(x),
-                Value::Integer(i) => Json::Int(i as i64),
-                Value::Boolean(b) => Json::Bool(b),
-            };
-            (name.to_string(), j)
-        })
-        .collect();
-    let set: Vec<(String, Json)> = o
-        .sets
-        .iter()
-        .map(|(name, _)| {
-            let j = match get_parameter(&params, name) {
-                Ok(Value::Real(x)) => Json::Num(x),
-                Ok(Value::Integer(i)) => Json::Int(i as i64),
-                Ok(Value::Boolean(b)) => Json::Bool(b),
-                Err(_) => Json::Null,
-            };
-            (name.clone(), j)
-        })
-        .collect();
+    let optional = |s: Sensor| (!o.minimal).then(|| s.into());
+    let sensors = TruthSensors {
+        f_damper: LoadCell {
+            noise_std: nz.f_damper.noise,
+            quantum: nz.f_damper.quantum,
+            lowpass_hz: o.lowpass_hz,
+            lowpass: "first-order, applied to the sampled force before noise and quantisation (exact for a force linear between samples)"
+                .into(),
+        },
+        x_damper: o.displacement.then(|| nz.x_damper.into()),
+        v_damper: (!o.displacement).then(|| nz.v_damper.into()),
+        x_spool: optional(nz.x_spool),
+        i_sol: optional(nz.i_sol),
+        p_ext: optional(nz.pressure),
+        p_comp: optional(nz.pressure),
+    };
     let inputs = match o.input {
-        InputStyle::Rig => obj([
-            ("style", "rig".into()),
-            (
-                "description",
-                "thirds, starting at rest and moving at once: constant-velocity blocks 0.05-0.25 m/s with 15 ms ramps and demand steps \
+        InputStyle::Rig => TruthInputs::Rig {
+            description: "thirds, starting at rest and moving at once: constant-velocity blocks 0.05-0.25 m/s with 15 ms ramps and demand steps \
                  (1-20 kN, or spool 0.9-3.5 mm) every 80-150 ms; a logarithmic sweep 0.5-12 Hz, 30 mm \
                  (<= 0.15 m/s), demand = C*v with C 10-60 kNs/m; random velocity (8 Hz band, 0.1 m/s RMS), \
                  demand = C*v + F0*tanh(v/0.01 m/s)"
-                    .into(),
-            ),
-        ]),
-        InputStyle::Hil => obj([
-            ("style", "hil".into()),
-            ("road", o.road.clone().into()),
-            ("road_gd_n0_m3", road_gd0(&o.road)?.into()),
-            ("speed_m_s", o.speed.into()),
-            (
-                "description",
-                "quarter truck (Table 1, clipped Modified Skyhook) on an ISO 8608 road (300 sinusoids, \
+                .into(),
+        },
+        InputStyle::Hil => TruthInputs::Hil {
+            road: o.road.clone(),
+            road_gd_n0_m3: road_gd0(&o.road)?,
+            speed_m_s: o.speed,
+            description: "quarter truck (Table 1, clipped Modified Skyhook) on an ISO 8608 road (300 sinusoids, \
                  0.01-10 cycle/m, 1 s fade-in), coupled to the truth damper at every sample"
-                    .into(),
-            ),
-        ]),
+                .into(),
+        },
     };
-    let truth = obj([
-        ("generator", format!("damper generate {}", env!("CARGO_PKG_VERSION")).into()),
-        ("note", "the truth: compare and diagnose never read this file".into()),
-        ("measurement", o.out.display().to_string().into()),
-        ("seed", o.seed.into()),
-        ("samples", n.into()),
-        ("rate_hz", o.rate.into()),
-        ("duration_s", o.duration.into()),
-        ("control_mode", params.control_mode.into()),
-        ("tare_load_cell", params.tare_load_cell.into()),
-        (
-            "velocity_driving_the_truth",
-            if o.errors_in_variables {
-                "the true velocity (errors in variables: the CSV has the sensor's version)"
-            } else {
-                "the measured velocity, as the rig controller sees it (the CSV's velocity, or its derivative)"
-            }
-            .into(),
-        ),
-        ("inputs", inputs),
-        ("effects", Json::Arr(effect_records)),
-        ("set", Json::Obj(set)),
-        ("changed_parameters", Json::Obj(changed)),
-        ("sensors", Json::Obj(sensors)),
-        (
-            "noise_floor",
-            obj([
-                ("train_fraction", 0.7.into()),
-                ("expected_nrmse_validation", expected_floor.into()),
-                (
-                    "expected_definition",
-                    "sqrt(noise_std^2 + quantum^2/12) / std(measured F_damper, validation part)".into(),
-                ),
-                ("oracle_nrmse_validation", oracle_nrmse.into()),
-                (
-                    "oracle_definition",
-                    "validation NRMSE of the truth model with the load-cell filter, driven by the measured inputs"
-                        .into(),
-                ),
-            ]),
-        ),
-    ]);
+    let truth = Truth {
+        generator: format!("damper generate {}", env!("CARGO_PKG_VERSION")),
+        note: "the truth: compare and diagnose never read this file".into(),
+        measurement: o.out.display().to_string(),
+        seed: o.seed,
+        samples: n,
+        rate_hz: o.rate,
+        duration_s: o.duration,
+        control_mode: params.control_mode.into(),
+        tare_load_cell: params.tare_load_cell,
+        velocity_driving_the_truth: if o.errors_in_variables {
+            "the true velocity (errors in variables: the CSV has the sensor's version)"
+        } else {
+            "the measured velocity, as the rig controller sees it (the CSV's velocity, or its derivative)"
+        }
+        .into(),
+        inputs,
+        effects: effect_records,
+        set: o.sets.iter().map(|(name, _)| (name.clone(), get_parameter(&params, name).ok().map(Into::into))).collect(),
+        changed_parameters: changed_parameters(&params).into_iter().map(|(n, v)| (n.to_string(), v.into())).collect(),
+        sensors,
+        noise_floor: TruthNoiseFloor {
+            train_fraction: 0.7,
+            expected_nrmse_validation: expected_floor,
+            expected_definition: "sqrt(noise_std^2 + quantum^2/12) / std(measured F_damper, validation part)".into(),
+            oracle_nrmse_validation: oracle_nrmse,
+            oracle_definition:
+                "validation NRMSE of the truth model with the load-cell filter, driven by the measured inputs".into(),
+        },
+    };
     Ok(Generated { params, time: t, columns, clean, truth, expected_floor, oracle_nrmse })
 }
 
@@ -727,7 +800,7 @@ pub fn run(o: &GenerateOptions) -> Result<Generated, String> {
         }
     }
     std::fs::write(&o.out, csv_text(&g, o)).map_err(|e| format!("{}: {e}", o.out.display()))?;
-    std::fs::write(&o.truth, g.truth.pretty()).map_err(|e| format!("{}: {e}", o.truth.display()))?;
+    std::fs::write(&o.truth, crate::summary::to_json(&g.truth)).map_err(|e| format!("{}: {e}", o.truth.display()))?;
     if !o.quiet {
         let names: Vec<&str> = g.columns.iter().map(|(c, _)| c.name()).collect();
         println!(

@@ -6,7 +6,7 @@
 //!   or through a packaged FMU ([`model::Backend`], [`fmu_model`]);
 //! - [`parameters`]: parameters by FMU name and the effect catalog's switches;
 //! - [`analysis`]: fit per signal and where the error lives; [`report`] and [`compare`] turn it
-//!   into `report.html`, `summary.json` and the terminal summary;
+//!   into `report.html`, `summary.json` (typed in [`summary`]) and the terminal summary;
 //! - [`diagnose`]: which catalog effect is missing (fit on train, score on validation, rank),
 //!   with [`fit`] (bounded Nelder–Mead, parameter uncertainty), [`ladder`] (the effects added in
 //!   turn), [`before_after`] (the model with the named effects against the baseline, by regime)
@@ -23,12 +23,12 @@ pub mod dsp;
 pub mod fit;
 pub mod fmu_model;
 pub mod generate;
-pub mod json;
 pub mod ladder;
 pub mod measurement;
 pub mod model;
 pub mod parameters;
 pub mod report;
 pub mod rng;
+pub mod summary;
 pub mod svg;
 pub mod units;

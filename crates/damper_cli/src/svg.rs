@@ -172,7 +172,7 @@ impl Plot {
                 return (10f64.powf(l - 0.5), 10f64.powf(h + 0.5));
             }
             (lo, hi)
-        } else if hi - lo < 1e-300 {
+        } else if degenerate(lo, hi) {
             let d = if lo == 0.0 { 1.0 } else { lo.abs() * 0.1 };
             (lo - d, hi + d)
         } else if axis.min.is_none() && axis.max.is_none() && !axis_x {
@@ -434,7 +434,18 @@ fn reduce(x: &[f64], y: &[f64], columns: usize, xlog: bool, ylog: bool) -> Vec<(
     out
 }
 
+/// A linear range too narrow for its values to resolve: a constant channel, or one constant but
+/// for rounding in its last digits (1e6 Pa and 1e6 Pa + 3e-10). No tick step moves a value there.
+fn degenerate(lo: f64, hi: f64) -> bool {
+    hi - lo <= 1e-9 * lo.abs().max(hi.abs())
+}
+
+/// Nice tick values in [lo, hi]; none for a range that is not finite (or not positive on a log
+/// axis), one at `lo` for a degenerate range.
 fn ticks(lo: f64, hi: f64, log: bool) -> Vec<f64> {
+    if !(lo.is_finite() && hi.is_finite() && lo <= hi) || (log && lo <= 0.0) {
+        return Vec::new();
+    }
     if log {
         let (a, b) = (lo.log10().floor() as i32, hi.log10().ceil() as i32);
         let decades = b - a;
@@ -453,17 +464,26 @@ fn ticks(lo: f64, hi: f64, log: bool) -> Vec<f64> {
         }
         return t;
     }
+    if degenerate(lo, hi) {
+        return vec![lo];
+    }
     let span = hi - lo;
     let raw = span / 6.0;
     let mag = 10f64.powf(raw.log10().floor());
     let step = [1.0, 2.0, 2.5, 5.0, 10.0].iter().map(|m| m * mag).find(|s| span / s <= 7.0).unwrap_or(10.0 * mag);
-    let mut v = (lo / step).ceil() * step;
-    let mut t = Vec::new();
-    while v <= hi + 1e-9 * step {
-        t.push(if v.abs() < 1e-12 * step { 0.0 } else { v });
-        v += step;
-    }
-    t
+    // counted, not stepped until past `hi`: the count is at most 7 whatever the rounding of v + step
+    let first = (lo / step).ceil();
+    let count = ((hi + 1e-9 * step) / step).floor() - first;
+    (0..=count as usize)
+        .map(|k| {
+            let v = (first + k as f64) * step;
+            if v.abs() < 1e-12 * step {
+                0.0
+            } else {
+                v
+            }
+        })
+        .collect()
 }
 
 fn fmt_tick(v: f64, lo: f64, hi: f64, log: bool) -> String {
@@ -511,6 +531,33 @@ mod tests {
         assert_eq!(ticks(1.0, 1000.0, true), vec![1.0, 10.0, 100.0, 1000.0]);
         assert_eq!(fmt_tick(0.5, 0.0, 1.0, false), "0.5");
         assert_eq!(fmt_tick(1e-6, 1e-7, 1e-3, true), "1e-6");
+    }
+
+    #[test]
+    fn degenerate_and_non_finite_ranges_have_few_ticks() {
+        // a constant 1e6 Pa channel with rounding in its last digits: the step (5e-11) is below the
+        // values' resolution (1.2e-10), so stepping from lo never passed hi
+        assert_eq!(ticks(1e6, 1e6 + 3e-10, false), vec![1e6]);
+        assert_eq!(ticks(1e6, 1e6, false), vec![1e6]);
+        assert_eq!(ticks(0.0, 0.0, false), vec![0.0]);
+        assert_eq!(ticks(-2.5, -2.5, false), vec![-2.5]);
+        for (lo, hi) in [(f64::NAN, 1.0), (0.0, f64::NAN), (0.0, f64::INFINITY), (f64::NEG_INFINITY, 0.0), (1.0, 0.0)] {
+            assert!(ticks(lo, hi, false).is_empty(), "{lo}..{hi}");
+            assert!(ticks(lo, hi, true).is_empty(), "{lo}..{hi} (log)");
+        }
+        assert!(ticks(0.0, 10.0, true).is_empty(), "a log axis from 0");
+        // the plot pads a degenerate range around the value: ticks across it, the value in view
+        let plot = Plot::new("p_ext", Axis::new("t"), Axis::new("p")).with(Series::line(
+            vec![0.0, 1.0, 2.0],
+            vec![1e6, 1e6 + 3e-10, 1e6],
+            MEASURED,
+            "",
+        ));
+        let (y0, y1) = plot.data_range(false);
+        assert!(y0 < 1e6 - 1e4 && y1 > 1e6 + 1e4, "{y0}..{y1}");
+        let t = ticks(y0, y1, false);
+        assert!((3..=8).contains(&t.len()) && t.iter().all(|v| (y0..=y1).contains(v)), "{t:?}");
+        assert!(plot.svg().ends_with("</svg>"));
     }
 
     #[test]
