@@ -452,11 +452,19 @@ fn uniform_grid(
     if !gaps.is_empty() {
         let list: Vec<String> = gaps
             .iter()
-            .map(|g| format!("t = {:.4} s (line {}, {} missing)", time[g.at - 1], lines[g.at - 1], g.missing))
+            .map(|g| {
+                format!(
+                    "t = {:.4} to {:.4} s between lines {} and {} ({} missing)",
+                    time[g.at - 1],
+                    time[g.at],
+                    lines[g.at - 1],
+                    lines[g.at],
+                    g.missing
+                )
+            })
             .collect();
         notes.push(format!(
-            "{} gap(s) in the sampling, each of at most --max-gap {max_gap} samples, bridged by linear interpolation, \
-             after: {}",
+            "{} gap(s) in the sampling, each of at most --max-gap {max_gap} samples, bridged by linear interpolation: {}",
             gaps.len(),
             list.join("; ")
         ));
