@@ -250,7 +250,8 @@ impl Measurement {
             |k: usize, j: usize| format!("{name}, line {}, column {} ('{}')", lines[k], used[j].index, used[j].header);
 
         let time_j = used.iter().position(|s| s.column == Column::Time).expect("time");
-        let timestamps = raw.first().is_some_and(|r| parse_timestamp(r[time_j]).is_some());
+        let first_stamp = raw.first().and_then(|r| parse_timestamp(r[time_j]));
+        let timestamps = first_stamp.is_some();
         let numeric = |j: usize| !(timestamps && j == time_j);
         let decimal_comma = decimal_comma(&raw, &numeric, &where_, table.delimiter)?;
         if let Some(note) = &decimal_comma {
@@ -279,7 +280,7 @@ impl Measurement {
                             raw[0][j]
                         )
                     })?;
-                    let (ns0, zoned0) = parse_timestamp(raw[0][j]).expect("checked");
+                    let (ns0, zoned0) = first_stamp.expect("the time column holds timestamps");
                     if zoned != zoned0 {
                         return Err(format!(
                             "{}: '{cell}' {} a time zone, the first sample's '{}' {}; the timestamps must agree",
