@@ -237,8 +237,14 @@ impl Measurement {
         for row in &table.rows {
             if row.cells.len() != n_fields {
                 let col = row.cells.len().min(n_fields) + 1;
+                let hint = if row.cells.len() > n_fields && table.delimiter == b',' {
+                    "; a decimal comma splits a number in a comma-separated file: quote such numbers, or export \
+                     with ';' as the delimiter"
+                } else {
+                    ""
+                };
                 return Err(format!(
-                    "{name}, line {}, column {col}: {} fields, but the header (line {header_line}) has {n_fields}",
+                    "{name}, line {}, column {col}: {} fields, but the header (line {header_line}) has {n_fields}{hint}",
                     row.line,
                     row.cells.len()
                 ));

@@ -116,6 +116,10 @@ fn decimal_commas_in_a_comma_file_only_when_unambiguous() {
     let text = "time,v_damper,F_demand,F_damper\n0,1,\"1,500\",900\n1,1,\"2,000\",900\n2,1,1,900\n";
     let err = parse(text.as_bytes(), &[]).unwrap_err();
     assert!(err.contains("line 2, column 3 ('F_demand')") && err.contains("thousands separator"), "{err}");
+    // unquoted, a decimal comma splits the number
+    let text = "time,v_damper,F_demand,F_damper\n0,0,1,5,900\n";
+    let err = parse(text.as_bytes(), &[]).unwrap_err();
+    assert!(err.contains("line 2, column 5: 5 fields") && err.contains("decimal comma splits a number"), "{err}");
 }
 
 #[test]
