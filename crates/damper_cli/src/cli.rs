@@ -6,7 +6,7 @@ use crate::compare::{self, CompareOptions};
 use crate::diagnose::Candidate;
 use crate::diagnose_cmd;
 use crate::generate::{self, GenerateOptions, InputStyle, Noise};
-use crate::measurement::{Mapping, Measurement};
+use crate::measurement::{Mapping, Measurement, DEFAULT_MAX_GAP};
 use crate::parameters::{effects, parse_assignment, EffectExt};
 use clap::error::{ContextKind, ContextValue, ErrorKind};
 use clap::{Args, CommandFactory, Parser, Subcommand, ValueEnum};
@@ -31,7 +31,10 @@ macro_rules! columns {
         "\
 Columns (SI, named like the FMU's variables): time, v_damper (or x_damper), F_demand (or only
 x_spool_demand: spool-position control), F_damper; optional x_spool, i_sol, p_ext, p_comp,
-x_spool_demand. A header cell may carry its unit: 'F_damper [kN]'."
+x_spool_demand. A header cell may carry its unit: 'F_damper [kN]'. Delimiter ',' ';' or tab
+(RFC 4180 quoting), '#' comment lines, a decimal comma with ';' or tab; time in s, ms or us, or
+ISO 8601 timestamps. Irregular sampling is resampled onto the median interval, and every
+resampling and bridged gap is stated (see data/measurements/README.md in the repository)."
     };
 }
 
@@ -150,10 +153,12 @@ struct CompareArgs {
     fmu: Option<PathBuf>,
 
     /// CSV column SOURCE is the variable NAME, in UNIT; repeatable
-    ///
-    /// Units: s ms m cm mm m/s cm/s mm/s N kN Pa kPa MPa bar A mA.
-    #[arg(long, value_name = "SOURCE=NAME[:UNIT]", value_parser = map_arg, help_heading = "Measurement")]
+    #[arg(long, value_name = "SOURCE=NAME[:UNIT]", value_parser = map_arg, long_help = map_long_help(), help_heading = "Measurement")]
     map: Vec<Mapping>,
+    /// Bridge gaps of up to N missing samples by linear interpolation (each gap is listed in the
+    /// summary); a longer gap stops the run, naming its lines
+    #[arg(long, value_name = "N", default_value_t = DEFAULT_MAX_GAP, help_heading = "Measurement")]
+    max_gap: usize,
     /// Train share, the rest validates
     #[arg(long, value_parser = number_arg, value_name = "FRACTION", default_value_t = 0.7, allow_negative_numbers = true, help_heading = "Measurement")]
     split: f64,
@@ -179,9 +184,18 @@ impl CompareArgs {
         o.tare_load_cell = self.tare_load_cell;
         o.load_cell_lowpass_hz = self.load_cell_lowpass;
         o.fmu = self.fmu;
+        o.max_gap = self.max_gap;
         o.quiet = quiet;
         o
     }
+}
+
+/// `--map`'s long help, with the units the reader knows (from units.rs, so it cannot drift).
+fn map_long_help() -> String {
+    format!(
+        "CSV column SOURCE is the variable NAME, in UNIT; repeatable, e.g. --map vel=v_damper:mm/s\n\nUnits: {}.",
+        crate::units::unit_list()
+    )
 }
 
 #[derive(Args, Debug)]

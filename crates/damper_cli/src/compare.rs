@@ -3,7 +3,7 @@
 
 use crate::analysis::{analyse, Analysis};
 use crate::dsp::mean;
-use crate::measurement::{Mapping, Measurement};
+use crate::measurement::{Mapping, Measurement, DEFAULT_MAX_GAP};
 use crate::model::{Backend, Drive, Model, Prediction};
 use crate::parameters::{
     changed_parameters, effect, effect_on, effects, set_effect, set_parameter, set_real, EffectExt, Value,
@@ -40,6 +40,9 @@ pub struct CompareOptions {
     pub quiet: bool,
     /// Effects left out of a diagnosis's candidates (`--skip`).
     pub skip: Vec<String>,
+    /// Most samples missing in one gap of the time column that are interpolated (`--max-gap`);
+    /// a longer gap is an error.
+    pub max_gap: usize,
 }
 
 impl CompareOptions {
@@ -57,6 +60,7 @@ impl CompareOptions {
             fmu: None,
             quiet: true,
             skip: Vec::new(),
+            max_gap: DEFAULT_MAX_GAP,
         }
     }
 }
@@ -163,7 +167,7 @@ pub struct Comparison {
 
 /// Reads, runs and analyses (no files written).
 pub fn compare(opts: &CompareOptions) -> Result<Comparison, String> {
-    let m = Measurement::read(&opts.measurement, &opts.maps)?;
+    let m = Measurement::read(&opts.measurement, &opts.maps, opts.max_gap)?;
     let split = split_index(&m, opts.split)?;
     let drive = Drive::from_measurement(&m);
     let setup = build_model(opts, &drive)?;

@@ -2,10 +2,26 @@
 //! units converted to SI, every problem reported with file, line and column. Nothing is dropped:
 //! a bad cell, a short row or a time that does not increase stops the run.
 //!
-//! Format: optional comment lines starting with `#`, one header line, then one sample per line.
-//! The delimiter is the header's most frequent of `,` `;` tab. A header cell may carry its unit,
-//! `F_damper [kN]` or `F_damper (kN)`; `--map SOURCE=NAME[:UNIT]` renames a column and sets its
-//! unit. Columns the tool does not use are listed, not read.
+//! Format: RFC 4180 (the `csv` crate: quoted cells may hold the delimiter, `""` is a quote), UTF-8
+//! with or without a byte-order mark; optional comment lines starting with `#`, one header line,
+//! then one sample per line. The delimiter is the header's most frequent of `,` `;` tab outside
+//! quotes. A header cell may carry its unit, `F_damper [kN]` or `F_damper (kN)`;
+//! `--map SOURCE=NAME[:UNIT]` renames a column and sets its unit. Columns the tool does not use are
+//! listed, not read.
+//!
+//! Decimal comma: with `;` or tab as delimiter, numbers with a comma and none with a point are read
+//! with a decimal comma. In a `,` file a comma can only be inside a quoted cell; it is read as a
+//! decimal comma when no number has a point and at least one cannot be a thousands separator
+//! (`"1,5"`, unlike `"1,500"`); otherwise the file is refused. Either way a note says so.
+//!
+//! Time: a number in s, ms or µs, or ISO 8601 timestamps (`2026-03-04T10:15:30.123`, a space for
+//! the `T`, optional `Z` or offset), taken as seconds from the first sample.
+//!
+//! Sampling: the model and the analysis want a uniform grid. An interval more than
+//! [`GAP_FACTOR`] times the median is a gap: gaps of up to `max_gap` missing samples are bridged,
+//! a longer one is an error. When there is a gap, or an interval deviates from the median by more
+//! than [`JITTER_TOLERANCE`] of it, every channel is resampled onto a uniform grid at the median
+//! interval by linear interpolation; the notes list each gap and the resampling.
 
 use crate::units::{unit, unit_list, Column};
 use std::collections::BTreeMap;
@@ -115,27 +131,22 @@ impl Measurement {
 
     /// Median sample interval [s].
     pub fn median_interval(&self) -> f64 {
-        let mut dt: Vec<f64> = self.time.windows(2).map(|w| w[1] - w[0]).collect();
-        dt.sort_by(|a, b| a.total_cmp(b));
-        dt.get(dt.len() / 2).copied().unwrap_or(f64::NAN)
+        median_interval(&self.time)
     }
 
-    /// Reads and checks a measurement CSV.
-    pub fn read(path: &Path, maps: &[Mapping]) -> Result<Measurement, String> {
-        let text = std::fs::read_to_string(path).map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
-        Measurement::parse(&path.display().to_string(), &text, maps)
+    /// Reads and checks a measurement CSV; gaps of up to `max_gap` missing samples are bridged.
+    pub fn read(path: &Path, maps: &[Mapping], max_gap: usize) -> Result<Measurement, String> {
+        let bytes = std::fs::read(path).map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
+        Measurement::parse(&path.display().to_string(), &bytes, maps, max_gap)
     }
 
-    /// Parses CSV text; `name` is used in messages.
-    pub fn parse(name: &str, text: &str, maps: &[Mapping]) -> Result<Measurement, String> {
-        let lines: Vec<&str> = text.lines().map(|l| l.strip_suffix('\r').unwrap_or(l)).collect();
-        let header_at = lines
-            .iter()
-            .position(|l| !l.trim().is_empty() && !l.trim_start().starts_with('#'))
-            .ok_or_else(|| format!("{name}, line 1: no header line (the file is empty or all comments)"))?;
-        let header_line = header_at + 1;
-        let delim = detect_delimiter(lines[header_at]);
-        let cells: Vec<String> = split(lines[header_at], delim).into_iter().map(unquote).collect();
+    /// Parses CSV bytes; `name` is used in messages.
+    pub fn parse(name: &str, bytes: &[u8], maps: &[Mapping], max_gap: usize) -> Result<Measurement, String> {
+        let bytes = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
+        let table = Table::read(name, bytes)?;
+        let header_line = table.header_line;
+        let cells = &table.header;
+        let listed = cells.iter().map(|c| format!("'{c}'")).collect::<Vec<_>>().join(", ");
 
         // Resolve every header cell to a variable, a unit and a factor.
         let mut chosen: BTreeMap<Column, ColumnSource> = BTreeMap::new();
@@ -144,9 +155,8 @@ impl Measurement {
         for m in maps {
             if !cells.iter().any(|c| c == &m.source || strip_unit(c).0 == m.source) {
                 return Err(format!(
-                    "{name}, line {header_line}: --map names column '{}', which the header does not have (columns: {})",
-                    m.source,
-                    cells.join(", ")
+                    "{name}, line {header_line}: --map names column '{}', which the header does not have (columns: {listed})",
+                    m.source
                 ));
             }
         }
@@ -185,11 +195,10 @@ impl Measurement {
 
         let missing = |c: Column, also: &str| -> String {
             let mut msg = format!(
-                "{name}, line {header_line}: missing column '{}' ({}, {}){also}; the header has: {}",
+                "{name}, line {header_line}: missing column '{}' ({}, {}){also}; the header has: {listed}",
                 c.name(),
                 c.meaning(),
                 c.si_unit(),
-                cells.join(", ")
             );
             if let Some(close) = cells.iter().find(|h| {
                 let b = strip_unit(h).0;
@@ -220,69 +229,105 @@ impl Measurement {
             }
         }
 
-        // Data rows.
-        let n_fields = cells.len();
+        // Data rows: the cells of the columns used, as written.
         let used: Vec<&ColumnSource> = chosen.values().collect();
-        let mut data: BTreeMap<Column, Vec<f64>> = used.iter().map(|s| (s.column, Vec::new())).collect();
-        let mut sample_lines = Vec::new();
-        let last_content = lines.iter().rposition(|l| !l.trim().is_empty()).unwrap_or(header_at);
-        for (k, raw) in lines.iter().enumerate().skip(header_at + 1) {
-            let line_no = k + 1;
-            if k > last_content {
-                break; // trailing blank lines
-            }
-            let trimmed = raw.trim();
-            if trimmed.starts_with('#') {
-                continue;
-            }
-            if trimmed.is_empty() {
-                return Err(format!("{name}, line {line_no}: empty line inside the data"));
-            }
-            let fields = split(raw, delim);
-            if fields.len() != n_fields {
-                let col = fields.len().min(n_fields) + 1;
+        let ts = &chosen[&Column::Time];
+        let n_fields = cells.len();
+        let mut raw: Vec<Vec<&str>> = Vec::with_capacity(table.rows.len());
+        for row in &table.rows {
+            if row.cells.len() != n_fields {
+                let col = row.cells.len().min(n_fields) + 1;
+                let hint = if row.cells.len() > n_fields && table.delimiter == b',' {
+                    "; a decimal comma splits a number in a comma-separated file: quote such numbers, or export \
+                     with ';' as the delimiter"
+                } else {
+                    ""
+                };
                 return Err(format!(
-                    "{name}, line {line_no}, column {col}: {} fields, but the header (line {header_line}) has {n_fields}",
-                    fields.len()
+                    "{name}, line {}, column {col}: {} fields, but the header (line {header_line}) has {n_fields}{hint}",
+                    row.line,
+                    row.cells.len()
                 ));
             }
-            for s in &used {
-                let cell = unquote(fields[s.index - 1].clone());
-                let where_ = || format!("{name}, line {line_no}, column {} ('{}')", s.index, s.header);
-                if cell.is_empty() {
-                    return Err(format!("{}: empty cell", where_()));
-                }
-                let value: f64 = cell.parse().map_err(|_| format!("{}: not a number: '{cell}'", where_()))?;
-                if !value.is_finite() {
-                    return Err(format!("{}: {cell} is not a finite number", where_()));
-                }
-                data.get_mut(&s.column).expect("column").push(value * s.factor);
-            }
-            sample_lines.push(line_no);
+            raw.push(used.iter().map(|s| row.cells[s.index - 1].as_str()).collect());
+        }
+        let lines: Vec<usize> = table.rows.iter().map(|r| r.line).collect();
+        let where_ =
+            |k: usize, j: usize| format!("{name}, line {}, column {} ('{}')", lines[k], used[j].index, used[j].header);
+
+        let time_j = used.iter().position(|s| s.column == Column::Time).expect("time");
+        let first_stamp = raw.first().and_then(|r| parse_timestamp(r[time_j]));
+        let timestamps = first_stamp.is_some();
+        let numeric = |j: usize| !(timestamps && j == time_j);
+        let decimal_comma = decimal_comma(&raw, &numeric, &where_, table.delimiter)?;
+        if let Some(note) = &decimal_comma {
+            notes.push(note.clone());
         }
 
-        let time = data.remove(&Column::Time).expect("time");
-        let ts = &chosen[&Column::Time];
-        if time.len() < 3 {
-            return Err(format!(
-                "{name}, line {}, column {} ('{}'): only {} samples; a measurement needs many more",
-                sample_lines.last().copied().unwrap_or(header_line),
-                ts.index,
-                ts.header,
-                time.len()
+        let mut data: BTreeMap<Column, Vec<f64>> =
+            used.iter().map(|s| (s.column, Vec::with_capacity(raw.len()))).collect();
+        for (k, row) in raw.iter().enumerate() {
+            for (j, (s, cell)) in used.iter().zip(row).enumerate() {
+                if cell.is_empty() {
+                    return Err(format!("{}: empty cell", where_(k, j)));
+                }
+                let value = if numeric(j) {
+                    let text = if decimal_comma.is_some() { cell.replace(',', ".") } else { cell.to_string() };
+                    let value: f64 = text.parse().map_err(|_| format!("{}: not a number: '{cell}'", where_(k, j)))?;
+                    if !value.is_finite() {
+                        return Err(format!("{}: {cell} is not a finite number", where_(k, j)));
+                    }
+                    value * s.factor
+                } else {
+                    let (ns, zoned) = parse_timestamp(cell).ok_or_else(|| {
+                        format!(
+                            "{}: '{cell}' is not an ISO 8601 timestamp like the first sample's '{}'",
+                            where_(k, j),
+                            raw[0][j]
+                        )
+                    })?;
+                    let (ns0, zoned0) = first_stamp.expect("the time column holds timestamps");
+                    if zoned != zoned0 {
+                        return Err(format!(
+                            "{}: '{cell}' {} a time zone, the first sample's '{}' {}; the timestamps must agree",
+                            where_(k, j),
+                            if zoned { "has" } else { "has no" },
+                            raw[0][j],
+                            if zoned0 { "has one" } else { "has none" }
+                        ));
+                    }
+                    // nanoseconds as integers: no rounding in the difference of two long timestamps
+                    (ns - ns0) as f64 * 1e-9
+                };
+                data.get_mut(&s.column).expect("column").push(value);
+            }
+        }
+        if timestamps {
+            notes.push(format!(
+                "time column {} ('{}') holds timestamps: converted to seconds from the first sample ({})",
+                ts.index, ts.header, raw[0][time_j]
             ));
         }
+
+        if raw.len() < 3 {
+            return Err(format!(
+                "{name}, line {}, column {} ('{}'): only {} samples; a measurement needs many more",
+                lines.last().copied().unwrap_or(header_line),
+                ts.index,
+                ts.header,
+                raw.len()
+            ));
+        }
+        let time = data.remove(&Column::Time).expect("time");
         for k in 1..time.len() {
             if time[k] <= time[k - 1] {
                 let what = if time[k] == time[k - 1] { "repeats" } else { "is before" };
                 return Err(format!(
-                    "{name}, line {}, column {} ('{}'): time {} {what} the previous sample's {} (line {}); time must increase",
-                    sample_lines[k],
-                    ts.index,
-                    ts.header,
-                    time[k] / ts.factor,
-                    time[k - 1] / ts.factor,
-                    sample_lines[k - 1]
+                    "{}: time {} {what} the previous sample's {} (line {}); time must increase",
+                    where_(k, time_j),
+                    raw[k][time_j],
+                    raw[k - 1][time_j],
+                    lines[k - 1]
                 ));
             }
         }
@@ -305,35 +350,352 @@ impl Measurement {
                     .to_string(),
             );
         }
+
+        let gaps = gaps(&time, max_gap, |k| {
+            format!("{} (previous sample {} at line {})", where_(k, time_j), raw[k - 1][time_j], lines[k - 1])
+        })?;
+        let (time, lines) = match uniform_grid(&time, &lines, &gaps, max_gap, &mut notes) {
+            Some((grid, grid_lines)) => {
+                for x in data.values_mut() {
+                    *x = interpolate(&time, x, &grid);
+                }
+                (grid, grid_lines)
+            }
+            None => (time, lines),
+        };
+
         let mut sources: Vec<ColumnSource> = chosen.into_values().collect();
         sources.sort_by_key(|s| s.index);
-        let m = Measurement {
+        Ok(Measurement {
             path: name.to_string(),
             time,
             columns: data,
-            lines: sample_lines,
+            lines,
             sources,
             ignored,
             velocity_from_displacement,
             notes,
-        };
-        let (mut lo, mut hi) = (f64::INFINITY, 0.0f64);
-        for w in m.time.windows(2) {
-            lo = lo.min(w[1] - w[0]);
-            hi = hi.max(w[1] - w[0]);
-        }
-        if hi > 1.01 * lo {
-            let mut m = m;
-            m.notes.push(format!(
-                "sampling is not uniform (interval {:.4} to {:.4} ms); the model steps over each interval, \
-                 spectra and correlations assume the median interval",
-                lo * 1e3,
-                hi * 1e3
-            ));
-            return Ok(m);
-        }
-        Ok(m)
+        })
     }
+}
+
+/// An interval longer than this many median intervals is a gap (dropped samples).
+pub const GAP_FACTOR: f64 = 1.5;
+/// Intervals within this share of the median are uniform sampling.
+pub const JITTER_TOLERANCE: f64 = 0.01;
+/// Default of `max_gap`: the most missing samples in one gap that are interpolated.
+pub const DEFAULT_MAX_GAP: usize = 5;
+
+/// Median sample interval (the upper median for an even count).
+fn median_interval(time: &[f64]) -> f64 {
+    let mut dt: Vec<f64> = time.windows(2).map(|w| w[1] - w[0]).collect();
+    dt.sort_by(|a, b| a.total_cmp(b));
+    dt.get(dt.len() / 2).copied().unwrap_or(f64::NAN)
+}
+
+/// A gap before sample `at`: about `missing` samples were dropped.
+struct Gap {
+    at: usize,
+    missing: usize,
+}
+
+/// Every interval longer than [`GAP_FACTOR`] median intervals; one that lost more than `max_gap`
+/// samples is an error (`where_(k)` names sample `k`).
+fn gaps(time: &[f64], max_gap: usize, where_: impl Fn(usize) -> String) -> Result<Vec<Gap>, String> {
+    let median = median_interval(time);
+    let mut gaps = Vec::new();
+    for k in 1..time.len() {
+        let dt = time[k] - time[k - 1];
+        if dt > GAP_FACTOR * median {
+            let missing = ((dt / median).round() as usize).saturating_sub(1).max(1);
+            if missing > max_gap {
+                return Err(format!(
+                    "{}: a gap of {:.6} s, about {missing} samples missing at the median interval {:.6} s; \
+                     gaps of up to --max-gap {max_gap} samples are interpolated: cut the record at this line \
+                     or raise --max-gap",
+                    where_(k),
+                    dt,
+                    median
+                ));
+            }
+            gaps.push(Gap { at: k, missing });
+        }
+    }
+    Ok(gaps)
+}
+
+/// The uniform grid at the median interval, and the file line of the sample at or before each grid
+/// time, when the sampling has gaps or jitter beyond [`JITTER_TOLERANCE`]; `None` when it is
+/// uniform. Notes what it found and did.
+fn uniform_grid(
+    time: &[f64],
+    lines: &[usize],
+    gaps: &[Gap],
+    max_gap: usize,
+    notes: &mut Vec<String>,
+) -> Option<(Vec<f64>, Vec<usize>)> {
+    let median = median_interval(time);
+    let (mut lo, mut hi) = (f64::INFINITY, 0.0f64);
+    for k in 1..time.len() {
+        if gaps.iter().all(|g| g.at != k) {
+            lo = lo.min(time[k] - time[k - 1]);
+            hi = hi.max(time[k] - time[k - 1]);
+        }
+    }
+    let jitter = (hi - median).max(median - lo) / median;
+    if gaps.is_empty() && jitter <= JITTER_TOLERANCE {
+        return None;
+    }
+    if jitter > JITTER_TOLERANCE {
+        notes.push(format!(
+            "sampling is not uniform: intervals {:.4} to {:.4} ms, {:.1} % from the median {:.4} ms (tolerance {} %)",
+            lo * 1e3,
+            hi * 1e3,
+            100.0 * jitter,
+            median * 1e3,
+            100.0 * JITTER_TOLERANCE
+        ));
+    }
+    if !gaps.is_empty() {
+        let list: Vec<String> = gaps
+            .iter()
+            .map(|g| {
+                format!(
+                    "t = {:.4} to {:.4} s between lines {} and {} ({} missing)",
+                    time[g.at - 1],
+                    time[g.at],
+                    lines[g.at - 1],
+                    lines[g.at],
+                    g.missing
+                )
+            })
+            .collect();
+        notes.push(format!(
+            "{} gap(s) in the sampling, each of at most --max-gap {max_gap} samples, bridged by linear interpolation: {}",
+            gaps.len(),
+            list.join("; ")
+        ));
+    }
+    let t0 = time[0];
+    // the small allowance keeps the last sample when the span is a whole number of intervals
+    let n = ((time[time.len() - 1] - t0) / median + 1e-6).floor() as usize + 1;
+    let grid: Vec<f64> = (0..n).map(|i| t0 + i as f64 * median).collect();
+    let mut grid_lines = Vec::with_capacity(n);
+    let mut k = 0;
+    for &t in &grid {
+        while k + 1 < time.len() && time[k + 1] <= t {
+            k += 1;
+        }
+        grid_lines.push(lines[k]);
+    }
+    notes.push(format!(
+        "all channels resampled by linear interpolation onto a uniform grid of {:.4} ms ({:.1} Hz): {n} samples \
+         from {} measured; a sample's line is that of the measured sample at or before it",
+        median * 1e3,
+        1.0 / median,
+        time.len()
+    ));
+    Some((grid, grid_lines))
+}
+
+/// `x(t)` linearly interpolated at each of `grid` (within `t[0] ..= t[last]`).
+fn interpolate(t: &[f64], x: &[f64], grid: &[f64]) -> Vec<f64> {
+    let mut k = 0;
+    grid.iter()
+        .map(|&g| {
+            while k + 2 < t.len() && t[k + 1] <= g {
+                k += 1;
+            }
+            let w = ((g - t[k]) / (t[k + 1] - t[k])).clamp(0.0, 1.0);
+            x[k] + w * (x[k + 1] - x[k])
+        })
+        .collect()
+}
+
+/// Nanoseconds since 1970 of an ISO 8601 timestamp, and whether it carried a zone (`Z` or an
+/// offset); a decimal comma before the fraction (allowed by ISO 8601) is read too.
+fn parse_timestamp(cell: &str) -> Option<(i64, bool)> {
+    use chrono::{DateTime, NaiveDateTime};
+    let text = cell.replace(',', ".");
+    for format in ["%Y-%m-%dT%H:%M:%S%.f", "%Y-%m-%d %H:%M:%S%.f"] {
+        if let Ok(t) = NaiveDateTime::parse_from_str(&text, format) {
+            return t.and_utc().timestamp_nanos_opt().map(|ns| (ns, false));
+        }
+        if let Ok(t) = DateTime::parse_from_str(&text, &format!("{format}%#z")) {
+            return t.timestamp_nanos_opt().map(|ns| (ns, true));
+        }
+    }
+    None
+}
+
+/// Whether the numbers are written with a decimal comma, from the cells of the columns used
+/// (`numeric(j)`: column `j` holds numbers); then the note to record. An error when it is ambiguous.
+fn decimal_comma(
+    raw: &[Vec<&str>],
+    numeric: &dyn Fn(usize) -> bool,
+    where_: &dyn Fn(usize, usize) -> String,
+    delimiter: u8,
+) -> Result<Option<String>, String> {
+    let cells = || {
+        raw.iter().enumerate().flat_map(move |(k, row)| {
+            row.iter().enumerate().filter(move |(j, _)| numeric(*j)).map(move |(j, c)| (k, j, *c))
+        })
+    };
+    let Some((kc, jc, with_comma)) = cells().find(|(_, _, c)| c.contains(',')) else {
+        return Ok(None);
+    };
+    if let Some((kp, jp, with_point)) = cells().find(|(_, _, c)| c.contains('.')) {
+        return Err(format!(
+            "{}: '{with_comma}' has a comma, but {} has '{with_point}' with a point: the numbers must use one \
+             decimal separator, and no thousands separators",
+            where_(kc, jc),
+            where_(kp, jp)
+        ));
+    }
+    if delimiter == b',' {
+        // "1,500" may be 1.5 or 1500; only a comma that cannot separate thousands ("1,5") decides.
+        let thousands = |c: &str| {
+            let mut groups = c.trim_start_matches(['+', '-']).split(',');
+            let first = groups.next().unwrap_or("");
+            (1..=3).contains(&first.len())
+                && first.bytes().all(|b| b.is_ascii_digit())
+                && groups.all(|g| g.len() == 3 && g.bytes().all(|b| b.is_ascii_digit()))
+        };
+        if cells().filter(|(_, _, c)| c.contains(',')).all(|(_, _, c)| thousands(c)) {
+            return Err(format!(
+                "{}: '{with_comma}' in a comma-separated file may be a decimal comma or a thousands separator; \
+                 export the numbers without thousands separators, or with ';' as the delimiter",
+                where_(kc, jc)
+            ));
+        }
+    }
+    Ok(Some(format!(
+        "numbers are written with a decimal comma (first: '{with_comma}', {}); read as decimal points",
+        where_(kc, jc)
+    )))
+}
+
+/// One data line's cells, trimmed and unquoted.
+struct Row {
+    line: usize,
+    cells: Vec<String>,
+}
+
+/// The header and the data rows of a CSV file, with their line numbers.
+struct Table {
+    delimiter: u8,
+    header_line: usize,
+    header: Vec<String>,
+    rows: Vec<Row>,
+}
+
+impl Table {
+    /// Reads `bytes` (no byte-order mark): `#` lines skipped, empty lines allowed before the header
+    /// and at the end, every cell checked to be UTF-8.
+    fn read(name: &str, bytes: &[u8]) -> Result<Table, String> {
+        let header_text = bytes
+            .split(|&b| b == b'\n')
+            .map(|l| l.trim_ascii())
+            .find(|l| !l.is_empty() && !l.starts_with(b"#"))
+            .ok_or_else(|| format!("{name}, line 1: no header line (the file is empty or all comments)"))?;
+        let delimiter = detect_delimiter(header_text);
+        let newlines: Vec<usize> = bytes.iter().enumerate().filter(|(_, &b)| b == b'\n').map(|(i, _)| i).collect();
+        let line_of = |byte: usize| 1 + newlines.partition_point(|&n| n < byte);
+        let mut reader = csv::ReaderBuilder::new()
+            .has_headers(false)
+            .flexible(true)
+            .delimiter(delimiter)
+            .comment(Some(b'#'))
+            .trim(csv::Trim::All)
+            .from_reader(bytes);
+        let mut header: Option<(usize, Vec<String>)> = None;
+        let mut rows = Vec::new();
+        // a blank line seen after the header: an error if data follows it
+        let mut blank: Option<usize> = None;
+        let mut record = csv::ByteRecord::new();
+        while reader.read_byte_record(&mut record).map_err(|e| format!("{name}: {e}"))? {
+            let (start, empty) = skip_to_record(bytes, record.position().map_or(0, |p| p.byte() as usize));
+            let line = line_of(start);
+            let mut cells = Vec::with_capacity(record.len());
+            for (j, field) in record.iter().enumerate() {
+                let text = std::str::from_utf8(field).map_err(|e| {
+                    let column = match &header {
+                        Some((_, h)) if j < h.len() => format!("column {} ('{}')", j + 1, h[j]),
+                        _ => format!("column {}", j + 1),
+                    };
+                    format!(
+                        "{name}, line {line}, {column}: not UTF-8: byte 0x{:02X} in '{}'. The file is probably in a \
+                         Windows code page (cp1252, latin-1); convert it to UTF-8, e.g. iconv -f cp1252 -t utf-8 \
+                         {name} > converted.csv",
+                        field[e.valid_up_to()],
+                        String::from_utf8_lossy(field)
+                    )
+                })?;
+                cells.push(text.to_string());
+            }
+            let is_blank = cells.iter().all(|c| c.is_empty()) && cells.len() == 1;
+            if cells.first().is_some_and(|c| c.starts_with('#')) {
+                continue; // an indented comment
+            }
+            if header.is_none() {
+                if !is_blank {
+                    header = Some((line, cells));
+                }
+                continue;
+            }
+            if let Some(empty) = empty {
+                blank.get_or_insert(line_of(empty));
+            }
+            if is_blank {
+                blank.get_or_insert(line);
+                continue;
+            }
+            if let Some(b) = blank {
+                return Err(format!("{name}, line {b}: empty line inside the data"));
+            }
+            rows.push(Row { line, cells });
+        }
+        let (header_line, header) = header.expect("the header line was found above");
+        Ok(Table { delimiter, header_line, header, rows })
+    }
+}
+
+/// csv reports a record's position where it began looking: before the empty and `#` lines it
+/// skipped, and at the `\n` of the previous line's `\r\n`. Returns the record's first byte and the
+/// first empty line skipped.
+fn skip_to_record(bytes: &[u8], mut p: usize) -> (usize, Option<usize>) {
+    if p > 0 && bytes.get(p) == Some(&b'\n') && bytes[p - 1] == b'\r' {
+        p += 1;
+    }
+    let mut empty = None;
+    while p < bytes.len() {
+        let end = bytes[p..].iter().position(|&b| b == b'\n').map_or(bytes.len(), |i| p + i);
+        let line = &bytes[p..end];
+        let line = line.strip_suffix(b"\r").unwrap_or(line);
+        if line.is_empty() {
+            empty.get_or_insert(p);
+        } else if !line.starts_with(b"#") {
+            break;
+        }
+        p = end + 1;
+    }
+    (p, empty)
+}
+
+/// The header's most frequent of `,` `;` tab outside quotes (the later on a tie); `,` when it has none.
+fn detect_delimiter(header: &[u8]) -> u8 {
+    let mut counts = [(0usize, b','), (0, b';'), (0, b'\t')];
+    let mut quoted = false;
+    for &b in header {
+        if b == b'"' {
+            quoted = !quoted;
+        } else if !quoted {
+            if let Some(c) = counts.iter_mut().find(|(_, d)| *d == b) {
+                c.0 += 1;
+            }
+        }
+    }
+    counts.iter().max_by_key(|(c, _)| *c).map(|&(c, d)| if c == 0 { b',' } else { d }).unwrap_or(b',')
 }
 
 /// Velocity from displacement: three-point central difference on a possibly non-uniform grid,
@@ -354,24 +716,6 @@ pub fn differentiate(t: &[f64], x: &[f64]) -> Vec<f64> {
     let s = h0 + h1;
     v[n - 1] = (2.0 * h0 + h1) / (h0 * s) * x[n - 1] - s / (h0 * h1) * x[n - 2] + h0 / (h1 * s) * x[n - 3];
     v
-}
-
-fn detect_delimiter(header: &str) -> char {
-    let counts = [',', ';', '\t'].map(|d| (header.matches(d).count(), d));
-    counts.iter().max_by_key(|(c, _)| *c).map(|&(c, d)| if c == 0 { ',' } else { d }).unwrap_or(',')
-}
-
-fn split(line: &str, delim: char) -> Vec<String> {
-    line.split(delim).map(|s| s.trim().to_string()).collect()
-}
-
-fn unquote(s: String) -> String {
-    let t = s.trim();
-    if t.len() >= 2 && ((t.starts_with('"') && t.ends_with('"')) || (t.starts_with('\'') && t.ends_with('\''))) {
-        t[1..t.len() - 1].trim().to_string()
-    } else {
-        t.to_string()
-    }
 }
 
 /// `"F_damper [kN]"` → (`F_damper`, Some(`kN`)); also `(kN)`.
@@ -408,7 +752,7 @@ mod tests {
     fn header_units_and_maps() {
         let csv = "# comment\ntime [ms],vel,F_demand [kN],F_damper,extra\n0,0,0,0,x\n1,10,1,5,y\n2,20,2,6,z\n";
         let maps = [Mapping::parse("vel=v_damper:cm/s").unwrap()];
-        let m = Measurement::parse("a.csv", csv, &maps).unwrap();
+        let m = Measurement::parse("a.csv", csv.as_bytes(), &maps, DEFAULT_MAX_GAP).unwrap();
         assert_eq!(m.time, vec![0.0, 1e-3, 2e-3]);
         assert_eq!(m.get(Column::VDamper).unwrap(), &[0.0, 0.1, 0.2]);
         assert_eq!(m.get(Column::FDemand).unwrap(), &[0.0, 1e3, 2e3]);

@@ -26,34 +26,53 @@ impl fmt::Display for Quantity {
     }
 }
 
-/// Units accepted in a header (`F_damper [kN]`) or a `--map`, with their factor to SI.
-pub const UNITS: [(&str, Quantity, f64); 16] = [
+/// Units accepted in a header (`F_damper [kN]`) or a `--map`, with their factor to SI. The inch,
+/// pound-force and psi are the exact international definitions (1 in = 25.4 mm,
+/// 1 lbf = 0.45359237 kg · 9.80665 m/s²); µ may be written as the micro sign, the Greek mu or `u`.
+pub const UNITS: [(&str, Quantity, f64); 28] = [
     ("s", Quantity::Time, 1.0),
     ("ms", Quantity::Time, 1e-3),
+    ("us", Quantity::Time, 1e-6),
+    ("\u{b5}s", Quantity::Time, 1e-6),
+    ("\u{3bc}s", Quantity::Time, 1e-6),
     ("m", Quantity::Length, 1.0),
     ("cm", Quantity::Length, 1e-2),
     ("mm", Quantity::Length, 1e-3),
+    ("um", Quantity::Length, 1e-6),
+    ("\u{b5}m", Quantity::Length, 1e-6),
+    ("\u{3bc}m", Quantity::Length, 1e-6),
+    ("in", Quantity::Length, 0.0254),
     ("m/s", Quantity::Velocity, 1.0),
     ("cm/s", Quantity::Velocity, 1e-2),
     ("mm/s", Quantity::Velocity, 1e-3),
+    ("in/s", Quantity::Velocity, 0.0254),
     ("N", Quantity::Force, 1.0),
+    ("daN", Quantity::Force, 10.0),
     ("kN", Quantity::Force, 1e3),
+    ("lbf", Quantity::Force, 0.45359237 * 9.80665),
     ("Pa", Quantity::Pressure, 1.0),
     ("kPa", Quantity::Pressure, 1e3),
     ("MPa", Quantity::Pressure, 1e6),
+    ("mbar", Quantity::Pressure, 1e2),
     ("bar", Quantity::Pressure, 1e5),
+    ("psi", Quantity::Pressure, 0.45359237 * 9.80665 / (0.0254 * 0.0254)),
     ("A", Quantity::Current, 1.0),
     ("mA", Quantity::Current, 1e-3),
 ];
 
-/// The quantity and SI factor of `unit` (exact spelling first, then case-insensitive; no two units
-/// above differ by case only).
+/// The quantity and SI factor of `unit`: the exact spelling, or one that differs only in the case
+/// of letters other than `m`/`M` (`KN`, `BAR`, `Mpa` are read; `MM`, `mPa`, `MA` are not: m is milli
+/// and M mega, so their case carries a factor of 10⁹ and a guess could be that wrong).
 pub fn unit(unit: &str) -> Option<(Quantity, f64)> {
     let u = unit.trim();
+    let loose = |name: &str| {
+        name.len() == u.len()
+            && name.chars().zip(u.chars()).all(|(a, b)| a == b || (a.eq_ignore_ascii_case(&b) && a != 'm' && a != 'M'))
+    };
     UNITS
         .iter()
         .find(|(name, _, _)| *name == u)
-        .or_else(|| UNITS.iter().find(|(name, _, _)| name.eq_ignore_ascii_case(u)))
+        .or_else(|| UNITS.iter().find(|(name, _, _)| loose(name)))
         .map(|&(_, q, f)| (q, f))
 }
 
@@ -181,6 +200,26 @@ mod tests {
         assert_eq!(unit("MPa"), Some((Quantity::Pressure, 1e6)));
         assert_eq!(unit("mA"), Some((Quantity::Current, 1e-3)));
         assert_eq!(unit("furlong"), None);
+        // case: loose except for m (milli) and M (mega)
+        assert_eq!(unit("KN"), Some((Quantity::Force, 1e3)));
+        assert_eq!(unit("BAR"), Some((Quantity::Pressure, 1e5)));
+        assert_eq!(unit("Mpa"), Some((Quantity::Pressure, 1e6)));
+        assert_eq!(unit("ma"), Some((Quantity::Current, 1e-3)));
+        for refused in ["MM", "Mm", "mPa", "mpa", "MA", "MS", "Ms", "MBAR", "M/S"] {
+            assert_eq!(unit(refused), None, "{refused}");
+        }
+        // the additions: micro in three spellings, the inch-pound units by their definitions
+        for us in ["us", "\u{b5}s", "\u{3bc}s"] {
+            assert_eq!(unit(us), Some((Quantity::Time, 1e-6)), "{us}");
+        }
+        assert_eq!(unit("\u{b5}m"), Some((Quantity::Length, 1e-6)));
+        assert_eq!(unit("in/s"), Some((Quantity::Velocity, 0.0254)));
+        assert_eq!(unit("daN"), Some((Quantity::Force, 10.0)));
+        assert_eq!(unit("mbar"), Some((Quantity::Pressure, 100.0)));
+        let (_, lbf) = unit("lbf").unwrap();
+        assert!((lbf - 4.4482216152605).abs() < 1e-12, "{lbf}");
+        let (_, psi) = unit("psi").unwrap();
+        assert!((psi - 6894.757293168361).abs() < 1e-8, "{psi}");
         for c in Column::ALL {
             assert_eq!(Column::from_name(c.name()), Some(c));
             assert_eq!(unit(c.si_unit()).unwrap(), (c.quantity(), 1.0));

@@ -132,3 +132,37 @@ fn diagnose_gives_the_same_numbers_on_one_and_on_two_threads() {
 
     assert_eq!(summary_without_timing(&d.join("one")), summary_without_timing(&d.join("two")));
 }
+
+#[test]
+fn max_gap_decides_which_dropped_samples_are_bridged() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let d = dir.path();
+    let run = |args: &[&str]| {
+        Command::new(env!("CARGO_BIN_EXE_damper")).current_dir(d).args(args).output().expect("run damper")
+    };
+    let o =
+        run(&["generate", "--out", "a.csv", "--truth", "t.json", "--seed", "5", "--duration", "1", "--minimal", "-q"]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    // drop 8 samples (t = 0.500 … 0.507 s) from the middle of the record
+    let text = std::fs::read_to_string(d.join("a.csv")).expect("a.csv");
+    let kept: Vec<&str> = text
+        .lines()
+        .filter(|l| {
+            let t: f64 = l.split(',').next().and_then(|t| t.parse().ok()).unwrap_or(-1.0);
+            !(0.4995..0.5075).contains(&t)
+        })
+        .collect();
+    assert_eq!(kept.len() + 8, text.lines().count());
+    std::fs::write(d.join("gap.csv"), kept.join("\n") + "\n").expect("write gap.csv");
+
+    let refused = run(&["compare", "gap.csv", "--out", "refused", "-q"]);
+    assert_eq!(refused.status.code(), Some(1));
+    assert!(stderr(&refused).contains("--max-gap"), "{}", stderr(&refused));
+
+    let bridged = run(&["compare", "gap.csv", "--out", "bridged", "--max-gap", "8", "-q"]);
+    assert_eq!(bridged.status.code(), Some(0), "{}", stderr(&bridged));
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(d.join("bridged/summary.json")).expect("summary")).expect("json");
+    let warnings = summary["warnings"].as_array().expect("warnings");
+    assert!(warnings.iter().any(|w| w.as_str().is_some_and(|w| w.contains("8 missing"))), "{warnings:?}");
+}

@@ -3,7 +3,7 @@
 mod common;
 
 use damper_cli::compare::{compare, CompareOptions};
-use damper_cli::measurement::{Mapping, Measurement};
+use damper_cli::measurement::{Mapping, Measurement, DEFAULT_MAX_GAP};
 use std::path::{Path, PathBuf};
 
 const HEADER: &str = "time,v_damper,F_demand,F_damper";
@@ -21,7 +21,7 @@ fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
 /// Reads `text` as `name` and returns the error, which must name the file and contain every part.
 fn expect_error(dir: &Path, name: &str, text: &str, maps: &[Mapping], parts: &[&str]) -> String {
     let path = write(dir, name, text);
-    let err = Measurement::read(&path, maps).expect_err("a bad file must be refused");
+    let err = Measurement::read(&path, maps, DEFAULT_MAX_GAP).expect_err("a bad file must be refused");
     assert!(err.contains(name), "error does not name the file: {err}");
     for p in parts {
         assert!(err.contains(p), "error lacks '{p}': {err}");
@@ -80,8 +80,8 @@ fn each_bad_input_is_named_by_file_line_and_column() {
     expect_error(&dir, "blank.csv", &blank, &[], &["line 3", "empty line"]);
 
     // units: unknown, or of the wrong quantity, in the header
-    let unit = format!("time,v_damper,F_demand,F_damper [lbf]\n{rows}");
-    expect_error(&dir, "unit.csv", &unit, &[], &["line 1", "column 4 ('F_damper [lbf]')", "unknown unit 'lbf'"]);
+    let unit = format!("time,v_damper,F_demand,F_damper [Nm]\n{rows}");
+    expect_error(&dir, "unit.csv", &unit, &[], &["line 1", "column 4 ('F_damper [Nm]')", "unknown unit 'Nm'"]);
     let wrong = format!("time [s],v_damper [mm],F_demand,F_damper\n{rows}");
     expect_error(&dir, "wrong_unit.csv", &wrong, &[], &["line 1", "column 2", "is a length", "v_damper is a velocity"]);
 

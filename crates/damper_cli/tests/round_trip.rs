@@ -236,7 +236,7 @@ fn models_run_in_parallel_give_the_sequential_results() {
     use damper_cli::parameters::{set_effect, set_real};
     let dir = scratch("parallel");
     let (csv, _) = generate(&dir, "p", |o| o.duration = 1.0);
-    let m = damper_cli::measurement::Measurement::read(&csv, &[]).unwrap();
+    let m = damper_cli::measurement::Measurement::read(&csv, &[], damper_cli::measurement::DEFAULT_MAX_GAP).unwrap();
     let drive = Drive::from_measurement(&m);
     let models: Vec<Model> = [0.0f64, 150.0, 300.0]
         .iter()
