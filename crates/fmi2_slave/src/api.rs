@@ -401,7 +401,7 @@ pub unsafe fn get_boolean_status<M: Model>(c: fmi2Component, kind: fmi2StatusKin
             return Err(inst.error(format_args!("fmi2GetBooleanStatus: only fmi2Terminated is available")));
         }
         // The slave never asks to end the simulation: a discarded step can be retried or restored.
-        *unsafe { value.as_mut() }.ok_or_else(|| null_arg(inst, "fmi2GetBooleanStatus", "value"))? = fmi2False as i32;
+        *unsafe { value.as_mut() }.ok_or_else(|| null_arg(inst, "fmi2GetBooleanStatus", "value"))? = fmi2False;
         Ok(())
     })
 }
