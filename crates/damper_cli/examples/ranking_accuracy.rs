@@ -62,48 +62,21 @@ const PAIRS: [(&str, &str); 6] = [
 ];
 const GROUPS: [&str; 5] = ["rig", "hil", "pairs", "none", "drift"];
 
+/// How well `damper diagnose` ranks, names and fits a missing effect, over many seeds
+#[derive(clap::Parser)]
 struct Options {
+    /// Seeds 1..=N per effect and group (pairs: 1..=N/2)
+    #[arg(long, value_name = "N", default_value_t = 10, value_parser = clap::value_parser!(u64).range(1..))]
     seeds: u64,
+    /// Write every run's record to this JSON file
+    #[arg(long, value_name = "FILE.json")]
     out: Option<PathBuf>,
+    /// Run only these groups [default: all]
+    #[arg(long, value_name = "GROUP,...", value_delimiter = ',', value_parser = clap::builder::PossibleValuesParser::new(GROUPS))]
     only: Vec<String>,
+    /// Length of the HiL records [s]
+    #[arg(long, value_name = "S", default_value_t = DEFAULT_HIL_SECONDS)]
     hil_seconds: f64,
-}
-
-fn usage() -> String {
-    "usage: ranking_accuracy [--seeds N] [--out FILE.json] [--only rig|hil|pairs|none|drift[,...]] [--hil-seconds S]"
-        .into()
-}
-
-fn parse_args() -> Result<Options, String> {
-    let mut o = Options { seeds: 10, out: None, only: Vec::new(), hil_seconds: DEFAULT_HIL_SECONDS };
-    let mut args = std::env::args().skip(1);
-    while let Some(a) = args.next() {
-        let mut value = || args.next().ok_or_else(|| format!("{a} needs a value; {}", usage()));
-        match a.as_str() {
-            "--seeds" => o.seeds = value()?.parse().map_err(|_| format!("--seeds: a positive integer; {}", usage()))?,
-            "--out" => o.out = Some(PathBuf::from(value()?)),
-            "--only" => {
-                for g in value()?.split(',').map(str::trim).filter(|g| !g.is_empty()) {
-                    if !GROUPS.contains(&g) {
-                        return Err(format!("--only {g}: one of {}", GROUPS.join(", ")));
-                    }
-                    o.only.push(g.to_string());
-                }
-            }
-            "--hil-seconds" => {
-                o.hil_seconds = value()?.parse().map_err(|_| format!("--hil-seconds: a number; {}", usage()))?
-            }
-            "-h" | "--help" => {
-                println!("{}", usage());
-                std::process::exit(0);
-            }
-            other => return Err(format!("unknown argument '{other}'; {}", usage())),
-        }
-    }
-    if o.seeds == 0 {
-        return Err("--seeds must be at least 1".into());
-    }
-    Ok(o)
 }
 
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
@@ -786,13 +759,7 @@ fn cases(group: &'static str, o: &Options) -> (Kind, Vec<Case>) {
 }
 
 fn main() {
-    let o = match parse_args() {
-        Ok(o) => o,
-        Err(e) => {
-            eprintln!("{e}");
-            std::process::exit(2);
-        }
-    };
+    let o = <Options as clap::Parser>::parse();
     let scratch = std::env::temp_dir().join(format!("damper_ranking_accuracy_{}", std::process::id()));
     let start = Instant::now();
     let groups: Vec<&'static str> =

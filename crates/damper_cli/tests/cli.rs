@@ -12,6 +12,11 @@ where
     Command::new(env!("CARGO_BIN_EXE_damper")).args(args).output().expect("run damper")
 }
 
+/// `damper` run in `dir`, with file names relative to it.
+fn damper_in(dir: &Path, args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_damper")).current_dir(dir).args(args).output().expect("run damper")
+}
+
 fn stdout(o: &Output) -> String {
     String::from_utf8_lossy(&o.stdout).into_owned()
 }
@@ -109,10 +114,7 @@ fn summary_without_timing(dir: &Path) -> String {
 fn diagnose_gives_the_same_numbers_on_one_and_on_two_threads() {
     let dir = tempfile::tempdir().expect("temp dir");
     let d = dir.path();
-    // in the temp dir, with file names relative to it
-    let run = |args: &[&str]| {
-        Command::new(env!("CARGO_BIN_EXE_damper")).current_dir(d).args(args).output().expect("run damper")
-    };
+    let run = |args: &[&str]| damper_in(d, args);
     let o =
         run(&["generate", "--out", "a.csv", "--truth", "t.json", "--seed", "3", "--duration", "2", "--minimal", "-q"]);
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
@@ -137,9 +139,7 @@ fn diagnose_gives_the_same_numbers_on_one_and_on_two_threads() {
 fn max_gap_decides_which_dropped_samples_are_bridged() {
     let dir = tempfile::tempdir().expect("temp dir");
     let d = dir.path();
-    let run = |args: &[&str]| {
-        Command::new(env!("CARGO_BIN_EXE_damper")).current_dir(d).args(args).output().expect("run damper")
-    };
+    let run = |args: &[&str]| damper_in(d, args);
     let o =
         run(&["generate", "--out", "a.csv", "--truth", "t.json", "--seed", "5", "--duration", "1", "--minimal", "-q"]);
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
