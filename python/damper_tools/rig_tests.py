@@ -11,7 +11,7 @@ Kitching, Cole and Cebon, "The development of a semi-active truck damper":
   also says compression is slower (about three times the compressed oil volume); the same
   test is run in compression.
 
-Used by scripts/paper_tests.py (plots, table, results.json) and by
+Used by damper_tools.paper_tests (plots, table, results.json) and by
 tests/python/test_paper_rig.py (bands). Everything here runs the FMU through
 fmpy.simulate_fmu, like a user would.
 """
@@ -232,6 +232,7 @@ def criteria(rig):
         "spool_overshoot": (all(o < SPOOL_OVERSHOOT_MAX_PCT for o in over), over),
         "extension_t90": (all(in_band(t, EXT_T90_BAND) for t in ext), ext),
         # A compression step that never reaches 90 % within its window is slower too.
-        "compression_slower": (all(c > e or (math.isnan(c) and not math.isnan(e)) for c, e in zip(comp, ext)),
-                               [c / e for c, e in zip(comp, ext)]),
+        "compression_slower": (all(c > e or (math.isnan(c) and not math.isnan(e))
+                                   for c, e in zip(comp, ext, strict=True)),
+                               [c / e for c, e in zip(comp, ext, strict=True)]),
     }
