@@ -25,13 +25,15 @@ currentCommunicationPoint, and setupExperiment gets stopTime = start + n h.
 """
 
 import argparse
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
 from damper_tools import REPO, roads
-from damper_tools.fmu import FmuUnit, Slave
+from damper_tools.fmu import FmuUnit, Slave, Value
 
 TRUCK_FMU = REPO / "target" / "fmu" / "QuarterTruck.fmu"
 DAMPER_FMU = REPO / "target" / "fmu" / "SemiActiveDamper.fmu"
@@ -51,16 +53,17 @@ class Car:
     name: str
     z_road: np.ndarray
     v_road: np.ndarray
-    truck_parameters: dict = field(default_factory=dict)
-    damper_parameters: dict = field(default_factory=lambda: dict(HIL_DAMPER_PARAMETERS))
+    truck_parameters: dict[str, Value] = field(default_factory=dict)
+    damper_parameters: dict[str, Value] = field(default_factory=lambda: dict(HIL_DAMPER_PARAMETERS))
 
     @property
-    def has_damper(self):
+    def has_damper(self) -> bool:
         return int(self.truck_parameters.get("damper_mode", MODE_EXTERNAL)) == MODE_EXTERNAL
 
 
-def simulate(cars, step, n_steps, truck_fmu=TRUCK_FMU, damper_fmu=DAMPER_FMU, start_time=0.0,
-             damper_outputs=("F_damper",), logging_on=False):
+def simulate(cars: Sequence[Car], step: float, n_steps: int, truck_fmu: str | Path = TRUCK_FMU,
+             damper_fmu: str | Path = DAMPER_FMU, start_time: float = 0.0,
+             damper_outputs: Sequence[str] = ("F_damper",), logging_on: bool = False) -> list[dict[str, np.ndarray]]:
     """Runs the cars (one truck instance each, plus a damper instance for damper_mode 0) for n_steps
     Jacobi steps of `step` seconds. Returns one dict per car: 'time' (n_steps + 1 points), the road,
     the truck outputs (TRUCK_OUTPUTS) and the damper outputs (damper_outputs), each at the
@@ -94,7 +97,7 @@ def simulate(cars, step, n_steps, truck_fmu=TRUCK_FMU, damper_fmu=DAMPER_FMU, st
         if i_f is None and damper_unit is not None:
             raise ValueError("damper_outputs must contain F_damper")
 
-        def record(k):
+        def record(k: int) -> None:
             for j, truck in enumerate(trucks):
                 rec_t[j][k] = truck.get(TRUCK_OUTPUTS)
                 if dampers[j]:
@@ -128,15 +131,16 @@ def simulate(cars, step, n_steps, truck_fmu=TRUCK_FMU, damper_fmu=DAMPER_FMU, st
     return results
 
 
-def simulate_one(z_road, v_road, step, n_steps, mode=MODE_EXTERNAL, truck_parameters=None,
-                 damper_parameters=None, **kwargs):
+def simulate_one(z_road: np.ndarray, v_road: np.ndarray, step: float, n_steps: int, mode: int = MODE_EXTERNAL,
+                 truck_parameters: dict[str, Value] | None = None, damper_parameters: dict[str, Value] | None = None,
+                 **kwargs: Any) -> dict[str, np.ndarray]:
     """One quarter truck (with its damper FMU if mode is 0); returns the result dict."""
     tp = {"damper_mode": mode, **(truck_parameters or {})}
     dp = dict(HIL_DAMPER_PARAMETERS) if damper_parameters is None else damper_parameters
     return simulate([Car("qt", z_road, v_road, tp, dp)], step, n_steps, **kwargs)[0]
 
 
-def write_result_csv(path, result, header_comment=""):
+def write_result_csv(path: str | Path, result: dict[str, np.ndarray], header_comment: str = "") -> Path:
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     names = list(result)
@@ -149,7 +153,7 @@ def write_result_csv(path, result, header_comment=""):
     return path
 
 
-def main(argv=None):
+def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--truck-fmu", type=Path, default=TRUCK_FMU)
     parser.add_argument("--damper-fmu", type=Path, default=DAMPER_FMU)

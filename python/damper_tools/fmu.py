@@ -36,6 +36,8 @@ from fmpy.fmi2 import (
 from fmpy.logging import addLoggerProxy
 from fmpy.model_description import ModelVariable
 
+# A value of an FMI 2.0 Real, Integer, Enumeration or Boolean variable.
+Value = float | int | bool
 STATUS = ["OK", "Warning", "Discard", "Error", "Fatal", "Pending"]
 WARNING, ERROR = 1, 3
 
@@ -127,7 +129,7 @@ class Slave:
             self._reals[key] = (vrs, (fmi2Real * len(key))())
         return self._reals[key]
 
-    def set(self, **values: float | int | bool) -> None:
+    def set(self, **values: Value) -> None:
         """Sets variables by name, each with the fmi2Set function of its type (the Reals in one call)."""
         reals = []
         for name, value in values.items():
@@ -150,7 +152,7 @@ class Slave:
         return np.array(buf[:])
 
     def initialize(self, start_time: float = 0.0, stop_time: float | None = None,
-                   **start_values: float | int | bool) -> None:
+                   **start_values: Value) -> None:
         """setupExperiment, start values and parameters, initialization mode; afterwards the slave is
         at start_time."""
         self.fmu.setupExperiment(startTime=start_time, stopTime=stop_time)
@@ -159,7 +161,7 @@ class Slave:
         self.fmu.exitInitializationMode()
         self.time = start_time
 
-    def step(self, h: float, t: float | None = None, **inputs: float | int | bool) -> None:
+    def step(self, h: float, t: float | None = None, **inputs: Value) -> None:
         """Sets the inputs, then one doStep of length h from t (default: where the last step ended).
         A master passes t = start + k h so that the time points are not accumulated."""
         self.set(**inputs)

@@ -24,10 +24,12 @@ import json
 import math
 import time
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
 from damper_tools import REPO, cosim, roads
+from damper_tools.fmu import Value
 
 OUT = REPO / "out" / "full_truck"
 AXLES = (("front", 0.0), ("drive1", 3.8), ("drive2", 5.15))  # m behind the front axle [A]
@@ -37,7 +39,9 @@ FADE_IN_DISTANCE = 10.0  # m
 SCALING_PAIRS = (1, 2, 4, 6, 8)
 
 
-def wheel_roads(road, speed, duration, seed, step, correlation=TRACK_CORRELATION, axles=AXLES):
+def wheel_roads(road: str, speed: float, duration: float, seed: int, step: float,
+                correlation: float = TRACK_CORRELATION, axles: tuple[tuple[str, float], ...] = AXLES,
+                ) -> tuple[dict[tuple[str, str], tuple[np.ndarray, np.ndarray]], int]:
     """{(axle, side): (z_road, v_road)} sampled at t_k = k step, k = 0..n."""
     gd0 = roads.gd0_of(road)
     n_steps = int(round(duration / step))
@@ -57,13 +61,15 @@ def wheel_roads(road, speed, duration, seed, step, correlation=TRACK_CORRELATION
     return out, n_steps
 
 
-def full_truck_cars(wheels, damper_parameters=None):
+def full_truck_cars(wheels: dict[tuple[str, str], tuple[np.ndarray, np.ndarray]],
+                    damper_parameters: dict[str, Value] | None = None) -> list[cosim.Car]:
     dp = dict(cosim.HIL_DAMPER_PARAMETERS) if damper_parameters is None else damper_parameters
     return [cosim.Car(f"{axle}_{side}", zr, vr, {"damper_mode": cosim.MODE_EXTERNAL}, dict(dp))
             for (axle, side), (zr, vr) in wheels.items()]
 
 
-def independence(cars, step, n_steps, **kw):
+def independence(cars: list[cosim.Car], step: float, n_steps: int,
+                 **kw: Any) -> tuple[list[dict[str, np.ndarray]], dict[str, bool]]:
     """Runs all cars in one master, then each alone; returns {car: bit-identical?}."""
     together = cosim.simulate(cars, step, n_steps, **kw)
     same = {}
@@ -73,7 +79,8 @@ def independence(cars, step, n_steps, **kw):
     return together, same
 
 
-def scaling(cars, step, n_steps, pairs=SCALING_PAIRS, repeat=3, **kw):
+def scaling(cars: list[cosim.Car], step: float, n_steps: int, pairs: tuple[int, ...] = SCALING_PAIRS, repeat: int = 3,
+            **kw: Any) -> tuple[list[dict[str, float]], float, float]:
     """Wall time (best of `repeat`, after one warm-up run) of N damper+truck pairs; cars are reused
     cyclically."""
     cosim.simulate(cars[:1], step, n_steps, **kw)
@@ -93,7 +100,7 @@ def scaling(cars, step, n_steps, pairs=SCALING_PAIRS, repeat=3, **kw):
     return rows, float(slope), float(intercept)
 
 
-def plot(path, results, cars, t, title):
+def plot(path: Path, results: list[dict[str, np.ndarray]], cars: list[cosim.Car], t: np.ndarray, title: str) -> None:
     import matplotlib
 
     matplotlib.use("Agg")
@@ -126,7 +133,7 @@ def plot(path, results, cars, t, title):
     plt.close(fig)
 
 
-def main(argv=None):
+def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--truck-fmu", type=Path, default=cosim.TRUCK_FMU)
     parser.add_argument("--damper-fmu", type=Path, default=cosim.DAMPER_FMU)

@@ -38,7 +38,9 @@ import argparse
 import json
 import math
 import time
+from collections.abc import Sequence
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -72,7 +74,7 @@ CRG_BLEND = 0.5  # m, the track rises from 0 over its first metres (raised cosin
 CRG_RUNOUT = 1.0  # s of level road after it
 
 
-def truck_constants(truck_fmu=cosim.TRUCK_FMU):
+def truck_constants(truck_fmu: str | Path = cosim.TRUCK_FMU) -> dict[str, float]:
     """m_body, m_axle, gravity, k_susp, k_tyre: the truck FMU's start values."""
     unit = FmuUnit.load(truck_fmu)
     return {name: float(unit.variables[name].start) for name in ("m_body", "m_axle", "gravity", "k_susp", "k_tyre",
@@ -81,7 +83,7 @@ def truck_constants(truck_fmu=cosim.TRUCK_FMU):
 
 # --------------------------------------------------------------------------- metrics
 
-def vehicle_metrics(res, window, static_load):
+def vehicle_metrics(res: dict[str, np.ndarray], window: slice, static_load: float) -> dict[str, float]:
     """Ride, DLC and working space of a result dict over the samples in `window` (a slice)."""
     x = res["x_damper"][window]
     return {
@@ -94,7 +96,8 @@ def vehicle_metrics(res, window, static_load):
     }
 
 
-def tracking_metrics(force, demand, v):
+def tracking_metrics(force: Sequence[float] | np.ndarray, demand: Sequence[float] | np.ndarray,
+                     v: Sequence[float] | np.ndarray) -> dict[str, Any]:
     """Tracking of a demand by a force, split into extension and compression (module docstring)."""
     force, demand, v = map(np.asarray, (force, demand, v))
     ext = (v > EXT_V) & (demand > EXT_F)
@@ -116,21 +119,21 @@ def tracking_metrics(force, demand, v):
     return out
 
 
-def force_spectrum(signal, step, segment=SPECTRUM_SEGMENT):
+def force_spectrum(signal: np.ndarray, step: float, segment: float = SPECTRUM_SEGMENT) -> tuple[np.ndarray, np.ndarray]:
     from scipy.signal import welch
 
     x = np.asarray(signal, float)
     return welch(x - x.mean(), fs=1.0 / step, nperseg=min(x.size, int(round(segment / step))))
 
 
-def spectral_peaks(f, p):
+def spectral_peaks(f: np.ndarray, p: np.ndarray) -> dict[str, float]:
     above = f > PEAK_MIN_HZ
     band = (f >= WHEEL_HOP_BAND[0]) & (f <= WHEEL_HOP_BAND[1])
     return {"peak_above_3Hz": float(f[above][np.argmax(p[above])]),
             "peak_wheel_hop_band": float(f[band][np.argmax(p[band])])}
 
 
-def pareto_front(sweep):
+def pareto_front(sweep: list[dict[str, Any]]) -> list[dict[str, Any]]:
     """The passive settings not dominated in (DLC, a_body_rms), sorted by DLC."""
     pts = sorted(sweep, key=lambda s: (s["DLC"], s["a_body_rms"]))
     front, best_a = [], math.inf
@@ -141,7 +144,7 @@ def pareto_front(sweep):
     return front
 
 
-def passive_ride_at_dlc(sweep, dlc):
+def passive_ride_at_dlc(sweep: list[dict[str, Any]], dlc: float) -> float | None:
     """RMS a_body of the passive Pareto front interpolated at a DLC (linear in DLC), or None if the
     DLC is outside the front's range."""
     front = pareto_front(sweep)
@@ -152,7 +155,7 @@ def passive_ride_at_dlc(sweep, dlc):
     return float(np.interp(dlc, d, a))
 
 
-def best_passive(sweep, dlc_limit):
+def best_passive(sweep: list[dict[str, Any]], dlc_limit: float) -> tuple[dict[str, Any], str]:
     """(setting, rule): the best passive setting (module docstring)."""
     ok = [s for s in sweep if s["DLC"] <= dlc_limit]
     if ok:
@@ -162,7 +165,9 @@ def best_passive(sweep, dlc_limit):
 
 # --------------------------------------------------------------------------- runs
 
-def run_three(z_road, v_road, step, window, c_values, truck_fmu, damper_fmu, consts):
+def run_three(z_road: np.ndarray, v_road: np.ndarray, step: float, window: slice, c_values: Sequence[float],
+              truck_fmu: str | Path, damper_fmu: str | Path,
+              consts: dict[str, float]) -> tuple[dict[str, Any], dict[str, Any]]:
     """Passive sweep, ideal semi-active and damper FMU on one road, metrics over the samples in
     `window` (a slice); returns (summary, series)."""
     n = len(z_road) - 1
@@ -201,8 +206,9 @@ def run_three(z_road, v_road, step, window, c_values, truck_fmu, damper_fmu, con
     return summary, series
 
 
-def run_scenario(road, speed, seed=SEED, duration=DURATION, settle=SETTLE, step=STEP, c_values=C_PASSIVE,
-                 truck_fmu=cosim.TRUCK_FMU, damper_fmu=cosim.DAMPER_FMU):
+def run_scenario(road: str, speed: float, seed: int = SEED, duration: float = DURATION, settle: float = SETTLE,
+                 step: float = STEP, c_values: Sequence[float] = C_PASSIVE, truck_fmu: str | Path = cosim.TRUCK_FMU,
+                 damper_fmu: str | Path = cosim.DAMPER_FMU) -> tuple[dict[str, Any], dict[str, Any]]:
     """One random road at one speed: returns (summary dict, series for the plots)."""
     consts = truck_constants(truck_fmu)
     case = roads.road_case(road, speed, settle + duration, seed, step=step, fade_in=FADE_IN)
@@ -218,7 +224,8 @@ def run_scenario(road, speed, seed=SEED, duration=DURATION, settle=SETTLE, step=
     return summary, series
 
 
-def crg_road(path=CRG, v=CRG_V, speed=CRG_SPEED, envelope=CRG_ENVELOPE, step=STEP):
+def crg_road(path: str | Path = CRG, v: float = CRG_V, speed: float = CRG_SPEED, envelope: float = CRG_ENVELOPE,
+             step: float = STEP) -> tuple[np.ndarray, np.ndarray, np.ndarray, int, int, roads.CrgTrack]:
     """The Belgian-block section as a time series: level lead-in, the track (rising from 0 over its
     first CRG_BLEND m), level run-out. Returns (t, z_road, v_road, first, last) with [first, last)
     the samples while the wheel is on the track."""
@@ -235,8 +242,9 @@ def crg_road(path=CRG, v=CRG_V, speed=CRG_SPEED, envelope=CRG_ENVELOPE, step=STE
     return t, zr, vr, first, last, track
 
 
-def run_crg(path=CRG, speed=CRG_SPEED, step=STEP, c_values=C_PASSIVE, truck_fmu=cosim.TRUCK_FMU,
-            damper_fmu=cosim.DAMPER_FMU):
+def run_crg(path: str | Path = CRG, speed: float = CRG_SPEED, step: float = STEP, c_values: Sequence[float] = C_PASSIVE,
+            truck_fmu: str | Path = cosim.TRUCK_FMU,
+            damper_fmu: str | Path = cosim.DAMPER_FMU) -> tuple[dict[str, Any], dict[str, Any]]:
     """The three dampers on the Belgian-block track; metrics while the wheel is on the track."""
     consts = truck_constants(truck_fmu)
     t, zr, vr, first, last, track = crg_road(path, speed=speed, step=step)
@@ -256,7 +264,7 @@ def run_crg(path=CRG, speed=CRG_SPEED, step=STEP, c_values=C_PASSIVE, truck_fmu=
 
 # --------------------------------------------------------------------------- plots
 
-def _plt():
+def _plt() -> Any:  # the matplotlib.pyplot module, imported on first use
     import matplotlib
 
     matplotlib.use("Agg")
@@ -265,7 +273,7 @@ def _plt():
     return plt
 
 
-def plot_fig7(path, summary, series, start=None):
+def plot_fig7(path: Path, summary: dict[str, Any], series: dict[str, Any], start: float | None = None) -> None:
     plt = _plt()
     t = series["time"]
     fmu = series["fmu"]
@@ -300,7 +308,7 @@ def plot_fig7(path, summary, series, start=None):
     plt.close(fig)
 
 
-def plot_spectra(path, cases, nat_hz):
+def plot_spectra(path: Path, cases: list[tuple[dict[str, Any], dict[str, Any]]], nat_hz: float) -> None:
     plt = _plt()
     fig, axes = plt.subplots(1, len(cases), figsize=(5 * len(cases), 4.2), squeeze=False)
     for ax, (summary, series) in zip(axes[0], cases, strict=True):
@@ -325,7 +333,7 @@ def plot_spectra(path, cases, nat_hz):
     plt.close(fig)
 
 
-def plot_tradeoff(path, summaries):
+def plot_tradeoff(path: Path, summaries: list[dict[str, Any]]) -> None:
     plt = _plt()
     fig, axes = plt.subplots(1, len(summaries), figsize=(5 * len(summaries), 4.4), squeeze=False)
     for ax, s in zip(axes[0], summaries, strict=True):
@@ -356,7 +364,7 @@ def plot_tradeoff(path, summaries):
     plt.close(fig)
 
 
-def plot_crg(path, summary, series):
+def plot_crg(path: Path, summary: dict[str, Any], series: dict[str, Any]) -> None:
     plt = _plt()
     t = series["time"]
     fig, (a0, a1, a2) = plt.subplots(3, 1, figsize=(10, 8), sharex=True)
@@ -386,15 +394,15 @@ def plot_crg(path, summary, series):
 
 # --------------------------------------------------------------------------- tables
 
-def _pct(x):
+def _pct(x: float | None) -> str:
     return "n/a" if x is None or (isinstance(x, float) and math.isnan(x)) else f"{100 * x:.0f} %"
 
 
-def _kn(x):
+def _kn(x: float | None) -> str:
     return "n/a" if x is None or math.isnan(x) else f"{x / 1e3:+.2f} kN"
 
 
-def vehicle_table(summaries):
+def vehicle_table(summaries: list[dict[str, Any]]) -> str:
     rows = ["| road, speed | damper | RMS a_body (m/s²) | DLC | RMS x_damper (mm) | peak abs x_damper (mm) | "
             "RMS F_susp (kN) |", "|---|---|---|---|---|---|---|"]
     for s in summaries:
@@ -407,7 +415,7 @@ def vehicle_table(summaries):
     return "\n".join(rows)
 
 
-def tracking_table(summaries):
+def tracking_table(summaries: list[dict[str, Any]]) -> str:
     rows = ["| road, speed | RMS F / F_dem (kN) | RMS error (kN) | mean(F − F_dem), whole record | "
             "extension: mean(F−F_dem), time above | "
             "compression: mean(abs F − abs F_dem), time below | force PSD peak > 3 Hz / in 5–30 Hz | "
@@ -422,14 +430,14 @@ def tracking_table(summaries):
     return "\n".join(rows)
 
 
-def comparison_table(s, nat_hz):
+def comparison_table(s: dict[str, Any], nat_hz: float) -> tuple[str, bool]:
     """The paper's statements (minor road, 14 m/s) against this run."""
     tr, pk = s["tracking"], s["spectrum"]
     ext, com = tr["extension"], tr["compression"]
     sign_ok = (ext["mean_error"] > 0 and ext["fraction_above"] > 0.5
                and com["mean_error"] < 0 and com["fraction_below"] > 0.5)
     at = s["passive_a_body_rms_at_ideal_DLC"]
-    def verdict(ok):
+    def verdict(ok: bool) -> str:
         return "yes (sign)" if ok else "**no**"
 
     rows = ["| Quantity | Paper (Fig. 7, minor road 14 m/s) | Slow Python reference (docs/physics.md §6.5) "
@@ -466,7 +474,7 @@ def comparison_table(s, nat_hz):
     return "\n".join(rows), sign_ok
 
 
-def best_passive_note(summaries):
+def best_passive_note(summaries: list[dict[str, Any]]) -> str:
     rules = {s["best_passive"]["rule"] for s in summaries}
     if len(rules) == 1:
         return f"Best passive, in every case: {rules.pop()}."
@@ -474,7 +482,7 @@ def best_passive_note(summaries):
                                         for s in summaries) + "."
 
 
-def crg_table(c):
+def crg_table(c: dict[str, Any]) -> str:
     rows = ["| damper | RMS a_body (m/s²) | peak abs a_body (m/s²) | DLC | peak abs F_tyre / static load | "
             "peak abs x_damper (mm) | max abs v_damper (m/s) |", "|---|---|---|---|---|---|---|"]
     b = c["best_passive"]
@@ -485,7 +493,7 @@ def crg_table(c):
     return "\n".join(rows)
 
 
-def natural_frequencies(consts):
+def natural_frequencies(consts: dict[str, float]) -> tuple[float, ...]:
     """Undamped body and wheel-hop frequencies (Hz) of the two-mass model."""
     ms, mu, ks, kt = consts["m_body"], consts["m_axle"], consts["k_susp"], consts["k_tyre"]
     k = np.array([[ks, -ks], [-ks, ks + kt]])
@@ -493,7 +501,7 @@ def natural_frequencies(consts):
     return tuple(float(x) for x in np.sqrt(w2) / (2 * np.pi))
 
 
-def _jsonable(x):
+def _jsonable(x: Any) -> Any:
     if isinstance(x, dict):
         return {k: _jsonable(v) for k, v in x.items()}
     if isinstance(x, (list, tuple)):
@@ -505,7 +513,7 @@ def _jsonable(x):
     return x
 
 
-def main(argv=None):
+def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--truck-fmu", type=Path, default=cosim.TRUCK_FMU)
     parser.add_argument("--damper-fmu", type=Path, default=cosim.DAMPER_FMU)

@@ -18,7 +18,9 @@ import json
 import math
 import shutil
 import sys
+from collections.abc import Sequence
 from pathlib import Path
+from typing import Any
 
 import matplotlib
 import matplotlib.pyplot as plt
@@ -30,24 +32,24 @@ from damper_tools import rig_tests as rt
 BAR = 1e5
 
 
-def ms(x):
+def ms(x: float | None) -> str:
     return "n/a" if x is None or math.isnan(x) else f"{1e3 * x:.1f} ms"
 
 
-def ms_range(values):
+def ms_range(values: Sequence[float]) -> str:
     if any(math.isnan(v) for v in values):
         return "n/a (not reached)"
     lo, hi = f"{1e3 * min(values):.1f}", f"{1e3 * max(values):.1f}"
     return f"{lo} ms" if lo == hi else f"{lo}–{hi} ms"
 
 
-def yes_no(ok):
+def yes_no(ok: bool) -> str:
     return "yes" if ok else "**no**"
 
 
 # --------------------------------------------------------------------------- tables
 
-def summary_rows(rig, volume_ratio):
+def summary_rows(rig: dict[str, Any], volume_ratio: float) -> list[list[str]]:
     """Rows of the main table: quantity, paper, this FMU, band, reproduced?"""
     crit = rt.criteria(rig)
     spool = [m for _, _, m in rig["spool"]]
@@ -97,13 +99,13 @@ def summary_rows(rig, volume_ratio):
     return rows
 
 
-def markdown(header, rows):
+def markdown(header: Sequence[str], rows: Sequence[Sequence[str]]) -> str:
     lines = ["| " + " | ".join(header) + " |", "|" + "|".join("---" for _ in header) + "|"]
     lines += ["| " + " | ".join(str(c) for c in row) + " |" for row in rows]
     return "\n".join(lines)
 
 
-def spool_rows(rig):
+def spool_rows(rig: dict[str, Any]) -> list[list[str]]:
     rows = []
     for x_demand, _, m in rig["spool"]:
         rows.append((f"{1e3 * rt.SPOOL_START:.1f} → {1e3 * x_demand:.1f}", ms(m["dead"]), ms(m["t50"]),
@@ -112,7 +114,7 @@ def spool_rows(rig):
     return rows
 
 
-def force_rows(rig):
+def force_rows(rig: dict[str, Any]) -> list[list[str]]:
     rows = []
     for name in ("extension", "compression"):
         for label, m in zip(("2 → 12 kN", "12 → 22 kN"), rig["force"][name][1], strict=True):
@@ -121,7 +123,7 @@ def force_rows(rig):
     return rows
 
 
-def report(rig, volume_ratio, output_interval):
+def report(rig: dict[str, Any], volume_ratio: float, output_interval: float) -> str:
     text = ["# Rig tests of the paper, reproduced with the FMU", "",
             markdown(("Quantity", "Paper", "This FMU", "Band", "Reproduced?"), summary_rows(rig, volume_ratio)),
             "", "## Fig. 4: spool steps at 0.15 m/s extension (control_mode = 1)", "",
@@ -138,8 +140,8 @@ def report(rig, volume_ratio, output_interval):
     return "\n".join(text)
 
 
-def results_json(rig, volume_ratio, output_interval):
-    def clean(m):
+def results_json(rig: dict[str, Any], volume_ratio: float, output_interval: float) -> dict[str, Any]:
+    def clean(m: dict[str, float]) -> dict[str, float | None]:
         return {k: (None if isinstance(v, float) and math.isnan(v) else v) for k, v in m.items()}
     crit = rt.criteria(rig)
     return {
@@ -158,7 +160,7 @@ def results_json(rig, volume_ratio, output_interval):
 
 # --------------------------------------------------------------------------- plots
 
-def plot_spool_steps(rig, path):
+def plot_spool_steps(rig: dict[str, Any], path: Path) -> None:
     fig, ax = plt.subplots(figsize=(8, 5))
     ax.axvspan(0, rt.PAPER_DEAD_TIME * 1e3, color="0.9", label="paper: 3 ms amplifier delay")
     for x_demand, result, m in rig["spool"]:
@@ -182,7 +184,7 @@ def plot_spool_steps(rig, path):
     plt.close(fig)
 
 
-def plot_force_steps(rig, path):
+def plot_force_steps(rig: dict[str, Any], path: Path) -> None:
     fig, axes = plt.subplots(3, 2, figsize=(12, 9), sharex=True)
     t_from = rt.FORCE_STEP_TIMES[0] - 0.05
     for col, name in enumerate(("extension", "compression")):
@@ -222,7 +224,7 @@ def plot_force_steps(rig, path):
     plt.close(fig)
 
 
-def plot_force_step_zoom(rig, path):
+def plot_force_step_zoom(rig: dict[str, Any], path: Path) -> None:
     fig, ax = plt.subplots(figsize=(8, 5))
     styles = {"extension": "-", "compression": "--"}
     for name, direction in (("extension", 1), ("compression", -1)):
@@ -251,7 +253,7 @@ def plot_force_step_zoom(rig, path):
 
 # --------------------------------------------------------------------------- main
 
-def main(argv=None):
+def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--fmu", type=Path, default=REPO / "target" / "fmu" / "SemiActiveDamper.fmu")
     parser.add_argument("--out", type=Path, default=REPO / "out" / "paper")

@@ -60,7 +60,7 @@ ROAD_ALIASES = {"major_road": "major", "minor_road": "minor", "major road": "maj
 
 # --------------------------------------------------------------------------- ISO 8608
 
-def gd0_of(road):
+def gd0_of(road: str | float) -> float:
     """G_d(n0) in m^3 of a class letter ('A'..'H'), a named road ('motorway', 'major', 'minor') or
     a number (taken as G_d(n0) itself)."""
     if isinstance(road, (int, float)):
@@ -81,7 +81,7 @@ def gd0_of(road):
                      f"or G_d(n0) in m^3")
 
 
-def road_label(road):
+def road_label(road: str | float) -> str:
     """A short description of a road for tables and headers."""
     gd0 = gd0_of(road)
     key = str(road).strip()
@@ -93,7 +93,7 @@ def road_label(road):
     return f"G_d(n0) = {gd0:.3g} m^3"
 
 
-def iso_class_of(gd0):
+def iso_class_of(gd0: float) -> str:
     """The ISO 8608 class whose bounds (geometric means x/÷ 2) contain G_d(n0); 'B/C' etc. on a bound."""
     for lower, upper in zip("ABCDEFG", "BCDEFGH", strict=True):
         if math.isclose(gd0, 2 * ISO_CLASSES[lower], rel_tol=1e-9):
@@ -104,13 +104,14 @@ def iso_class_of(gd0):
     return "A" if gd0 < ISO_CLASSES["A"] else "H"
 
 
-def displacement_psd(n, gd0, w=WAVINESS, n0=N0):
+def displacement_psd(n: np.ndarray, gd0: float, w: float = WAVINESS, n0: float = N0) -> np.ndarray:
     """ISO 8608 one-sided displacement PSD G_d(n) in m^3 at spatial frequencies n (cycle/m)."""
     n = np.asarray(n, dtype=float)
     return gd0 * (n / n0) ** (-w)
 
 
-def generate_profile(length, gd0, seed, dx=DX, w=WAVINESS, n_min=N_MIN, n_max=N_MAX, n0=N0):
+def generate_profile(length: float, gd0: float, seed: int, dx: float = DX, w: float = WAVINESS, n_min: float = N_MIN,
+                     n_max: float = N_MAX, n0: float = N0) -> tuple[np.ndarray, np.ndarray]:
     """Random profile with the ISO 8608 PSD in [n_min, n_max]: (x, z) in m, x = 0, dx, ...
 
     Inverse FFT of amplitudes sqrt(G_d(n) dn) with phases uniform in [0, 2 pi) from
@@ -136,7 +137,8 @@ def generate_profile(length, gd0, seed, dx=DX, w=WAVINESS, n_min=N_MIN, n_max=N_
     return np.arange(n_samples) * dx, z
 
 
-def time_series(x, z, speed, step, n_steps, fade_in=0.0, offset=0.0):
+def time_series(x: np.ndarray, z: np.ndarray, speed: float, step: float, n_steps: int, fade_in: float = 0.0,
+                offset: float = 0.0) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The road under a wheel moving at `speed` along the profile (x, z), sampled every `step`.
 
     Returns (t, z_road, v_road) with t_k = k step, k = 0 .. n_steps (n_steps + 1 samples):
@@ -177,13 +179,14 @@ class RoadCase:
     v_road: np.ndarray
     fade_in: float = 0.0
 
-    def header(self):
+    def header(self) -> str:
         return (f"road: {road_label(self.road)} (ISO 8608 class {iso_class_of(self.gd0)}), "
                 f"G_d(n0)={self.gd0:.6g} m^3, n0={N0} cycle/m, w={WAVINESS:g}, seed={self.seed}, "
                 f"speed={self.speed:g} m/s, step={self.step:g} s, fade_in={self.fade_in:g} s")
 
 
-def road_case(road, speed, duration, seed, step=1e-3, fade_in=1.0, dx=DX, n_min=N_MIN, n_max=N_MAX):
+def road_case(road: str | float, speed: float, duration: float, seed: int, step: float = 1e-3, fade_in: float = 1.0,
+              dx: float = DX, n_min: float = N_MIN, n_max: float = N_MAX) -> RoadCase:
     """Generates a profile long enough for `duration` seconds at `speed` and samples it in time."""
     gd0 = gd0_of(road)
     n_steps = int(round(duration / step))
@@ -199,7 +202,7 @@ class RoadFileError(ValueError):
     """A road file that cannot be read; the message names file, line and column."""
 
 
-def write_road_csv(path, columns, header_comment):
+def write_road_csv(path: str | Path, columns: dict[str, np.ndarray], header_comment: str) -> Path:
     """Writes columns {name: array} (all the same length) after one `# ...` comment line and a header
     line. Numbers are written with 17 significant digits, so reading gives the same floats."""
     path = Path(path)
@@ -218,22 +221,22 @@ def write_road_csv(path, columns, header_comment):
     return path
 
 
-def write_time_csv(path, case):
+def write_time_csv(path: str | Path, case: RoadCase) -> Path:
     """time, z_road, v_road of a RoadCase."""
     return write_road_csv(path, {"time": case.t, "z_road": case.z_road, "v_road": case.v_road}, case.header())
 
 
-def write_distance_csv(path, x, z, header_comment):
+def write_distance_csv(path: str | Path, x: np.ndarray, z: np.ndarray, header_comment: str) -> Path:
     """distance, z of a spatial profile."""
     return write_road_csv(path, {"distance": x, "z": z}, header_comment)
 
 
-def parse_header_comment(text):
+def parse_header_comment(text: str) -> dict[str, str]:
     """key=value pairs of a `# road: ...` comment line (values as text)."""
     return dict(re.findall(r"([A-Za-z_()0-9]+)=([^,\s]+)", text))
 
 
-def read_road_csv(path):
+def read_road_csv(path: str | Path) -> tuple[np.ndarray, list[str]]:
     """Reads a road CSV: optional comment lines starting with '#', a header line of column names,
     then rows of numbers. Returns (data, comments): data is a numpy structured array with one float
     field per column (accepted by fmpy.simulate_fmu as input when the first column is `time`),
@@ -285,7 +288,7 @@ def read_road_csv(path):
 
 # --------------------------------------------------------------------------- PSD
 
-def profile_psd(z, dx, segment_length=None):
+def profile_psd(z: np.ndarray, dx: float, segment_length: float | None = None) -> tuple[np.ndarray, np.ndarray]:
     """Welch estimate of the one-sided displacement PSD of a profile sampled every dx metres:
     (n in cycle/m, G in m^3). Segments of `segment_length` m (default: 1/8 of the profile, at most
     204.8 m), Hann window, half overlap, mean removed per segment."""
@@ -299,7 +302,8 @@ def profile_psd(z, dx, segment_length=None):
     return n, g
 
 
-def fit_gd0(n, g, band=(0.05, 2.0), w=WAVINESS, n0=N0):
+def fit_gd0(n: np.ndarray, g: np.ndarray, band: tuple[float, float] = (0.05, 2.0), w: float = WAVINESS,
+            n0: float = N0) -> tuple[float, float]:
     """G_d(n0) fitted to a PSD with the exponent w fixed: the mean of g(n) (n/n0)^w over the band
     (a least-squares fit of the level; each Welch value is an unbiased estimate). Also returns the
     exponent of a free log-log fit over the same band, as a check of w. Returns (gd0, w_fit)."""
@@ -331,7 +335,7 @@ class CrgSurface:
     comment: str = ""
 
 
-def _crg_blocks(header_text):
+def _crg_blocks(header_text: str) -> dict[str, list[str]]:
     """{block name: [lines]} of the ASCII header ('$ROAD_CRG' -> ['key = value', ...])."""
     blocks, name = {}, None
     for line in header_text.split("\n"):
@@ -346,7 +350,7 @@ def _crg_blocks(header_text):
     return blocks
 
 
-def read_crg(path):
+def read_crg(path: str | Path) -> CrgSurface:
     """Reads an OpenCRG file in the KRBI or KRBD binary format (see the module docstring)."""
     path = Path(path)
     data = path.read_bytes()
@@ -416,7 +420,7 @@ def read_crg(path):
     return CrgSurface(path, u, v, z, phi, road, "\n".join(blocks.get("CT", [])))
 
 
-def moving_average(z, dx, length):
+def moving_average(z: np.ndarray, dx: float, length: float) -> np.ndarray:
     """Centred moving average over `length` metres (a simple tyre envelope): an odd number of samples
     round(length/dx) | 1; the ends use the available samples (no padding with zeros)."""
     k = max(1, int(round(length / dx)))
@@ -430,7 +434,7 @@ def moving_average(z, dx, length):
     return (c[hi] - c[lo]) / (hi - lo)
 
 
-def fill_nan(z, max_fraction):
+def fill_nan(z: np.ndarray, max_fraction: float) -> tuple[np.ndarray, int]:
     """Linear interpolation over NaN samples (ends held at the nearest value). Fails if more than
     max_fraction of the samples are NaN. Returns (filled, number of NaN)."""
     z = np.asarray(z, dtype=float)
@@ -458,7 +462,8 @@ class CrgTrack:
     detrended: bool
 
 
-def crg_track(surface, v=0.0, detrend=True, envelope=0.0, max_nan_fraction=0.05):
+def crg_track(surface: CrgSurface, v: float = 0.0, detrend: bool = True, envelope: float = 0.0,
+              max_nan_fraction: float = 0.05) -> CrgTrack:
     """The section nearest to lateral offset v (m), as a profile starting at x = 0.
 
     NaN samples are filled by linear interpolation if at most max_nan_fraction of the section is NaN
@@ -483,7 +488,7 @@ def crg_track(surface, v=0.0, detrend=True, envelope=0.0, max_nan_fraction=0.05)
 
 # --------------------------------------------------------------------------- command line
 
-def _cmd_generate(args):
+def _cmd_generate(args: argparse.Namespace) -> None:
     gd0 = gd0_of(args.road)
     if args.length is not None:
         x, z = generate_profile(args.length, gd0, args.seed, dx=args.dx)
@@ -501,7 +506,7 @@ def _cmd_generate(args):
           f"z std {1e3 * case.z_road.std():.2f} mm)")
 
 
-def _cmd_psd(args):
+def _cmd_psd(args: argparse.Namespace) -> None:
     data, comments = read_road_csv(args.csv)
     names = data.dtype.names
     if names[0] == "distance":
@@ -520,7 +525,7 @@ def _cmd_psd(args):
           f"(ISO 8608 class {iso_class_of(gd0)}), free-fit exponent w = {w:.2f}")
 
 
-def _cmd_crg(args):
+def _cmd_crg(args: argparse.Namespace) -> None:
     surface = read_crg(args.crg)
     track = crg_track(surface, v=args.v, envelope=args.envelope)
     print(f"{args.crg}: {surface.u.size} rows (u {surface.u[0]:g}..{surface.u[-1]:g} m), "
@@ -535,7 +540,7 @@ def _cmd_crg(args):
         print(f"roads: wrote {args.output}")
 
 
-def main(argv=None):
+def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     sub = parser.add_subparsers(dest="command", required=True)
     g = sub.add_parser("generate", help="write an ISO 8608 random road as CSV")

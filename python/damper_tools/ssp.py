@@ -58,13 +58,19 @@ all slaves step, then outputs are copied to the connected inputs. Its quirks:
 import argparse
 import tempfile
 import zipfile
+from collections.abc import Callable, Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING
 from xml.etree import ElementTree as ET
 
 import numpy as np
+from fmpy.model_description import ModelVariable
 
 from damper_tools import cosim, roads
-from damper_tools.fmu import FmuUnit
+from damper_tools.fmu import FmuUnit, Value
+
+if TYPE_CHECKING:
+    from fmpy.ssp.ssd import ParameterSet
 
 SSD = "http://ssp-standard.org/SSP1/SystemStructureDescription"
 SSC = "http://ssp-standard.org/SSP1/SystemStructureCommon"
@@ -87,18 +93,19 @@ DEFAULT_DAMPER_PARAMETERS = dict(cosim.HIL_DAMPER_PARAMETERS)
 SSP_ZIP_DATE = (1980, 1, 1, 0, 0, 0)
 
 
-def _q(ns, tag):
+def _q(ns: str, tag: str) -> str:
     return f"{{{ns}}}{tag}"
 
 
-def _connector(parent, name, kind, unit=None):
+def _connector(parent: ET.Element, name: str, kind: str, unit: str | None = None) -> None:
     c = ET.SubElement(parent, _q(SSD, "Connector"), name=name, kind=kind)
     real = ET.SubElement(c, _q(SSC, "Real"))
     if unit:
         real.set("unit", unit)
 
 
-def _parameter_binding(parent, set_name, values, variables):
+def _parameter_binding(parent: ET.Element, set_name: str, values: dict[str, Value],
+                       variables: dict[str, ModelVariable]) -> None:
     bindings = ET.SubElement(parent, _q(SSD, "ParameterBindings"))
     binding = ET.SubElement(bindings, _q(SSD, "ParameterBinding"))
     pv = ET.SubElement(binding, _q(SSD, "ParameterValues"))
@@ -117,7 +124,8 @@ def _parameter_binding(parent, set_name, values, variables):
             ET.SubElement(p, _q(SSV, "Real"), value=repr(float(value)))
 
 
-def ssd_xml(truck_unit, damper_unit, truck_parameters, damper_parameters, step=None, stop_time=None):
+def ssd_xml(truck_unit: FmuUnit, damper_unit: FmuUnit, truck_parameters: dict[str, Value],
+            damper_parameters: dict[str, Value], step: float | None = None, stop_time: float | None = None) -> str:
     """The SystemStructure.ssd text of the quarter truck + damper system."""
     root = ET.Element(_q(SSD, "SystemStructureDescription"), version="1.0", name=SYSTEM_NAME)
     system = ET.SubElement(root, _q(SSD, "System"), name=SYSTEM_NAME,
@@ -151,8 +159,9 @@ def ssd_xml(truck_unit, damper_unit, truck_parameters, damper_parameters, step=N
     return '<?xml version="1.0" encoding="UTF-8"?>\n' + ET.tostring(root, encoding="unicode") + "\n"
 
 
-def write_ssp(path, truck_fmu=cosim.TRUCK_FMU, damper_fmu=cosim.DAMPER_FMU, truck_parameters=None,
-              damper_parameters=None, stop_time=None):
+def write_ssp(path: str | Path, truck_fmu: str | Path = cosim.TRUCK_FMU, damper_fmu: str | Path = cosim.DAMPER_FMU,
+              truck_parameters: dict[str, Value] | None = None, damper_parameters: dict[str, Value] | None = None,
+              stop_time: float | None = None) -> Path:
     """Writes the .ssp (the two FMUs copied into resources/). Returns its path."""
     truck_unit, damper_unit = FmuUnit.load(truck_fmu), FmuUnit.load(damper_fmu)
     tp = dict(DEFAULT_TRUCK_PARAMETERS if truck_parameters is None else truck_parameters)
@@ -177,7 +186,7 @@ def write_ssp(path, truck_fmu=cosim.TRUCK_FMU, damper_fmu=cosim.DAMPER_FMU, truc
 
 # --------------------------------------------------------------------------- fmpy.ssp
 
-def _typed(value_text, kind):
+def _typed(value_text: str, kind: str) -> Value:
     if kind == "Boolean":
         text = str(value_text).strip().lower()
         if text not in ("true", "false", "1", "0"):
@@ -188,7 +197,7 @@ def _typed(value_text, kind):
     return float(value_text)
 
 
-def ssd_parameter_set(ssp_path):
+def ssd_parameter_set(ssp_path: str | Path) -> "ParameterSet":
     """A fmpy ParameterSet holding every inline ParameterBinding value of the .ssd's components, named
     '<component>.<variable>' and converted to bool/int/float (workaround for quirk 1)."""
     from fmpy.ssp.ssd import Parameter, ParameterSet, find_components, read_ssd
@@ -208,7 +217,8 @@ def ssd_parameter_set(ssp_path):
     return pset
 
 
-def run_fmpy_ssp(ssp_path, z_road, v_road, step, n_steps):
+def run_fmpy_ssp(ssp_path: str | Path, z_road: np.ndarray, v_road: np.ndarray, step: float,
+                 n_steps: int) -> dict[str, np.ndarray]:
     """Runs the .ssp with fmpy.ssp.simulate_ssp for n_steps steps of `step` s (workarounds 1-4 of the
     module docstring). Returns a dict: time (n_steps + 1 points from 0) and every connector as
     'element.connector' (e.g. 'damper.F_damper', 'truck.F_demand')."""
@@ -219,7 +229,7 @@ def run_fmpy_ssp(ssp_path, z_road, v_road, step, n_steps):
         raise ValueError("the road must start at 0 (fmpy.ssp starts the truck's input at 0.0) and have "
                          "n_steps + 1 samples")
 
-    def ahead(samples):
+    def ahead(samples: np.ndarray) -> Callable[[float], float]:
         # called with the accumulated time t_k; returns sample k + 1 (quirk 2)
         return lambda t: float(samples[min(int(round(t / step)) + 1, n_steps)])
 
@@ -236,7 +246,7 @@ def run_fmpy_ssp(ssp_path, z_road, v_road, step, n_steps):
 
 # --------------------------------------------------------------------------- libcosim
 
-def strip_system_connections(ssd_text):
+def strip_system_connections(ssd_text: str) -> str:
     """The .ssd without the system-level connectors and the connections that start or end at the
     system itself: libcosim 0.0.6 fails on them ("No such node (<xmlattr>.startElement)"), and it
     does not drive system inputs anyway (the road goes in through the override manipulator)."""
@@ -252,9 +262,11 @@ def strip_system_connections(ssd_text):
     return '<?xml version="1.0" encoding="UTF-8"?>\n' + ET.tostring(root, encoding="unicode") + "\n"
 
 
-def run_libcosim(ssp_path, z_road, v_road, step, n_steps, from_ssp=True, truck_fmu=None, damper_fmu=None,
-                 truck_parameters=None, damper_parameters=None,
-                 record=(("truck", cosim.TRUCK_OUTPUTS), ("damper", ("F_damper",)))):
+def run_libcosim(ssp_path: str | Path, z_road: np.ndarray, v_road: np.ndarray, step: float, n_steps: int,
+                 from_ssp: bool = True, truck_fmu: str | Path | None = None, damper_fmu: str | Path | None = None,
+                 truck_parameters: dict[str, Value] | None = None, damper_parameters: dict[str, Value] | None = None,
+                 record: Sequence[tuple[str, Sequence[str]]] = (("truck", cosim.TRUCK_OUTPUTS),
+                                                                ("damper", ("F_damper",)))) -> dict[str, np.ndarray]:
     """Runs the system in libcosim with a fixed step (ns) for n_steps steps. from_ssp: load the .ssp
     (CosimExecution.from_ssp_file); else add the two FMUs as local slaves, connect them and set the
     parameters as initial values. The road is set with an override manipulator before every step.
@@ -292,7 +304,7 @@ def run_libcosim(ssp_path, z_road, v_road, step, n_steps, from_ssp=True, truck_f
                                                                     instance_name=name))
     variables = {name: {v.name.decode(): v for v in execution.slave_variables(i)} for name, i in index.items()}
 
-    def vr(element, name):
+    def vr(element: str, name: str) -> int:
         return variables[element][name].reference
 
     if not from_ssp:
@@ -342,7 +354,7 @@ def run_libcosim(ssp_path, z_road, v_road, step, n_steps, from_ssp=True, truck_f
     return out
 
 
-def main(argv=None):
+def main(argv: list[str] | None = None) -> None:
 
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--truck-fmu", type=Path, default=cosim.TRUCK_FMU)
