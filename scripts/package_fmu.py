@@ -79,6 +79,7 @@ def read_model(xml_path):
     """The parts of modelDescription.xml the documentation needs."""
     root = ET.parse(xml_path).getroot()
     cs = root.find("CoSimulation")
+    experiment = root.find("DefaultExperiment")
     variables = []
     for sv in root.find("ModelVariables"):
         typ = next(iter(sv))
@@ -102,7 +103,7 @@ def read_model(xml_path):
         "fmiVersion": root.get("fmiVersion"),
         "modelIdentifier": cs.get("modelIdentifier"),
         "cs_flags": {k: v for k, v in cs.attrib.items() if k != "modelIdentifier"},
-        "defaultExperiment": dict(root.find("DefaultExperiment").attrib) if root.find("DefaultExperiment") is not None else {},
+        "defaultExperiment": dict(experiment.attrib) if experiment is not None else {},
         "variables": variables,
     }
 
@@ -188,7 +189,8 @@ def documentation_html(model):
 <body>
 <h1>{html.escape(model['modelName'])}</h1>
 <p>FMI {model['fmiVersion']} Co-Simulation FMU, version {html.escape(model['version'])},
-model identifier <code>{html.escape(model['modelIdentifier'])}</code>, GUID <code>{html.escape(model['guid'])}</code>.</p>
+model identifier <code>{html.escape(model['modelIdentifier'])}</code>,
+GUID <code>{html.escape(model['guid'])}</code>.</p>
 <p>{html.escape(model['description'])}</p>
 
 <h2>What it is</h2>
@@ -226,11 +228,13 @@ Force loop    force_controller 0: inverse-valve feedforward area × exp(−PI on
 
 <h2>Sign conventions</h2>
 <ul>
-<li><code>v_damper</code> &gt; 0: extension (rod moving out of the body); <code>x_damper</code> is its integral, 0 = mid-stroke.</li>
+<li><code>v_damper</code> &gt; 0: extension (rod moving out of the body); <code>x_damper</code> is its integral,
+0 = mid-stroke.</li>
 <li><code>F_damper</code>, <code>F_demand</code> &gt; 0: tension, i.e. a force resisting extension.
 A dissipative demand has the sign of <code>v_damper</code>; the other sign cannot be delivered and is
 clipped to 0 (<code>F_demand_clipped</code>).</li>
-<li>Pressures are gauge pressures [Pa]. <code>x_spool</code> = 0 is the spring-centred spool; the ports open above <code>x_lap</code>.</li>
+<li>Pressures are gauge pressures [Pa]. <code>x_spool</code> = 0 is the spring-centred spool; the ports open above
+<code>x_lap</code>.</li>
 <li><code>control_mode</code> 0: the force loop computes the spool demand (<code>x_spool_ref</code>);
 1: <code>x_spool_demand</code> is the spool demand and <code>F_demand</code> is ignored.</li>
 </ul>
@@ -251,7 +255,8 @@ assumption chosen so that the model is coherent and meets the paper's figures.</
 −p_reservoir0·A_r = −{gas_force / 1e3:.2f} kN with the default parameters. <code>F_damper</code> includes it,
 like the load cell of the rig.</li>
 <li>Semi-active: only dissipative forces can be produced. With the valve wide open the force cannot go below
-a velocity-dependent minimum (≈0.1 kN at 0.15 m/s, ≈5 kN at 1 m/s, see physics.md §5.3); the relief valve caps it near 37 kN.</li>
+a velocity-dependent minimum (≈0.1 kN at 0.15 m/s, ≈5 kN at 1 m/s, see physics.md §5.3); the relief valve caps it
+near 37 kN.</li>
 <li>Velocity range: the input accepts |v_damper| ≤ 5 m/s, but the valve is well behaved up to about 0.6 m/s.
 Above ~0.6–1 m/s at high force, flow forces make the spool show small limit cycles (≈0.1 mm, a few % of force).</li>
 <li>Stroke: there are no end stops. Keep |x_damper| below L_half_stroke = {l_half * 1e3:.0f} mm; beyond it the

@@ -17,11 +17,10 @@ same inputs give the same bytes).
 
 import argparse
 import html
-import sys
 from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-import package_fmu  # noqa: E402
+# Run as a script, Python puts scripts/ first on sys.path, so the sibling is found.
+import package_fmu
 
 REPO = package_fmu.REPO
 LIBRARY_NAME = "libquarter_truck.so"

@@ -11,13 +11,15 @@
 # - `python3 -m venv` needs ensurepip, which a Debian system Python has only with python3-venv.
 # Missing Debian packages are installed with apt-get when running as root; otherwise the script
 # stops with the one command to run. Then .venv is filled from the pinned
-# tests/python/requirements.txt.
+# tests/python/requirements.txt, and the project's own package, damper_tools (pyproject.toml,
+# python/damper_tools/), is installed into it, editable and without dependencies or build isolation
+# (its build needs only the pinned setuptools), so that nothing unpinned is fetched.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 PYTHON=${PYTHON:-python3}
 REQUIREMENTS=tests/python/requirements.txt
-IMPORTS="import fmpy, fmu_manipulation_toolbox, libcosimpy, numpy, scipy, matplotlib, pytest"
+IMPORTS="import fmpy, fmu_manipulation_toolbox, libcosimpy, numpy, scipy, matplotlib, pytest, ruff, setuptools"
 importer=false
 for arg in "$@"; do
     case "$arg" in
@@ -69,5 +71,9 @@ elif ! .venv/bin/python -c "$IMPORTS" 2>/dev/null; then
     echo "+ .venv/bin/pip install -r $REQUIREMENTS (packages missing)"
     .venv/bin/python -m pip install --quiet -r "$REQUIREMENTS"
 fi
-.venv/bin/python -c "$IMPORTS"
+if ! .venv/bin/python -c "import damper_tools" 2>/dev/null; then
+    echo "+ .venv/bin/pip install --no-deps --no-build-isolation -e ."
+    .venv/bin/python -m pip install --quiet --no-deps --no-build-isolation -e .
+fi
+.venv/bin/python -c "$IMPORTS, damper_tools"
 echo "setup: ready ($(.venv/bin/python --version)$($importer && echo ', libclang for the importer'))"

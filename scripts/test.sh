@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# Runs every test: formatting and lints, the Rust tests (cargo test --release), then the Python
-# suite on the packaged FMUs (damper and quarter truck).
+# Runs every test: formatting and lints, the Rust tests (cargo test --release), then the Python lint
+# (ruff, configured in pyproject.toml) and suite on the packaged FMUs (damper and quarter truck).
 #
 #   bash scripts/test.sh [extra pytest options]
 set -euo pipefail
@@ -15,5 +15,7 @@ cargo test --release
 echo "+ python3 scripts/package_fmu.py && python3 scripts/package_truck.py --no-build"
 python3 scripts/package_fmu.py
 python3 scripts/package_truck.py --no-build
+echo "+ .venv/bin/ruff check python scripts tests/python"
+.venv/bin/ruff check python scripts tests/python
 echo "+ .venv/bin/python -m pytest tests/python -q --fmu target/fmu/SemiActiveDamper.fmu --truck-fmu target/fmu/QuarterTruck.fmu $*"
 .venv/bin/python -m pytest tests/python -q --fmu target/fmu/SemiActiveDamper.fmu --truck-fmu target/fmu/QuarterTruck.fmu "$@"

@@ -1,26 +1,31 @@
 """Session fixtures of the Python suite.
 
 The FMUs under test are built (cargo build --release of the two FMU packages) and packaged
-once per session into tests/python/work/, or taken from `--fmu PATH` (the damper) and
-`--truck-fmu PATH` (the quarter truck). scripts/ is put on sys.path so that tests import the same
-scenario and metric code as the scripts (rig_tests, roads, cosim, ssp, hil_scenarios, full_truck)
-and the packagers.
+once per session into tests/python/work/ by the packaging commands a user runs
+(python3 scripts/package_fmu.py, scripts/package_truck.py), or taken from `--fmu PATH` (the damper)
+and `--truck-fmu PATH` (the quarter truck). The tests import the scenario and metric code of the
+scripts from the installed package damper_tools (scripts/setup.sh installs it).
 """
 
 import shutil
+import subprocess
 import sys
 from pathlib import Path
 
 import pytest
-from fmpy import extract, read_model_description
+from fmpy import read_model_description
 
-HERE = Path(__file__).resolve().parent
-REPO = HERE.parent.parent
-WORK = HERE / "work"
-sys.path.insert(0, str(REPO / "scripts"))
+from damper_tools import REPO
+from damper_tools.fmu import FmuUnit
 
-import package_fmu  # noqa: E402
-import package_truck  # noqa: E402
+WORK = Path(__file__).resolve().parent / "work"
+
+
+def package(script: str, output: Path, build: bool) -> Path:
+    """Runs a packaging command of scripts/ (standard library only) and returns the FMU it wrote."""
+    command = [sys.executable, str(REPO / "scripts" / script), "--output", str(output)]
+    subprocess.run(command + ([] if build else ["--no-build"]), cwd=REPO, check=True)
+    return output
 
 
 def pytest_addoption(parser):
@@ -40,15 +45,13 @@ def fmu(request):
             pytest.exit(f"--fmu {given}: no such file", returncode=4)
         return path
     WORK.mkdir(exist_ok=True)
-    package_fmu.cargo_build()
-    library = package_fmu.target_dir() / "release" / package_fmu.LIBRARY_NAME
-    package_fmu.check_library(library)
-    return package_fmu.package(library, REPO / "modelDescription.xml", WORK / "SemiActiveDamper.fmu")
+    # Builds both FMUs' libraries (one cargo build), so the truck is packaged without building.
+    return package("package_fmu.py", WORK / "SemiActiveDamper.fmu", build=True)
 
 
 @pytest.fixture(scope="session")
 def truck_fmu(request, fmu):
-    """Path of the packaged quarter-truck FMU (built by the same cargo build as the damper)."""
+    """Path of the packaged quarter-truck FMU (its library built by the same cargo build as the damper's)."""
     given = request.config.getoption("--truck-fmu")
     if given:
         path = Path(given).resolve()
@@ -56,11 +59,8 @@ def truck_fmu(request, fmu):
             pytest.exit(f"--truck-fmu {given}: no such file", returncode=4)
         return path
     WORK.mkdir(exist_ok=True)
-    library = package_fmu.target_dir() / "release" / package_truck.LIBRARY_NAME
-    if not library.is_file():
-        package_fmu.cargo_build()
-    package_fmu.check_library(library)
-    return package_truck.package(library, package_truck.XML, WORK / "QuarterTruck.fmu")
+    # With --fmu given, nothing has been built yet in this session: package_truck.py runs cargo build.
+    return package("package_truck.py", WORK / "QuarterTruck.fmu", build=request.config.getoption("--fmu") is not None)
 
 
 @pytest.fixture(scope="session")
@@ -75,13 +75,10 @@ def model_description(fmu):
 
 
 @pytest.fixture(scope="session")
-def unzipdir(fmu):
-    """The FMU extracted once, for the low-level API (several instances from one directory)."""
-    target = WORK / "extracted"
-    shutil.rmtree(target, ignore_errors=True)
-    target.mkdir(parents=True)
-    extract(str(fmu), unzipdir=str(target))
-    return target
+def damper_unit(fmu):
+    """The damper FMU extracted once: for the low-level API (fmu.Slave, several instances of it) and
+    for fmpy.simulate_fmu on the extracted directory (the rig tests)."""
+    return FmuUnit.load(fmu)
 
 
 @pytest.fixture

@@ -9,9 +9,7 @@ from xml.etree import ElementTree as ET
 import numpy as np
 import pytest
 
-import cosim
-import roads
-import ssp
+from damper_tools import cosim, roads, ssp
 
 DURATION = 2.0  # s of minor road at 14 m/s (the paper's HiL case)
 SPEED = 14.0
@@ -135,7 +133,7 @@ def test_one_master_runs_several_cars_independently(fmus):
     n = cars[0].z_road.size - 1
     together = cosim.simulate(cars, step, n, **fmus)
     assert "damper.F_damper" not in together[1]  # the ideal car has no damper instance
-    for car, res in zip(cars, together):
+    for car, res in zip(cars, together, strict=True):
         alone = cosim.simulate([car], step, n, **fmus)[0]
         assert res.keys() == alone.keys()
         assert all(np.array_equal(res[k], alone[k]) for k in res), car.name

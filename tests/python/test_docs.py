@@ -115,7 +115,8 @@ def test_no_file_refers_to_a_file_outside_the_repository():
 def test_the_outside_reference_patterns_match_what_they_should():
     # The scan above is only as good as its patterns: each must catch its case and spare the
     # repository's own paths (tests/python/work/ is a folder inside the repository).
-    bad = ["see " + "PHYSICS" + ".md §3", "../" + "shared" + "/paper", "/" + "work/" + "shared" + "/x", "damper_" + "reference.py"]
+    bad = ["see " + "PHYSICS" + ".md §3", "../" + "shared" + "/paper", "/" + "work/" + "shared" + "/x",
+           "damper_" + "reference.py"]
     for text in bad:
         assert any(p.search(text) for _, p in OUTSIDE_REFERENCES), text
     for text in ["docs/physics.md §3", "tests/python/work/", "/tests/python/work/", "physics.md"]:

@@ -5,15 +5,15 @@ import math
 import pytest
 from fmpy.fmi1 import FMICallException
 
-from fmu_helpers import Slave
+from damper_tools.fmu import Slave
 
 FMI2_ERROR = 3
 STEP = 1e-3
 
 
 @pytest.fixture
-def slave(unzipdir, model_description, request):
-    s = Slave(unzipdir, model_description, request.node.name)
+def slave(damper_unit, request):
+    s = Slave(damper_unit, request.node.name)
     yield s
     s.fmu.freeInstance()
 
@@ -28,12 +28,12 @@ def refused(s, call, *args, **kwargs):
     return info.value
 
 
-def test_nan_input_is_refused_and_the_process_survives(slave, unzipdir, model_description):
+def test_nan_input_is_refused_and_the_process_survives(slave, damper_unit):
     slave.initialize()
     slave.step(STEP, v_damper=0.1, F_demand=1e3)
-    refused(slave, slave.fmu.setReal, [slave.vr["v_damper"]], [math.nan])
+    refused(slave, slave.fmu.setReal, [slave.vr("v_damper")], [math.nan])
     # The process lives on: a new instance runs normally.
-    other = Slave(unzipdir, model_description, "after_nan")
+    other = Slave(damper_unit, "after_nan")
     try:
         other.initialize()
         other.step(STEP, v_damper=0.1, F_demand=1e3)
@@ -44,7 +44,7 @@ def test_nan_input_is_refused_and_the_process_survives(slave, unzipdir, model_de
 
 def test_infinite_input_is_refused(slave):
     slave.initialize()
-    refused(slave, slave.fmu.setReal, [slave.vr["F_demand"]], [math.inf])
+    refused(slave, slave.fmu.setReal, [slave.vr("F_demand")], [math.inf])
 
 
 def test_do_step_before_initialisation_is_a_call_sequence_error(slave):
@@ -53,25 +53,25 @@ def test_do_step_before_initialisation_is_a_call_sequence_error(slave):
 
 def test_parameters_are_fixed_after_initialisation(slave):
     slave.initialize()
-    refused(slave, slave.fmu.setReal, [slave.vr["air_fraction"]], [0.03])
-    refused(slave, slave.fmu.setInteger, [slave.vr["control_mode"]], [1])
+    refused(slave, slave.fmu.setReal, [slave.vr("air_fraction")], [0.03])
+    refused(slave, slave.fmu.setInteger, [slave.vr("control_mode")], [1])
     slave.step(STEP)
-    refused(slave, slave.fmu.setReal, [slave.vr["h_max"]], [1e-4])
+    refused(slave, slave.fmu.setReal, [slave.vr("h_max")], [1e-4])
 
 
 def test_out_of_range_parameter_is_refused(slave):
-    refused(slave, slave.fmu.setReal, [slave.vr["air_fraction"]], [-1.0])
-    refused(slave, slave.fmu.setInteger, [slave.vr["control_mode"]], [2])
+    refused(slave, slave.fmu.setReal, [slave.vr("air_fraction")], [-1.0])
+    refused(slave, slave.fmu.setInteger, [slave.vr("control_mode")], [2])
 
 
 def test_out_of_range_input_is_refused(slave):
     slave.initialize()
-    refused(slave, slave.fmu.setReal, [slave.vr["v_damper"]], [50.0])
+    refused(slave, slave.fmu.setReal, [slave.vr("v_damper")], [50.0])
 
 
 def test_outputs_cannot_be_set(slave):
     slave.initialize()
-    refused(slave, slave.fmu.setReal, [slave.vr["F_damper"]], [1.0])
+    refused(slave, slave.fmu.setReal, [slave.vr("F_damper")], [1.0])
 
 
 @pytest.mark.parametrize("offset, step", [(0.5, STEP), (-STEP, STEP), (0.0, 0.0), (0.0, -STEP), (0.0, math.nan)],

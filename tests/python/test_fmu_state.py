@@ -5,7 +5,7 @@ import math
 
 import numpy as np
 
-from fmu_helpers import Slave, drive
+from damper_tools.fmu import Slave, drive
 
 STEP = 1e-3
 T_SAVE = 0.2        # s, state saved here
@@ -22,8 +22,8 @@ N_BEFORE = round(T_SAVE / STEP)
 N_AFTER = round((T_END - T_SAVE) / STEP)
 
 
-def test_set_state_repeats_the_continuation_bit_for_bit(unzipdir, model_description):
-    s = Slave(unzipdir, model_description, "state")
+def test_set_state_repeats_the_continuation_bit_for_bit(damper_unit):
+    s = Slave(damper_unit, "state")
     try:
         s.initialize(x_damper_start=-0.02)
         drive(s, [STEP] * N_BEFORE, inputs_at)
@@ -51,7 +51,7 @@ def test_set_state_repeats_the_continuation_bit_for_bit(unzipdir, model_descript
     assert np.array_equal(first[1], third[1])
 
     # Into a second, fresh instance: instantiate, de-serialize, set, continue (no initialisation).
-    fresh = Slave(unzipdir, model_description, "fresh")
+    fresh = Slave(damper_unit, "fresh")
     try:
         state = fresh.fmu.deSerializeFMUstate(serialized)
         fresh.fmu.setFMUstate(state)
@@ -63,9 +63,9 @@ def test_set_state_repeats_the_continuation_bit_for_bit(unzipdir, model_descript
     assert np.array_equal(first[1], fourth[1])
 
 
-def test_serialized_state_is_stable(unzipdir, model_description):
+def test_serialized_state_is_stable(damper_unit):
     """Serializing a restored state gives the same bytes again."""
-    s = Slave(unzipdir, model_description, "bytes")
+    s = Slave(damper_unit, "bytes")
     try:
         s.initialize()
         drive(s, [STEP] * 50, inputs_at)

@@ -3,7 +3,7 @@ in one master. Each pair's result equals, bit for bit, the same pair run alone."
 
 import numpy as np
 
-import full_truck
+from damper_tools import full_truck
 
 DURATION = 1.0  # s
 STEP = 1e-3
@@ -20,7 +20,7 @@ def test_six_dampers_in_one_master_are_independent(fmus):
     rms = [np.std(r["damper.F_damper"]) for r in together]
     assert len(set(rms)) == 6 and min(rms) > 500.0
     # left and right are correlated but not equal; the rear axle follows the front one's track
-    by = {c.name: r for c, r in zip(cars, together)}
+    by = {c.name: r for c, r in zip(cars, together, strict=True)}
     left, right = by["front_left"]["z_road"], by["front_right"]["z_road"]
     rho = np.corrcoef(left, right)[0, 1]
     assert 0.3 < rho < 0.9, rho

@@ -5,7 +5,7 @@ loop shows the paper's force-tracking asymmetry (above the demand extending, bel
 import numpy as np
 import pytest
 
-import hil_scenarios
+from damper_tools import hil_scenarios
 
 DURATION = 10.0  # s recorded after the settling time (the script uses 15 s)
 C_VALUES = np.arange(10e3, 50e3 + 1, 2.5e3)  # N s/m: the part of the 5-60 kNs/m sweep around the DLC minimum
@@ -62,7 +62,7 @@ def test_metric_definitions():
     m = hil_scenarios.vehicle_metrics(res, slice(1, None), static_load=1000.0)
     assert m["a_body_rms"] == 1.0 and m["DLC"] == pytest.approx(0.1)
     assert m["x_damper_peak"] == 0.02 and m["v_damper_max"] == 0.3
-    tr = hil_scenarios.tracking_metrics(force=[2000.0, 600.0, -1000.0, -3000.0], demand=[1000.0, 1000.0, -2000.0, -2000.0],
-                                        v=[0.1, 0.1, -0.1, -0.1])
+    tr = hil_scenarios.tracking_metrics(force=[2000.0, 600.0, -1000.0, -3000.0],
+                                        demand=[1000.0, 1000.0, -2000.0, -2000.0], v=[0.1, 0.1, -0.1, -0.1])
     assert tr["extension"]["mean_error"] == pytest.approx(300.0) and tr["extension"]["fraction_above"] == 0.5
     assert tr["compression"]["mean_error"] == 0.0 and tr["compression"]["fraction_below"] == 0.5

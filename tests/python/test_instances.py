@@ -5,7 +5,7 @@ import math
 
 import numpy as np
 
-from fmu_helpers import Slave, drive
+from damper_tools.fmu import Slave, drive
 
 STEP = 1e-3
 N_STEPS = 300
@@ -20,9 +20,9 @@ CASES = {
 }
 
 
-def run_alone(unzipdir, md, key):
+def run_alone(damper_unit, key):
     params, inputs_at = CASES[key]
-    s = Slave(unzipdir, md, f"alone_{key}")
+    s = Slave(damper_unit, f"alone_{key}")
     try:
         s.initialize(**params)
         return drive(s, [STEP] * N_STEPS, inputs_at)
@@ -30,10 +30,10 @@ def run_alone(unzipdir, md, key):
         s.free()
 
 
-def test_interleaved_instances_equal_solo_runs_bit_for_bit(unzipdir, model_description):
-    alone = {key: run_alone(unzipdir, model_description, key) for key in CASES}
+def test_interleaved_instances_equal_solo_runs_bit_for_bit(damper_unit):
+    alone = {key: run_alone(damper_unit, key) for key in CASES}
 
-    slaves = {key: Slave(unzipdir, model_description, f"interleaved_{key}") for key in CASES}
+    slaves = {key: Slave(damper_unit, f"interleaved_{key}") for key in CASES}
     try:
         for key, s in slaves.items():
             s.initialize(**CASES[key][0])

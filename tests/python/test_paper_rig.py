@@ -6,8 +6,8 @@ import math
 
 import pytest
 
-import rig_tests as rt
-from rig_tests import DEAD_TIME_BAND, EXT_T90_BAND, SPOOL_OVERSHOOT_MAX_PCT
+from damper_tools import rig_tests as rt
+from damper_tools.rig_tests import DEAD_TIME_BAND, EXT_T90_BAND, SPOOL_OVERSHOOT_MAX_PCT
 
 SPOOL_FINAL_TOL = 0.03        # |x_spool - demand| at the end of the run, fraction of the step
 EXT_FORCE_FINAL_TOL = 0.05    # |F - demand| / demand 150 ms after an extension step
@@ -17,8 +17,8 @@ CV_FULL_DROP = 1e5            # Pa: the replenishing check valve is fully open a
 
 
 @pytest.fixture(scope="module")
-def rig(unzipdir):
-    return rt.run_rig_tests(unzipdir)
+def rig(damper_unit):
+    return rt.run_rig_tests(damper_unit.unzipdir)
 
 
 def test_valve_dead_time_is_the_amplifier_delay(rig):
@@ -42,7 +42,7 @@ def test_extension_force_rises_in_about_25_ms(rig):
 
 
 def test_compression_is_slower_than_extension(rig):
-    for ext, comp in zip(rig["force"]["extension"][1], rig["force"]["compression"][1]):
+    for ext, comp in zip(rig["force"]["extension"][1], rig["force"]["compression"][1], strict=True):
         assert math.isnan(comp["t90"]) or comp["t90"] > ext["t90"], (ext, comp)
 
 

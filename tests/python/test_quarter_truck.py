@@ -11,8 +11,7 @@ import pytest
 from fmpy import read_model_description
 from fmpy.validation import validate_fmu
 
-import cosim
-import hil_scenarios
+from damper_tools import cosim, hil_scenarios
 
 FMUTOOL = Path(sys.executable).parent / "fmutool"
 
@@ -36,9 +35,11 @@ def test_truck_fmu_is_valid(truck_fmu):
     causality = {v.name: v.causality for v in md.modelVariables}
     assert [n for n, c in causality.items() if c == "input"] == ["z_road", "v_road", "F_damper"]
     with zipfile.ZipFile(truck_fmu) as z:
-        assert {"modelDescription.xml", "binaries/linux64/QuarterTruck.so", "documentation/index.html"} <= set(z.namelist())
+        names = set(z.namelist())
+        assert {"modelDescription.xml", "binaries/linux64/QuarterTruck.so", "documentation/index.html"} <= names
         assert "<code>damper_mode</code>" in z.read("documentation/index.html").decode()
-    proc = subprocess.run([str(FMUTOOL), "-input", str(truck_fmu), "-check"], capture_output=True, text=True, timeout=300)
+    proc = subprocess.run([str(FMUTOOL), "-input", str(truck_fmu), "-check"], capture_output=True, text=True,
+                          timeout=300)
     assert proc.returncode == 0 and "This FMU seems to be compliant with FMI-2.0" in proc.stdout + proc.stderr, \
         proc.stdout + proc.stderr
 

@@ -6,7 +6,7 @@ import shutil
 import numpy as np
 import pytest
 
-import roads
+from damper_tools import roads
 
 CRG = roads.Path(__file__).resolve().parents[2] / "data" / "roads" / "belgian_block.crg"
 

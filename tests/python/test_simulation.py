@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 from fmpy import read_csv, simulate_fmu
 
-from fmu_helpers import Slave, drive
+from damper_tools.fmu import Slave, drive
 
 RESOURCES = Path(__file__).resolve().parent / "resources"
 INPUT_CSV = RESOURCES / "damper_input.csv"
@@ -96,14 +96,14 @@ def test_non_dissipative_demand_is_clipped(fmu):
     assert np.all((settled > CLIPPED_FORCE_RANGE[0]) & (settled < CLIPPED_FORCE_RANGE[1])), settled
 
 
-def test_variable_communication_steps_end_close_to_fixed_steps(unzipdir, model_description):
+def test_variable_communication_steps_end_close_to_fixed_steps(damper_unit):
     """Steps alternating 0.5 ms and 1.5 ms against 1 ms steps. Inputs change only at t = 0.1 s,
     a point of both grids; outputs are compared where both grids have points (every 2 ms)."""
     def inputs_at(t):
         return {"v_damper": 0.15, "F_demand": 6e3} if t < 0.1 - 1e-9 else {"v_damper": -0.15, "F_demand": -6e3}
 
-    fixed = Slave(unzipdir, model_description, "fixed")
-    variable = Slave(unzipdir, model_description, "variable")
+    fixed = Slave(damper_unit, "fixed")
+    variable = Slave(damper_unit, "variable")
     try:
         for s in (fixed, variable):
             s.initialize(x_damper_start=-0.01)

@@ -5,7 +5,7 @@ does the taring itself (demand + F0 in, F_damper - F0 out)."""
 
 import numpy as np
 
-import cosim
+from damper_tools.fmu import FmuUnit, Slave
 
 STEP = 1e-3  # s
 DURATION = 3.0  # s; the first second is not counted
@@ -19,19 +19,16 @@ MEAN_ERROR_TOL = 150.0  # N
 
 
 def run(damper_fmu, tare):
-    unit = cosim.FmuUnit.load(damper_fmu)
-    d = cosim.Instance(unit, f"tare_{tare}")
+    d = Slave(FmuUnit.load(damper_fmu), f"tare_{tare}")
     n = int(round(DURATION / STEP))
     try:
-        d.initialize(0.0, n * STEP, {"tare_load_cell": tare})
-        io_in, io_out = d.io(("v_damper", "F_demand")), d.io(("F_damper",))
-        f0 = 0.0 if tare else d.get_real(io_out)[0]
+        d.initialize(0.0, n * STEP, tare_load_cell=tare)
+        f0 = 0.0 if tare else d.get(["F_damper"])[0]
         rows = []
         for k in range(n):
             v = AMPLITUDE * np.sin(2 * np.pi * FREQ * k * STEP)
-            d.set_real(io_in, (v, C_VISCOUS * v + f0))
-            d.do_step(k * STEP, STEP)
-            rows.append((v, C_VISCOUS * v, d.get_real(io_out)[0] - f0))
+            d.step(STEP, k * STEP, v_damper=v, F_demand=C_VISCOUS * v + f0)
+            rows.append((v, C_VISCOUS * v, d.get(["F_damper"])[0] - f0))
     finally:
         d.free()
     v, demand, force = np.array(rows)[int(round(1.0 / STEP)):].T

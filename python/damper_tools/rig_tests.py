@@ -11,15 +11,19 @@ Kitching, Cole and Cebon, "The development of a semi-active truck damper":
   also says compression is slower (about three times the compressed oil volume); the same
   test is run in compression.
 
-Used by scripts/paper_tests.py (plots, table, results.json) and by
+Used by damper_tools.paper_tests (plots, table, results.json) and by
 tests/python/test_paper_rig.py (bands). Everything here runs the FMU through
 fmpy.simulate_fmu, like a user would.
 """
 
 import math
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
 
 import numpy as np
 from fmpy import simulate_fmu
+from fmpy.model_description import ModelDescription
 
 # Communication step = output interval of every rig run [s]. Always passed explicitly: fmpy
 # would otherwise derive a coarser one from the default experiment.
@@ -57,7 +61,8 @@ DEFAULT_INPUTS = {"v_damper": 0.0, "F_demand": 0.0, "x_spool_demand": SPOOL_STAR
 
 # --------------------------------------------------------------------------- inputs and runs
 
-def input_table(t_end, constants, steps=None):
+def input_table(t_end: float, constants: dict[str, float],
+                steps: dict[str, tuple[float, list[tuple[float, float]]]] | None = None) -> np.ndarray:
     """A structured array for fmpy's `input=`: every input of the FMU in a column, 'time' first.
 
     constants: {name: value} held over the run; steps: {name: (initial, [(t, value), ...])}.
@@ -85,14 +90,16 @@ def input_table(t_end, constants, steps=None):
     return np.array([(t,) + tuple(v[name] for name in INPUTS) for t, v in rows], dtype=dtype)
 
 
-def simulate(fmu, start_values, inputs, stop_time, output_interval=OUTPUT_INTERVAL, output=OUTPUTS):
+def simulate(fmu: str | Path, start_values: dict[str, float], inputs: np.ndarray, stop_time: float,
+             output_interval: float = OUTPUT_INTERVAL, output: Sequence[str] = OUTPUTS) -> np.ndarray:
     """fmpy.simulate_fmu with the communication step given explicitly."""
     return simulate_fmu(str(fmu), fmi_type="CoSimulation", start_time=0.0, stop_time=stop_time,
                         output_interval=output_interval, start_values=dict(start_values),
                         input=inputs, output=list(output))
 
 
-def spool_step_run(fmu, x_demand, v=V_RIG, output_interval=OUTPUT_INTERVAL):
+def spool_step_run(fmu: str | Path, x_demand: float, v: float = V_RIG,
+                   output_interval: float = OUTPUT_INTERVAL) -> np.ndarray:
     """Fig. 4: spool-position control, the demand steps from SPOOL_START to x_demand [m]."""
     start_values = {"control_mode": 1, "x_damper_start": SPOOL_X_DAMPER_START, "x_spool_start": SPOOL_START}
     inputs = input_table(SPOOL_T_END, {"v_damper": v, "F_demand": 0.0},
@@ -100,7 +107,7 @@ def spool_step_run(fmu, x_demand, v=V_RIG, output_interval=OUTPUT_INTERVAL):
     return simulate(fmu, start_values, inputs, SPOOL_T_END, output_interval)
 
 
-def force_step_run(fmu, direction, output_interval=OUTPUT_INTERVAL):
+def force_step_run(fmu: str | Path, direction: int, output_interval: float = OUTPUT_INTERVAL) -> np.ndarray:
     """Fig. 6: force control at direction*V_RIG with the demand direction*(2 -> 12 -> 22 kN).
 
     direction = +1: extension; -1: compression (negative force = resisting compression). The
@@ -118,7 +125,7 @@ def force_step_run(fmu, direction, output_interval=OUTPUT_INTERVAL):
 
 # --------------------------------------------------------------------------- metrics
 
-def sample_index(t, t0):
+def sample_index(t: np.ndarray, t0: float) -> int:
     """Index of the output sample at time t0 (the state at t0, before a step at t0 acts)."""
     i = int(np.argmin(np.abs(t - t0)))
     if not math.isclose(t[i], t0, abs_tol=1e-9):
@@ -126,7 +133,7 @@ def sample_index(t, t0):
     return i
 
 
-def crossing_time(t, frac, level):
+def crossing_time(t: np.ndarray, frac: np.ndarray, level: float) -> float:
     """First time frac reaches level, interpolated linearly between samples; nan if never."""
     above = np.nonzero(frac >= level)[0]
     if above.size == 0:
@@ -137,7 +144,8 @@ def crossing_time(t, frac, level):
     return float(t[i - 1] + (level - frac[i - 1]) / (frac[i] - frac[i - 1]) * (t[i] - t[i - 1]))
 
 
-def step_metrics(t, y, t_step, y1, t_end=None):
+def step_metrics(t: np.ndarray, y: np.ndarray, t_step: float, y1: float,
+                 t_end: float | None = None) -> dict[str, float]:
     """Response of y to a step at t_step towards y1, measured from y's value at t_step.
 
     Returns seconds after the step: dead (2 % of the step), t10, t50, t90, t100 (first time the
@@ -163,7 +171,7 @@ def step_metrics(t, y, t_step, y1, t_end=None):
     }
 
 
-def spool_step_metrics(result, x_demand):
+def spool_step_metrics(result: np.ndarray, x_demand: float) -> dict[str, float]:
     """step_metrics of x_spool for a Fig. 4 run, plus the force at the end of the run."""
     m = step_metrics(result["time"], result["x_spool"], SPOOL_T_STEP, x_demand)
     m["F_end"] = float(result["F_damper"][-1])
@@ -171,7 +179,7 @@ def spool_step_metrics(result, x_demand):
     return m
 
 
-def force_step_metrics(result, direction):
+def force_step_metrics(result: np.ndarray, direction: int) -> list[dict[str, float]]:
     """step_metrics of direction*F_damper for both steps of a Fig. 6 run (the first step's
     window ends at the second step)."""
     t, y = result["time"], direction * result["F_damper"]
@@ -180,7 +188,7 @@ def force_step_metrics(result, direction):
             step_metrics(t, y, t2, FORCE_LEVELS[2])]
 
 
-def compressed_volume_ratio(model_description):
+def compressed_volume_ratio(model_description: ModelDescription) -> float:
     """(annulus + full-bore volume) / annulus volume at mid-stroke, from the start values."""
     p = {v.name: float(v.start) for v in model_description.modelVariables
          if v.causality == "parameter" and v.type == "Real"}
@@ -193,7 +201,7 @@ def compressed_volume_ratio(model_description):
 
 # --------------------------------------------------------------------------- all rig tests
 
-def run_rig_tests(fmu, output_interval=OUTPUT_INTERVAL):
+def run_rig_tests(fmu: str | Path, output_interval: float = OUTPUT_INTERVAL) -> dict[str, Any]:
     """Runs Fig. 4 (five spool steps) and Fig. 6 (extension and compression).
 
     Returns {"spool": [(x_demand, result, metrics), ...],
@@ -210,12 +218,12 @@ def run_rig_tests(fmu, output_interval=OUTPUT_INTERVAL):
     return {"spool": spool, "force": force}
 
 
-def in_band(x, band):
+def in_band(x: float, band: tuple[float, float]) -> bool:
     """lo <= x <= hi (False for nan)."""
     return band[0] <= x <= band[1]
 
 
-def criteria(rig):
+def criteria(rig: dict[str, Any]) -> dict[str, tuple[bool, Any]]:
     """The paper's statements as pass/fail checks on the measured numbers.
 
     Returns {name: (passed, measured)}: dead_time (every spool step within DEAD_TIME_BAND),
@@ -232,6 +240,7 @@ def criteria(rig):
         "spool_overshoot": (all(o < SPOOL_OVERSHOOT_MAX_PCT for o in over), over),
         "extension_t90": (all(in_band(t, EXT_T90_BAND) for t in ext), ext),
         # A compression step that never reaches 90 % within its window is slower too.
-        "compression_slower": (all(c > e or (math.isnan(c) and not math.isnan(e)) for c, e in zip(comp, ext)),
-                               [c / e for c, e in zip(comp, ext)]),
+        "compression_slower": (all(c > e or (math.isnan(c) and not math.isnan(e))
+                                   for c, e in zip(comp, ext, strict=True)),
+                               [c / e for c, e in zip(comp, ext, strict=True)]),
     }

@@ -1,0 +1,13 @@
+"""Python tools around the two FMUs of this repository (SemiActiveDamper.fmu, QuarterTruck.fmu).
+
+Modules: `fmu` (one FMU instance through fmpy's FMU2Slave), `cosim` (the Jacobi master), `roads`
+(ISO 8608 and OpenCRG road inputs), `ssp` (the SSP of the coupled system, run with fmpy.ssp and
+libcosim), `rig_tests` and `paper_tests` (the paper's rig tests), `hil_scenarios` (the HiL runs)
+and `full_truck` (six dampers as a three-axle truck). The commands in scripts/ run their `main`.
+"""
+
+from pathlib import Path
+
+# The repository the package is installed from (editable install): the FMUs are built under its
+# target/, the outputs go to its out/ and the road data are in its data/.
+REPO = Path(__file__).resolve().parents[2]

@@ -1,0 +1,188 @@
+"""One FMU instance driven through fmpy's low-level API (fmpy.fmi2.FMU2Slave).
+
+For more control than fmpy.simulate_fmu gives (several instances of one FMU, a co-simulation
+master, FMU states, illegal calls): load the FMU once, then create `Slave`s from it.
+
+    unit = FmuUnit.load("target/fmu/SemiActiveDamper.fmu")
+    damper = Slave(unit, "damper")
+    damper.initialize(0.0, tare_load_cell=True)
+    damper.step(1e-3, v_damper=0.1, F_demand=2e3)
+    force = damper.get(["F_damper"])[0]
+    damper.free()
+
+`drive(slave, steps, inputs_at)` steps a slave through a list of step lengths and records its outputs.
+"""
+
+import atexit
+import shutil
+import sys
+import tempfile
+from collections.abc import Callable, Iterable, Sequence
+from ctypes import Array, byref
+from pathlib import Path
+from typing import ClassVar
+
+import numpy as np
+from fmpy import calloc, extract, free, read_model_description
+from fmpy.fmi2 import (
+    FMU2Slave,
+    fmi2CallbackAllocateMemoryTYPE,
+    fmi2CallbackFreeMemoryTYPE,
+    fmi2CallbackFunctions,
+    fmi2CallbackLoggerTYPE,
+    fmi2Real,
+    fmi2ValueReference,
+)
+from fmpy.logging import addLoggerProxy
+from fmpy.model_description import ModelVariable
+
+# A value of an FMI 2.0 Real, Integer, Enumeration or Boolean variable.
+Value = float | int | bool
+STATUS = ["OK", "Warning", "Discard", "Error", "Fatal", "Pending"]
+WARNING, ERROR = 1, 3
+
+
+class FmuUnit:
+    """An FMU extracted once (to a temporary directory removed at exit), with its variables."""
+
+    _cache: ClassVar[dict[tuple[Path, int | None], "FmuUnit"]] = {}
+
+    def __init__(self, path: str | Path) -> None:
+        self.path = Path(path).resolve()
+        if not self.path.is_file():
+            raise FileNotFoundError(f"{self.path}: no such FMU (python3 scripts/package_fmu.py and "
+                                    f"scripts/package_truck.py build them)")
+        self.md = read_model_description(str(self.path))
+        self.unzipdir = Path(tempfile.mkdtemp(prefix=f"{self.path.stem}_"))
+        atexit.register(shutil.rmtree, self.unzipdir, True)
+        extract(str(self.path), unzipdir=str(self.unzipdir))
+        self.variables = {v.name: v for v in self.md.modelVariables}
+
+    @classmethod
+    def load(cls, path: str | Path) -> "FmuUnit":
+        """The unit of `path`, extracted again only when the file has changed."""
+        key = Path(path).resolve()
+        stamp = key.stat().st_mtime_ns if key.is_file() else None
+        if (key, stamp) not in cls._cache:
+            cls._cache[(key, stamp)] = cls(key)
+        return cls._cache[(key, stamp)]
+
+    def variable(self, name: str) -> ModelVariable:
+        try:
+            return self.variables[name]
+        except KeyError:
+            raise KeyError(f"{self.path.name} has no variable {name!r}") from None
+
+    def vr(self, name: str) -> int:
+        return self.variable(name).valueReference
+
+    def outputs(self) -> list[str]:
+        """Names of the Real outputs, in the order of modelDescription.xml."""
+        return [v.name for v in self.md.modelVariables if v.causality == "output" and v.type == "Real"]
+
+
+class Slave:
+    """One FMU2Slave instance of a unit, with a logger that keeps the messages in `messages` as
+    (status, category, text). Messages of status Warning and worse are printed to stderr (pytest
+    shows them when a test fails), all of them with logging_on. Variables are set and read by name;
+    `time` is where the last step ended."""
+
+    def __init__(self, unit: FmuUnit, instance_name: str, logging_on: bool = False) -> None:
+        self.unit = unit
+        self.name = instance_name
+        self.logging_on = logging_on
+        self.messages: list[tuple[int, str, str]] = []
+        self.time = 0.0
+        self.fmu = FMU2Slave(guid=unit.md.guid, unzipDirectory=str(unit.unzipdir),
+                             modelIdentifier=unit.md.coSimulation.modelIdentifier, instanceName=instance_name)
+        # The callbacks must live as long as the instance.
+        self._logger = fmi2CallbackLoggerTYPE(self._log)
+        self._callbacks = fmi2CallbackFunctions()
+        self._callbacks.logger = self._logger
+        self._callbacks.allocateMemory = fmi2CallbackAllocateMemoryTYPE(calloc)
+        self._callbacks.freeMemory = fmi2CallbackFreeMemoryTYPE(free)
+        addLoggerProxy(byref(self._callbacks))  # formats the printf-style message in C
+        self.fmu.instantiate(callbacks=self._callbacks, loggingOn=logging_on)
+        # Value references and a value buffer per list of Real variables: one fmi2Get/SetReal call
+        # per list, without building them again at every step of a master.
+        self._reals: dict[tuple[str, ...], tuple[Array, Array]] = {}
+
+    def _log(self, env: object, instance_name: bytes, status: int, category: bytes, message: bytes) -> None:
+        text = message.decode("utf-8", "replace") if message else ""
+        cat = category.decode("utf-8", "replace") if category else ""
+        self.messages.append((status, cat, text))
+        if status >= WARNING or self.logging_on:
+            label = STATUS[status] if 0 <= status < len(STATUS) else status
+            print(f"[{self.name}] {label} {cat}: {text}", file=sys.stderr)
+
+    def errors(self) -> list[tuple[int, str, str]]:
+        """Messages logged with status Error or worse."""
+        return [m for m in self.messages if m[0] >= ERROR]
+
+    def vr(self, name: str) -> int:
+        return self.unit.vr(name)
+
+    def _real_buffers(self, names: Iterable[str]) -> tuple[Array, Array]:
+        key = tuple(names)
+        if key not in self._reals:
+            vrs = (fmi2ValueReference * len(key))(*[self.unit.vr(n) for n in key])
+            self._reals[key] = (vrs, (fmi2Real * len(key))())
+        return self._reals[key]
+
+    def set(self, **values: Value) -> None:
+        """Sets variables by name, each with the fmi2Set function of its type (the Reals in one call)."""
+        reals = []
+        for name, value in values.items():
+            var = self.unit.variable(name)
+            if var.type in ("Integer", "Enumeration"):
+                self.fmu.setInteger([var.valueReference], [int(value)])
+            elif var.type == "Boolean":
+                self.fmu.setBoolean([var.valueReference], [bool(value)])
+            else:
+                reals.append(name)
+        if reals:
+            vrs, buf = self._real_buffers(reals)
+            buf[:] = [float(values[n]) for n in reals]
+            self.fmu.fmi2SetReal(self.fmu.component, vrs, len(buf), buf)
+
+    def get(self, names: Sequence[str] | None = None) -> np.ndarray:
+        """Values of Real variables (default: all Real outputs)."""
+        vrs, buf = self._real_buffers(self.unit.outputs() if names is None else names)
+        self.fmu.fmi2GetReal(self.fmu.component, vrs, len(buf), buf)
+        return np.array(buf[:])
+
+    def initialize(self, start_time: float = 0.0, stop_time: float | None = None,
+                   **start_values: Value) -> None:
+        """setupExperiment, start values and parameters, initialization mode; afterwards the slave is
+        at start_time."""
+        self.fmu.setupExperiment(startTime=start_time, stopTime=stop_time)
+        self.set(**start_values)
+        self.fmu.enterInitializationMode()
+        self.fmu.exitInitializationMode()
+        self.time = start_time
+
+    def step(self, h: float, t: float | None = None, **inputs: Value) -> None:
+        """Sets the inputs, then one doStep of length h from t (default: where the last step ended).
+        A master passes t = start + k h so that the time points are not accumulated."""
+        self.set(**inputs)
+        t = self.time if t is None else t
+        self.fmu.doStep(currentCommunicationPoint=t, communicationStepSize=h)
+        self.time = t + h
+
+    def free(self) -> None:
+        try:
+            self.fmu.terminate()
+        finally:
+            self.fmu.freeInstance()
+
+
+def drive(slave: Slave, steps: Iterable[float], inputs_at: Callable[[float], dict[str, float]],
+          names: Sequence[str] | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """Steps a slave through the step lengths `steps`, setting inputs_at(t) before each step;
+    returns (times, outputs) recorded after every step (outputs: `names`, default all Real outputs)."""
+    times, rows = [], []
+    for h in steps:
+        slave.step(h, **inputs_at(slave.time))
+        times.append(slave.time)
+        rows.append(slave.get(names))
+    return np.array(times), np.array(rows)
