@@ -72,4 +72,5 @@ def test_the_readme_interface_table_matches_the_model_description():
             unit = unit_list[min(k, len(unit_list) - 1)]
             assert name in variables, f"README names {name}, which the FMU does not have"
             assert variables[name][0] == causality, f"{name}: README {causality}, XML {variables[name][0]}"
-            assert variables[name][1] == ("1" if unit == "–" else unit), f"{name}: README {unit}, XML {variables[name][1]}"
+            xml_unit = variables[name][1]
+            assert xml_unit == ("1" if unit == "–" else unit), f"{name}: README {unit}, XML {xml_unit}"
