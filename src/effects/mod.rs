@@ -66,17 +66,17 @@ pub struct EffectInfo {
 /// The plant's signals at one instant, as an effect sees them (SI units).
 #[derive(Clone, Copy, Debug)]
 pub struct PlantSignals {
-    /// Damper extension velocity [m/s].
+    /// Damper extension velocity (m/s).
     pub v_damper: f64,
-    /// Damper stroke [m], 0 at mid-stroke.
+    /// Damper stroke (m), 0 at mid-stroke.
     pub x_damper: f64,
-    /// Extension (annulus) chamber gauge pressure [Pa].
+    /// Extension (annulus) chamber gauge pressure (Pa).
     pub p_ext: f64,
-    /// Compression (full-bore) chamber gauge pressure [Pa].
+    /// Compression (full-bore) chamber gauge pressure (Pa).
     pub p_comp: f64,
-    /// Reservoir gauge pressure [Pa].
+    /// Reservoir gauge pressure (Pa).
     pub p_reservoir: f64,
-    /// Spool position [m].
+    /// Spool position (m).
     pub x_spool: f64,
 }
 
@@ -87,12 +87,12 @@ pub trait Effect: Sync {
     fn info(&self) -> &'static EffectInfo;
     /// Whether its switch `effect_<key>` is on.
     fn is_on(&self, p: &Parameters) -> bool;
-    /// Force [N] in parallel with the piston, tension (extension) positive; the load cell
+    /// Force (N) in parallel with the piston, tension (extension) positive; the load cell
     /// measures it and the mount carries it.
     fn force(&self, _p: &Parameters, _s: &PlantSignals) -> f64 {
         0.0
     }
-    /// Flow [m³/s] from the extension chamber to the compression chamber past the valve.
+    /// Flow (m³/s) from the extension chamber to the compression chamber past the valve.
     fn bypass_flow(&self, _p: &Parameters, _s: &PlantSignals) -> f64 {
         0.0
     }
@@ -119,12 +119,12 @@ pub fn find(key: &str) -> Option<&'static dyn Effect> {
 // iterator chain statically, and a single loop calling both hooks ran the model 30 % slower
 // (`cargo bench --bench realtime`: 153x against 214x real time).
 
-/// Sum of the switched-on effects' forces [N].
+/// Sum of the switched-on effects' forces (N).
 pub fn total_force(p: &Parameters, s: &PlantSignals) -> f64 {
     CATALOG.iter().filter(|e| e.is_on(p)).map(|e| e.force(p, s)).sum()
 }
 
-/// Sum of the switched-on effects' bypass flows [m³/s].
+/// Sum of the switched-on effects' bypass flows (m³/s).
 pub fn total_bypass_flow(p: &Parameters, s: &PlantSignals) -> f64 {
     CATALOG.iter().filter(|e| e.is_on(p)).map(|e| e.bypass_flow(p, s)).sum()
 }
