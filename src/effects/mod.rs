@@ -7,9 +7,10 @@
 //! [`Effect::bypass_flow`]). The plant sums the contributions of the switched-on effects.
 //!
 //! The structural effects (compressibility, mount compliance, amplifier delay, flow forces,
-//! check-valve cracking) change a component's law; their equations live in that component and
-//! their file here only describes them. Seal friction, piston leakage and viscous friction are
-//! written entirely behind the trait.
+//! check-valve cracking) change a component's law; their equations live in that component, which
+//! their [`EffectInfo::code`] names (`tests/effects.rs` checks that the function is there). Seal
+//! friction, piston leakage and viscous friction are written entirely behind the trait. The effect
+//! table of docs/effects.md and docs/physics.md §8 is rendered from this catalog (same test).
 //!
 //! Adding an effect (docs/effects.md walks through `viscous_friction.rs` as the worked example):
 //! 1. write `src/effects/<key>.rs` with a unit struct implementing [`Effect`];
@@ -45,6 +46,16 @@ pub struct FittedParameter {
     pub grid: Option<f64>,
 }
 
+/// A function of this crate: its file, relative to the crate's root, and its name, `Type::method`
+/// for a method.
+#[derive(Clone, Copy, Debug)]
+pub struct CodeRef {
+    /// The source file, e.g. `src/physics/valve.rs`.
+    pub file: &'static str,
+    /// The function's name, e.g. `flow_force` or `DelayLine::push`.
+    pub function: &'static str,
+}
+
 /// What an effect is, for the tools around the model (diagnosis, data generator, docs).
 #[derive(Clone, Copy, Debug)]
 pub struct EffectInfo {
@@ -52,6 +63,10 @@ pub struct EffectInfo {
     pub key: &'static str,
     /// One line: what switching it on adds.
     pub meaning: &'static str,
+    /// Its equation in plain text, in the parameters' names.
+    pub equation: &'static str,
+    /// The function that computes the equation.
+    pub code: CodeRef,
     /// The parameters a diagnosis fits, one or two; the first is the effect's size.
     pub fitted: &'static [FittedParameter],
     /// Its other parameters (held at their values during a fit).
