@@ -12,8 +12,8 @@ use crate::physics::params::{Derived, Parameters};
 use crate::physics::plant::{idx, rest_current, Plant, PlantOutputs, State};
 use crate::solver::{rodas3_step, SolverError};
 
-/// Typical magnitude of each state, for the error weights: p_A, p_B [Pa], V_g [m³], x_s [m],
-/// v_s [m/s], i [A], x [m].
+/// Typical magnitude of each state, for the error weights: p_A, p_B (Pa), V_g (m³), x_s (m),
+/// v_s (m/s), i (A), x (m).
 const STATE_SCALE: [f64; 7] = [1e6, 1e6, 1e-4, 1e-3, 0.1, 1.0, 1e-3];
 /// Most integration steps in one controller sample before the step is given up.
 const MAX_STEPS_PER_SAMPLE: u32 = 5000;
@@ -21,11 +21,11 @@ const MAX_STEPS_PER_SAMPLE: u32 = 5000;
 /// Inputs from the master, held over a communication step.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Inputs {
-    /// Damper extension velocity [m/s].
+    /// Damper extension velocity (m/s).
     pub v_damper: f64,
-    /// Demanded force [N], tension positive.
+    /// Demanded force (N), tension positive.
     pub force_demand: f64,
-    /// Spool position demand [m] (control_mode 1).
+    /// Spool position demand (m) (control_mode 1).
     pub x_spool_demand: f64,
 }
 
@@ -35,15 +35,15 @@ pub struct DamperState {
     /// Plant states, see [`crate::physics::plant::idx`].
     pub y: State,
     pub controller: Controller,
-    /// Amplifier output reaching the coil, held between samples [A].
+    /// Amplifier output reaching the coil, held between samples (A).
     pub i_command: f64,
-    /// Time of the state [s].
+    /// Time of the state (s).
     pub time: f64,
-    /// Start of the controller's sample grid [s].
+    /// Start of the controller's sample grid (s).
     pub start_time: f64,
     /// Index of the next controller sample on that grid.
     pub next_sample: u64,
-    /// Step size proposed by the step-size control for the next integration step [s].
+    /// Step size proposed by the step-size control for the next integration step (s).
     pub h_next: f64,
 }
 
@@ -60,12 +60,12 @@ pub struct StepStats {
 #[derive(Clone, Copy, Debug)]
 pub struct Outputs {
     pub plant: PlantOutputs,
-    /// Load-cell reading [N]: the plant's force less the tare (see `tare_load_cell`).
+    /// Load-cell reading (N): the plant's force less the tare (see `tare_load_cell`).
     pub load_cell: f64,
     pub y: State,
-    /// Spool demand of the last controller sample [m].
+    /// Spool demand of the last controller sample (m).
     pub x_spool_ref: f64,
-    /// Force demand after the semi-active clip [N].
+    /// Force demand after the semi-active clip (N).
     pub force_demand_clipped: f64,
 }
 
@@ -79,7 +79,7 @@ pub struct Damper {
 }
 
 impl Damper {
-    /// A damper at rest at `x_damper_start`, its spool at `x_spool_start`, at time `start_time` [s].
+    /// A damper at rest at `x_damper_start`, its spool at `x_spool_start`, at time `start_time` (s).
     pub fn new(params: Parameters, inputs: Inputs, start_time: f64) -> Result<Self, String> {
         params.validate()?;
         let derived = params.derive();
@@ -129,7 +129,7 @@ impl Damper {
         }
     }
 
-    /// Advances from the present time by `h` [s] > 0. On failure the state is left as it was.
+    /// Advances from the present time by `h` (s) > 0. On failure the state is left as it was.
     pub fn do_step(&mut self, h: f64) -> Result<StepStats, SolverError> {
         let saved = self.state;
         let result = self.advance(h);
@@ -165,7 +165,7 @@ impl Damper {
         Ok(stats)
     }
 
-    /// Integrates over `span` [s] with step-size control; returns the number of steps taken.
+    /// Integrates over `span` (s) with step-size control; returns the number of steps taken.
     fn integrate(&mut self, span: f64) -> Result<u32, SolverError> {
         let p = &self.params;
         let (mut done, mut steps, mut attempts) = (0.0, 0u32, 0u32);

@@ -10,6 +10,12 @@
 //! - [`variables`]: the mapping from `modelDescription.xml`'s variables onto the model;
 //! - [`fmi2`]: the FMI 2.0 C API, emitted by `fmi2_slave::export_fmi2!` over [`slave::Slave`]
 //!   (the `unsafe` boundary lives in the shared `fmi2_slave` crate).
+// Cargo.toml only denies unsafe code, so that the tests calling the C API can allow it; the library
+// has none of its own. The `#[no_mangle] unsafe extern "C"` functions of `fmi2` are written in
+// fmi2_slave's `export_fmi2!`, with their SAFETY comments; rustc does not report lints in code that
+// another crate's macro expands.
+#![forbid(unsafe_code)]
+
 pub mod control;
 pub mod damper;
 pub mod effects;

@@ -1,7 +1,9 @@
 //! The effect catalog (`src/effects/`) and `modelDescription.xml` agree: every effect's switch
 //! `effect_<key>` is a Boolean parameter that `is_on` reads, its parameters are Real parameters of
 //! the XML, and its ranges nest (hidden values ⊂ plausible ⊂ search ⊂ the XML's min/max). An effect
-//! added to the catalog but not to the XML (or the reverse) fails here with its name.
+//! added to the catalog but not to the XML (or the reverse) fails here with its name. Each effect
+//! names the function that holds its equation, and the effect table of the docs is rendered from
+//! the catalog, so neither can drift from the code.
 
 use semi_active_damper::effects::{PlantSignals, CATALOG};
 use semi_active_damper::model_description::{BooleanVar, Causality, RealVar};
@@ -74,4 +76,168 @@ fn the_worked_example_in_the_docs_is_the_file() {
     let docs = include_str!("../docs/effects.md");
     let file = include_str!("../src/effects/viscous_friction.rs");
     assert!(docs.contains(file), "docs/effects.md must show src/effects/viscous_friction.rs verbatim");
+}
+
+/// `(name, is_method_of)` for every `fn` of a Rust source: `Some(type)` inside `impl … Type {`,
+/// `None` at the top level. Line-based: enough for this crate's rustfmt-formatted files.
+fn functions(src: &str) -> Vec<(String, Option<String>)> {
+    let mut out = Vec::new();
+    let mut impl_type = None;
+    for line in src.lines() {
+        if line.starts_with("impl") {
+            // `impl Effect for SealFriction {` and `impl CubicMount {`: the type is the last word
+            let head = line.trim_end_matches('{').trim_end();
+            impl_type = head.rsplit(' ').next().map(str::to_string);
+        } else if line.starts_with('}') {
+            impl_type = None;
+        }
+        let trimmed = line.trim_start();
+        let decl = trimmed.strip_prefix("pub ").unwrap_or(trimmed);
+        if let Some(rest) = decl.strip_prefix("fn ") {
+            let name: String = rest.chars().take_while(|c| c.is_alphanumeric() || *c == '_').collect();
+            let top_level = !line.starts_with(' ');
+            out.push((name, if top_level { None } else { impl_type.clone() }));
+        }
+    }
+    out
+}
+
+#[test]
+fn every_effect_names_the_function_that_holds_its_equation() {
+    for e in CATALOG {
+        let info = e.info();
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(info.code.file);
+        let src = std::fs::read_to_string(&path)
+            .unwrap_or_else(|err| panic!("{}: code.file {} cannot be read: {err}", info.key, info.code.file));
+        let wanted = match info.code.function.split_once("::") {
+            Some((ty, method)) => (method.to_string(), Some(ty.to_string())),
+            None => (info.code.function.to_string(), None),
+        };
+        let found = functions(&src);
+        assert!(
+            found.contains(&wanted),
+            "{}: {} has no function {} (its functions: {found:?})",
+            info.key,
+            info.code.file,
+            info.code.function
+        );
+    }
+}
+
+#[test]
+fn the_function_finder_tells_methods_from_free_functions() {
+    let src = "pub fn free(x: f64) -> f64 {\n    x\n}\n\nimpl Effect for Thing {\n    fn force(&self) -> f64 {\n        0.0\n    }\n}\n";
+    let found = functions(src);
+    assert_eq!(found, [("free".to_string(), None), ("force".to_string(), Some("Thing".to_string()))]);
+}
+
+// --- the effect table of docs/effects.md and docs/physics.md §8, rendered from the catalog ------
+
+const TABLE_START: &str = "<!-- effect table: rendered from src/effects/ by tests/effects.rs, do not edit -->";
+const TABLE_END: &str = "<!-- end of the effect table -->";
+
+/// A value in the unit a reader expects (ms, bar, mm/s, degrees), with four significant digits.
+fn quantity(x: f64, unit: &str) -> String {
+    let (factor, shown) = match unit {
+        "s" => (1e3, "ms"),
+        "Pa" => (1e-5, "bar"),
+        "m/s" => (1e3, "mm/s"),
+        "rad" => (180.0 / std::f64::consts::PI, "°"),
+        "1" => (1.0, ""),
+        "N.s/m" => (1.0, "N·s/m"),
+        "N/m3" => (1.0, "N/m³"),
+        "m3/(s.Pa)" => (1.0, "m³/(s·Pa)"),
+        other => (1.0, other),
+    };
+    let value = format!("{:.3e}", x * factor).parse::<f64>().unwrap();
+    let number = if value != 0.0 && (value.abs() >= 1e5 || value.abs() < 1e-3) {
+        format!("{value:e}")
+    } else {
+        format!("{value}")
+    };
+    match shown {
+        "" => number,
+        "°" => format!("{number}°"),
+        _ => format!("{number} {shown}"),
+    }
+}
+
+/// `lo–hi unit` for a range in `unit`.
+fn range(lo: f64, hi: f64, unit: &str) -> String {
+    let (lo, hi) = (quantity(lo, unit), quantity(hi, unit));
+    // the unit once, after the upper bound
+    let lo = lo.split(' ').next().unwrap().trim_end_matches('°').to_string();
+    format!("{lo}–{hi}")
+}
+
+fn render_effect_table() -> String {
+    let mut out = String::from(TABLE_START);
+    out.push_str(
+        "\n| key | default | equation | code | fitted parameters: plausible range (default) | held | signature of the missing effect in r |\n|---|---|---|---|---|---|---|\n",
+    );
+    for e in CATALOG {
+        let info = e.info();
+        let switch = format!("effect_{}", info.key);
+        let on = BooleanVar::ALL.into_iter().find(|v| v.name() == switch).and_then(|v| v.start()).unwrap();
+        let fitted: Vec<String> = info
+            .fitted
+            .iter()
+            .map(|f| {
+                let v = real_parameter(f.name);
+                let default = quantity(v.start().unwrap(), v.unit());
+                format!("`{}` {} ({default})", f.name, range(f.plausible.0, f.plausible.1, v.unit()))
+            })
+            .collect();
+        let held: Vec<String> = info
+            .other
+            .iter()
+            .map(|name| {
+                let v = real_parameter(name);
+                format!("`{name}` {}", quantity(v.start().unwrap(), v.unit()))
+            })
+            .collect();
+        out.push_str(&format!(
+            "| `{}` | {} | {} | `{}` in `{}` | {} | {} | {} |\n",
+            info.key,
+            if on { "on" } else { "off" },
+            info.equation,
+            info.code.function,
+            info.code.file,
+            fitted.join("; "),
+            if held.is_empty() { "–".to_string() } else { held.join("; ") },
+            info.signature
+        ));
+    }
+    out.push_str(TABLE_END);
+    out
+}
+
+#[test]
+fn the_effect_tables_of_the_docs_are_the_catalog() {
+    let rendered = render_effect_table();
+    for (file, text) in [
+        ("docs/effects.md", include_str!("../docs/effects.md")),
+        ("docs/physics.md", include_str!("../docs/physics.md")),
+    ] {
+        let start = text.find(TABLE_START).unwrap_or_else(|| panic!("{file} has no line {TABLE_START}"));
+        let end = text[start..].find(TABLE_END).unwrap_or_else(|| panic!("{file} has no line {TABLE_END}"));
+        let block = &text[start..start + end + TABLE_END.len()];
+        assert!(
+            block == rendered,
+            "{file}'s effect table differs from src/effects/; replace its block with:\n\n{rendered}\n"
+        );
+    }
+}
+
+#[test]
+fn quantities_are_shown_in_the_readers_units() {
+    assert_eq!(quantity(0.006, "s"), "6 ms");
+    assert_eq!(quantity(0.85e5, "Pa"), "0.85 bar");
+    assert_eq!(quantity(5e-4, "m/s"), "0.5 mm/s");
+    assert_eq!(quantity(1.2042771838760873, "rad"), "69°");
+    assert_eq!(quantity(1e7, "N/m"), "1e7 N/m");
+    assert_eq!(quantity(5e-14, "m3/(s.Pa)"), "5e-14 m³/(s·Pa)");
+    assert_eq!(quantity(0.025, "1"), "0.025");
+    assert_eq!(range(50.0, 600.0, "N"), "50–600 N");
+    assert_eq!(range(0.001, 0.006, "s"), "1–6 ms");
 }

@@ -1,4 +1,7 @@
 //! The FMI 2.0 C API in-process: lifecycle, the state machine, bad arguments, FMU state.
+// Calls the FMU's C API as an importer does, through raw pointers: the crate denies unsafe code
+// (Cargo.toml), this file needs it.
+#![allow(unsafe_code)]
 mod common;
 
 use common::*;
@@ -9,7 +12,9 @@ use std::ffi::CString;
 
 #[test]
 fn version_and_platform() {
+    // SAFETY: fmi2GetVersion returns a pointer to a static NUL-terminated string.
     assert_eq!(unsafe { std::ffi::CStr::from_ptr(fmi2GetVersion()) }, c"2.0");
+    // SAFETY: as fmi2GetVersion.
     assert_eq!(unsafe { std::ffi::CStr::from_ptr(fmi2GetTypesPlatform()) }, c"default");
 }
 
@@ -19,6 +24,9 @@ fn instantiate_refuses_wrong_guid_type_and_name() {
     let guid = c"{00000000-0000-0000-0000-000000000000}";
     let null = std::ptr::null();
     let no_callbacks: *const fmi2CallbackFunctions = std::ptr::null();
+    // SAFETY: the strings are NUL-terminated CStrings and literals that outlive the calls; NULL
+    // callbacks, names and instances are what the FMU must refuse, and it reads nothing through
+    // them.
     unsafe {
         assert!(fmi2Instantiate(name.as_ptr(), fmi2Type_fmi2CoSimulation, guid.as_ptr(), null, no_callbacks, 0, 0)
             .is_null());
@@ -37,6 +45,7 @@ fn illegal_call_sequences_are_refused_and_logged() {
     let f = Fmu::new("sequence");
     assert_eq!(f.step(0.0, 1e-3), ERROR, "doStep before initialisation");
     let mut x = 0.0;
+    // SAFETY: vr and value point to one element each.
     assert_eq!(unsafe { fmi2GetReal(f.c, &RealVar::FDamper.vr(), 1, &mut x) }, ERROR, "get in Instantiated");
     assert_eq!(fmi2ExitInitializationMode(f.c), ERROR);
     assert_eq!(fmi2SetupExperiment(f.c, 0, 0.0, 0.0, 0, 0.0), OK);
@@ -65,10 +74,13 @@ fn bad_values_are_refused_and_change_nothing() {
     assert_eq!(f.set(RealVar::FDamper, 1.0), ERROR, "outputs cannot be set");
     // all-or-nothing: a batch with one bad value changes none
     let vrs = [RealVar::VDamper.vr(), RealVar::FDemand.vr()];
+    // SAFETY: vrs and the value array hold two elements each.
     assert_eq!(unsafe { fmi2SetReal(f.c, vrs.as_ptr(), 2, [0.2, f64::NAN].as_ptr()) }, ERROR);
     assert_eq!(f.get(RealVar::VDamper), 0.1);
     let mut x = 0.0;
+    // SAFETY: vr and value point to one element each.
     assert_eq!(unsafe { fmi2GetReal(f.c, &9999, 1, &mut x) }, ERROR, "unknown value reference");
+    // SAFETY: value points to one element; the NULL vr array is what the FMU must refuse.
     assert_eq!(unsafe { fmi2GetReal(f.c, std::ptr::null(), 1, &mut x) }, ERROR, "null vr array");
     assert_eq!(f.step(0.0, 0.0), ERROR, "zero step");
     assert_eq!(f.step(0.0, -1e-3), ERROR, "negative step");
@@ -88,6 +100,7 @@ fn out_of_range_and_inconsistent_parameters_are_refused() {
     let f = Fmu::new("ranges");
     assert_eq!(f.set(RealVar::AirFraction, -1.0), ERROR);
     let mode = IntegerVar::ControlMode.vr();
+    // SAFETY: vr and value point to one element each.
     assert_eq!(unsafe { fmi2SetInteger(f.c, &mode, 1, &7) }, ERROR);
     // each value in range, but the rod would be wider than the bore
     assert_eq!(f.set(RealVar::DRod, 0.08), OK);
@@ -125,29 +138,38 @@ fn fmu_state_round_trip_is_bitwise() {
     let f = Fmu::initialised("state", |_| {});
     run(&f, 0.0, 100);
     let mut s: fmi2FMUstate = std::ptr::null_mut();
+    // SAFETY: s is a writable slot for one state pointer.
     assert_eq!(unsafe { fmi2GetFMUstate(f.c, &mut s) }, OK);
     let first = run(&f, 0.1, 100);
+    // SAFETY: s is a state this instance returned and has not freed.
     assert_eq!(unsafe { fmi2SetFMUstate(f.c, s) }, OK);
     assert_eq!(run(&f, 0.1, 100), first, "get/set state");
 
     // serialise, restore into a fresh instance
     let mut size = 0usize;
+    // SAFETY: s is a state of this library; size is writable.
     assert_eq!(unsafe { fmi2SerializedFMUstateSize(f.c, s, &mut size) }, OK);
     let mut bytes = vec![0 as fmi2Byte; size];
+    // SAFETY: bytes holds size writable bytes.
     assert_eq!(unsafe { fmi2SerializeFMUstate(f.c, s, bytes.as_mut_ptr(), size) }, OK);
     let g = Fmu::new("state-copy");
     let mut s2: fmi2FMUstate = std::ptr::null_mut();
+    // SAFETY: bytes holds size bytes; s2 is a writable slot holding NULL.
     assert_eq!(unsafe { fmi2DeSerializeFMUstate(g.c, bytes.as_ptr(), size, &mut s2) }, OK);
+    // SAFETY: s2 is a state this library returned and has not freed.
     assert_eq!(unsafe { fmi2SetFMUstate(g.c, s2) }, OK);
     assert_eq!(run(&g, 0.1, 100), first, "serialised state in a fresh instance");
 
     // corrupted or truncated blobs are refused
     bytes[0] ^= 1;
     let mut s3: fmi2FMUstate = std::ptr::null_mut();
+    // SAFETY: bytes holds size bytes; s3 is a writable slot holding NULL.
     assert_eq!(unsafe { fmi2DeSerializeFMUstate(g.c, bytes.as_ptr(), size, &mut s3) }, ERROR);
     bytes[0] ^= 1;
+    // SAFETY: bytes holds more than size - 8 bytes; s3 is a writable slot holding NULL.
     assert_eq!(unsafe { fmi2DeSerializeFMUstate(g.c, bytes.as_ptr(), size - 8, &mut s3) }, ERROR);
     assert!(s3.is_null());
+    // SAFETY: s and s2 are states of this library, each freed once (the FMU sets the slots to NULL).
     unsafe {
         assert_eq!(fmi2FreeFMUstate(f.c, &mut s), OK);
         assert_eq!(fmi2FreeFMUstate(g.c, &mut s2), OK);
@@ -178,8 +200,10 @@ fn instances_are_independent() {
 fn debug_logging_categories() {
     let f = Fmu::new("categories");
     let cats = [c"logEvents".as_ptr()];
+    // SAFETY: cats holds one pointer to a NUL-terminated literal.
     assert_eq!(unsafe { fmi2SetDebugLogging(f.c, 1, 1, cats.as_ptr()) }, OK);
     let bad = [c"logNonsense".as_ptr()];
+    // SAFETY: bad holds one pointer to a NUL-terminated literal.
     assert_eq!(unsafe { fmi2SetDebugLogging(f.c, 1, 1, bad.as_ptr()) }, ERROR);
     assert_eq!(fmi2SetupExperiment(f.c, 0, 0.0, 0.0, 0, 0.0), OK);
     assert_eq!(fmi2EnterInitializationMode(f.c), OK);

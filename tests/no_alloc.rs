@@ -1,5 +1,8 @@
 //! fmi2DoStep, the getters and setters used every step, and the logging of a refused call never
 //! touch the heap.
+// A counting global allocator and the FMU's C API through raw pointers: the crate denies unsafe
+// code (Cargo.toml), this file needs it.
+#![allow(unsafe_code)]
 mod common;
 
 use common::*;
@@ -16,12 +19,15 @@ thread_local! {
     static ALLOCATIONS: Cell<usize> = const { Cell::new(0) };
 }
 
+// SAFETY: alloc and dealloc forward to System unchanged; the counter allocates nothing.
 unsafe impl GlobalAlloc for Counting {
     unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
         let _ = ALLOCATIONS.try_with(|n| n.set(n.get() + 1));
+        // SAFETY: the caller upholds GlobalAlloc::alloc's contract, which is System's.
         unsafe { System.alloc(layout) }
     }
     unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        // SAFETY: the caller upholds GlobalAlloc::dealloc's contract: ptr came from System.alloc with layout.
         unsafe { System.dealloc(ptr, layout) }
     }
 }

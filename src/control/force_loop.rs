@@ -14,27 +14,27 @@
 use super::{FilteredDerivative, Measurements};
 use crate::physics::params::{Derived, ForceController, Parameters};
 
-/// Smallest valve-area demand [m²].
+/// Smallest valve-area demand (m²).
 const A_DEMAND_MIN: f64 = 1e-7;
 
 /// Outer-loop state.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct ForceLoop {
-    /// Integral term [1 for law 0, m for law 1].
+    /// Integral term (1 for law 0, m for law 1).
     pub integral: f64,
     /// Derivative of the relative error.
     pub error_rate: FilteredDerivative,
 }
 
-/// The semi-active limit: a damper can only resist the motion. Returns the demand [N] where it
-/// resists the velocity `v` [m/s], 0 where it would push.
+/// The semi-active limit: a damper can only resist the motion. Returns the demand (N) where it
+/// resists the velocity `v` (m/s), 0 where it would push.
 pub fn clip_to_dissipative(force_demand: f64, v: f64) -> f64 {
     let s = if v >= 0.0 { 1.0 } else { -1.0 };
     s * (s * force_demand).max(0.0)
 }
 
 impl ForceLoop {
-    /// Spool demand [m] for the (already clipped) force demand `f_demand` [N].
+    /// Spool demand (m) for the (already clipped) force demand `f_demand` (N).
     pub fn step(&mut self, p: &Parameters, d: &Derived, f_demand: f64, m: Measurements) -> f64 {
         let ts = p.t_sample;
         let s = if m.v_damper >= 0.0 { 1.0 } else { -1.0 };
@@ -63,7 +63,7 @@ impl ForceLoop {
     }
 }
 
-/// Valve area [m²] that gives the load-cell force `f_demand` [N] at velocity `v` [m/s] in steady
+/// Valve area (m²) that gives the load-cell force `f_demand` (N) at velocity `v` (m/s) in steady
 /// state (inverse orifice law with the nominal reservoir pressure), within the valve's range:
 /// extension F = Δp·A_a − p_r·A_r, compression F = −(p_r + Δp)·A_r.
 pub fn feedforward_area(p: &Parameters, d: &Derived, f_demand: f64, v: f64) -> f64 {

@@ -14,20 +14,20 @@ use crate::physics::params::{ControlMode, Derived, Parameters};
 /// What the controller measures at a sample.
 #[derive(Clone, Copy, Debug)]
 pub struct Measurements {
-    /// Load-cell force [N].
+    /// Load-cell force (N).
     pub force: f64,
-    /// Spool position from the displacement transducer [m].
+    /// Spool position from the displacement transducer (m).
     pub x_spool: f64,
-    /// Damper velocity [m/s].
+    /// Damper velocity (m/s).
     pub v_damper: f64,
 }
 
 /// Demands from outside (the vehicle controller or the test rig).
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Demands {
-    /// Force demand [N] (control_mode 0).
+    /// Force demand (N) (control_mode 0).
     pub force: f64,
-    /// Spool position demand [m] (control_mode 1).
+    /// Spool position demand (m) (control_mode 1).
     pub x_spool: f64,
 }
 
@@ -36,7 +36,7 @@ pub struct Demands {
 #[derive(Clone, Copy, Debug, Default)]
 pub struct FilteredDerivative {
     previous: f64,
-    /// Present estimate [unit of the signal per second].
+    /// Present estimate (unit of the signal per second).
     pub value: f64,
     primed: bool,
 }
@@ -47,7 +47,7 @@ impl FilteredDerivative {
         (&mut self.previous, &mut self.value, &mut self.primed)
     }
 
-    /// Feeds sample `x`, taken `ts` [s] after the previous one, with filter time constant `tau` [s].
+    /// Feeds sample `x`, taken `ts` (s) after the previous one, with filter time constant `tau` (s).
     pub fn update(&mut self, x: f64, ts: f64, tau: f64) -> f64 {
         if !self.primed {
             self.previous = x;
@@ -66,17 +66,17 @@ pub struct Controller {
     pub force_loop: ForceLoop,
     pub spool_loop: SpoolLoop,
     pub delay: DelayLine,
-    /// Spool demand of the last sample [m].
+    /// Spool demand of the last sample (m).
     pub x_spool_demand: f64,
-    /// Force demand pursued at the last sample, after the semi-active clip [N].
+    /// Force demand pursued at the last sample, after the semi-active clip (N).
     pub force_demand_clipped: f64,
     /// Load-cell reading at rest subtracted from every force measurement (0 unless the load cell
-    /// is zeroed at initialisation) [N].
+    /// is zeroed at initialisation) (N).
     pub force_tare: f64,
 }
 
 impl Controller {
-    /// A controller at rest with the coil current `i0` [A] holding the spool at `x_spool0` [m].
+    /// A controller at rest with the coil current `i0` (A) holding the spool at `x_spool0` (m).
     pub fn at_rest(d: &Derived, x_spool0: f64, i0: f64) -> Self {
         Controller {
             force_loop: ForceLoop::default(),
@@ -88,7 +88,7 @@ impl Controller {
         }
     }
 
-    /// One controller sample: returns the (delayed) current command reaching the coil [A].
+    /// One controller sample: returns the (delayed) current command reaching the coil (A).
     /// The demand is relative to the tared load cell; the force loop works in the raw load-cell
     /// frame (demand + tare against the raw force), where its inverse valve law holds.
     pub fn sample(&mut self, p: &Parameters, d: &Derived, m: Measurements, demands: Demands) -> f64 {

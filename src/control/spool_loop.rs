@@ -16,19 +16,19 @@ use crate::physics::params::{Derived, FlowForceCompensation, Parameters};
 /// Inner-loop state.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct SpoolLoop {
-    /// Integral term [A].
+    /// Integral term (A).
     pub integral: f64,
     /// Spool velocity estimate.
     pub velocity: FilteredDerivative,
 }
 
 impl SpoolLoop {
-    /// Loop at rest with its integrator holding `i0` [A].
+    /// Loop at rest with its integrator holding `i0` (A).
     pub fn at_rest(i0: f64) -> Self {
         SpoolLoop { integral: i0, velocity: FilteredDerivative::default() }
     }
 
-    /// Current command [A] for spool demand `x_demand` [m].
+    /// Current command (A) for spool demand `x_demand` (m).
     pub fn step(&mut self, p: &Parameters, d: &Derived, x_demand: f64, m: Measurements) -> f64 {
         let ts = p.t_sample;
         let error = x_demand - m.x_spool;
@@ -43,7 +43,7 @@ impl SpoolLoop {
     }
 }
 
-/// Feed-forward current [A] that balances the estimated steady flow force.
+/// Feed-forward current (A) that balances the estimated steady flow force.
 pub fn flow_force_compensation(p: &Parameters, d: &Derived, m: Measurements) -> f64 {
     let cyl = &d.cylinder;
     let v = m.v_damper;

@@ -1,7 +1,7 @@
-//! The power amplifier's pure delay on the coil command: the delay line of
-//! `control::amplifier`, round(τ_amp/T_sample) controller samples. Off: no delay.
+//! The power amplifier's pure delay on the coil command, in whole controller samples. Off: no
+//! delay.
 
-use super::{Effect, EffectInfo, FittedParameter};
+use super::{CodeRef, Effect, EffectInfo, FittedParameter};
 use crate::physics::params::Parameters;
 
 pub struct AmplifierDelay;
@@ -9,6 +9,8 @@ pub struct AmplifierDelay;
 static INFO: EffectInfo = EffectInfo {
     key: "amplifier_delay",
     meaning: "pure delay of the power amplifier (off: none)",
+    equation: "the coil command delayed by round(tau_amp/T_sample) controller samples",
+    code: CodeRef { file: "src/control/amplifier.rs", function: "DelayLine::push" },
     fitted: &[FittedParameter {
         name: "tau_amp",
         search: (0.0, 0.01),

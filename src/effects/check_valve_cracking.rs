@@ -1,7 +1,7 @@
-//! The check valves' cracking pressure: their opening area of `physics::hydraulics` starts at
-//! p_cv_crack. Off: they open at zero pressure drop.
+//! The check valves' cracking pressure: their opening starts at p_cv_crack. Off: they open at zero
+//! pressure drop.
 
-use super::{Effect, EffectInfo, FittedParameter};
+use super::{CodeRef, Effect, EffectInfo, FittedParameter};
 use crate::physics::params::Parameters;
 
 pub struct CheckValveCracking;
@@ -9,6 +9,9 @@ pub struct CheckValveCracking;
 static INFO: EffectInfo = EffectInfo {
     key: "check_valve_cracking",
     meaning: "check-valve cracking pressure (off: they open at zero pressure drop)",
+    equation:
+        "A_cv(Δp) = A_cv_leak + A_cv_max·smoothstep((Δp − p_cv_crack)/(p_cv_full − p_cv_crack)); off: p_cv_crack = 0",
+    code: CodeRef { file: "src/physics/hydraulics.rs", function: "check_valve_area" },
     fitted: &[FittedParameter {
         name: "p_cv_crack",
         search: (0.0, 0.95e5),

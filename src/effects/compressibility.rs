@@ -1,7 +1,7 @@
-//! Entrained air in the oil: the effective bulk modulus β_e(p) of `physics::fluid`, used for the
-//! chamber pressures in `physics::plant`. Off: air-free oil, β_e = β_oil.
+//! Entrained air in the oil: the effective bulk modulus β_e(p) of the chamber pressures. Off:
+//! air-free oil, β_e = β_oil.
 
-use super::{Effect, EffectInfo, FittedParameter};
+use super::{CodeRef, Effect, EffectInfo, FittedParameter};
 use crate::physics::params::Parameters;
 
 pub struct Compressibility;
@@ -9,6 +9,8 @@ pub struct Compressibility;
 static INFO: EffectInfo = EffectInfo {
     key: "compressibility",
     meaning: "oil with entrained air (off: air-free oil)",
+    equation: "r = (p_atm/(p + p_atm))^(1/n_polytropic), β_e(p) = (1 + air_fraction·r)/(1/beta_oil + air_fraction·r/(n_polytropic·(p + p_atm))), the bulk modulus of both chambers; off: β_e = beta_oil",
+    code: CodeRef { file: "src/physics/fluid.rs", function: "effective_bulk_modulus" },
     fitted: &[FittedParameter { name: "air_fraction", search: (1e-4, 0.2), log: true, plausible: (0.002, 0.1), grid: None }],
     other: &["n_polytropic"],
     hidden_range: (0.035, 0.05),

@@ -7,9 +7,10 @@
 //! [`Effect::bypass_flow`]). The plant sums the contributions of the switched-on effects.
 //!
 //! The structural effects (compressibility, mount compliance, amplifier delay, flow forces,
-//! check-valve cracking) change a component's law; their equations live in that component and
-//! their file here only describes them. Seal friction, piston leakage and viscous friction are
-//! written entirely behind the trait.
+//! check-valve cracking) change a component's law; their equations live in that component, which
+//! their [`EffectInfo::code`] names (`tests/effects.rs` checks that the function is there). Seal
+//! friction, piston leakage and viscous friction are written entirely behind the trait. The effect
+//! table of docs/effects.md and docs/physics.md §8 is rendered from this catalog (same test).
 //!
 //! Adding an effect (docs/effects.md walks through `viscous_friction.rs` as the worked example):
 //! 1. write `src/effects/<key>.rs` with a unit struct implementing [`Effect`];
@@ -45,6 +46,16 @@ pub struct FittedParameter {
     pub grid: Option<f64>,
 }
 
+/// A function of this crate: its file, relative to the crate's root, and its name, `Type::method`
+/// for a method.
+#[derive(Clone, Copy, Debug)]
+pub struct CodeRef {
+    /// The source file, e.g. `src/physics/valve.rs`.
+    pub file: &'static str,
+    /// The function's name, e.g. `flow_force` or `DelayLine::push`.
+    pub function: &'static str,
+}
+
 /// What an effect is, for the tools around the model (diagnosis, data generator, docs).
 #[derive(Clone, Copy, Debug)]
 pub struct EffectInfo {
@@ -52,6 +63,10 @@ pub struct EffectInfo {
     pub key: &'static str,
     /// One line: what switching it on adds.
     pub meaning: &'static str,
+    /// Its equation in plain text, in the parameters' names.
+    pub equation: &'static str,
+    /// The function that computes the equation.
+    pub code: CodeRef,
     /// The parameters a diagnosis fits, one or two; the first is the effect's size.
     pub fitted: &'static [FittedParameter],
     /// Its other parameters (held at their values during a fit).
@@ -66,17 +81,17 @@ pub struct EffectInfo {
 /// The plant's signals at one instant, as an effect sees them (SI units).
 #[derive(Clone, Copy, Debug)]
 pub struct PlantSignals {
-    /// Damper extension velocity [m/s].
+    /// Damper extension velocity (m/s).
     pub v_damper: f64,
-    /// Damper stroke [m], 0 at mid-stroke.
+    /// Damper stroke (m), 0 at mid-stroke.
     pub x_damper: f64,
-    /// Extension (annulus) chamber gauge pressure [Pa].
+    /// Extension (annulus) chamber gauge pressure (Pa).
     pub p_ext: f64,
-    /// Compression (full-bore) chamber gauge pressure [Pa].
+    /// Compression (full-bore) chamber gauge pressure (Pa).
     pub p_comp: f64,
-    /// Reservoir gauge pressure [Pa].
+    /// Reservoir gauge pressure (Pa).
     pub p_reservoir: f64,
-    /// Spool position [m].
+    /// Spool position (m).
     pub x_spool: f64,
 }
 
@@ -87,12 +102,12 @@ pub trait Effect: Sync {
     fn info(&self) -> &'static EffectInfo;
     /// Whether its switch `effect_<key>` is on.
     fn is_on(&self, p: &Parameters) -> bool;
-    /// Force [N] in parallel with the piston, tension (extension) positive; the load cell
+    /// Force (N) in parallel with the piston, tension (extension) positive; the load cell
     /// measures it and the mount carries it.
     fn force(&self, _p: &Parameters, _s: &PlantSignals) -> f64 {
         0.0
     }
-    /// Flow [m³/s] from the extension chamber to the compression chamber past the valve.
+    /// Flow (m³/s) from the extension chamber to the compression chamber past the valve.
     fn bypass_flow(&self, _p: &Parameters, _s: &PlantSignals) -> f64 {
         0.0
     }
@@ -119,12 +134,12 @@ pub fn find(key: &str) -> Option<&'static dyn Effect> {
 // iterator chain statically, and a single loop calling both hooks ran the model 30 % slower
 // (`cargo bench --bench realtime`: 153x against 214x real time).
 
-/// Sum of the switched-on effects' forces [N].
+/// Sum of the switched-on effects' forces (N).
 pub fn total_force(p: &Parameters, s: &PlantSignals) -> f64 {
     CATALOG.iter().filter(|e| e.is_on(p)).map(|e| e.force(p, s)).sum()
 }
 
-/// Sum of the switched-on effects' bypass flows [m³/s].
+/// Sum of the switched-on effects' bypass flows (m³/s).
 pub fn total_bypass_flow(p: &Parameters, s: &PlantSignals) -> f64 {
     CATALOG.iter().filter(|e| e.is_on(p)).map(|e| e.bypass_flow(p, s)).sum()
 }

@@ -1,7 +1,7 @@
-//! The compliant mount (bushes and frame) in series with the damper: the cubic spring of
-//! `physics::mount`, eliminated algebraically in `physics::plant`. Off: a rigid mount.
+//! The compliant mount (bushes and frame) in series with the damper: a massless cubic spring,
+//! eliminated algebraically. Off: a rigid mount.
 
-use super::{Effect, EffectInfo, FittedParameter};
+use super::{CodeRef, Effect, EffectInfo, FittedParameter};
 use crate::physics::params::Parameters;
 
 pub struct MountCompliance;
@@ -9,6 +9,8 @@ pub struct MountCompliance;
 static INFO: EffectInfo = EffectInfo {
     key: "mount_compliance",
     meaning: "compliant mount in series (off: rigid mount)",
+    equation: "F = k1_mount·δ + k3_mount·δ³ in series with the damper, the deflection δ solved from the force in closed form; off: δ = 0",
+    code: CodeRef { file: "src/physics/mount.rs", function: "CubicMount::deflection" },
     fitted: &[FittedParameter { name: "k1_mount", search: (2e6, 1e10), log: true, plausible: (1e7, 2e8), grid: None }],
     other: &["k3_mount"],
     hidden_range: (2.0e7, 3.5e7),

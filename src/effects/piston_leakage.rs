@@ -1,6 +1,6 @@
 //! Laminar leakage through the gap between piston and bore, bypassing the valve.
 
-use super::{Effect, EffectInfo, FittedParameter, PlantSignals};
+use super::{CodeRef, Effect, EffectInfo, FittedParameter, PlantSignals};
 use crate::physics::params::Parameters;
 
 pub struct PistonLeakage;
@@ -8,6 +8,8 @@ pub struct PistonLeakage;
 static INFO: EffectInfo = EffectInfo {
     key: "piston_leakage",
     meaning: "leakage past the piston G_leak·(p_ext − p_comp) (off: none)",
+    equation: "Q = G_leak·(p_ext − p_comp) from the annulus to the full bore, bypassing the valve",
+    code: CodeRef { file: "src/effects/piston_leakage.rs", function: "PistonLeakage::bypass_flow" },
     fitted: &[FittedParameter {
         name: "G_leak",
         search: (1e-15, 1e-10),

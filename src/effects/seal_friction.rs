@@ -1,6 +1,6 @@
 //! Coulomb friction of the rod and piston seals, smoothed through zero velocity.
 
-use super::{Effect, EffectInfo, FittedParameter, PlantSignals};
+use super::{CodeRef, Effect, EffectInfo, FittedParameter, PlantSignals};
 use crate::physics::params::Parameters;
 
 pub struct SealFriction;
@@ -8,6 +8,8 @@ pub struct SealFriction;
 static INFO: EffectInfo = EffectInfo {
     key: "seal_friction",
     meaning: "Coulomb seal friction F_coulomb·tanh(v/v_friction) (off: none)",
+    equation: "F = F_coulomb·tanh(v_damper/v_friction) in the load path",
+    code: CodeRef { file: "src/effects/seal_friction.rs", function: "SealFriction::force" },
     fitted: &[
         FittedParameter { name: "F_coulomb", search: (0.0, 2000.0), log: false, plausible: (50.0, 600.0), grid: None },
         FittedParameter { name: "v_friction", search: (1e-4, 0.1), log: true, plausible: (5e-4, 0.05), grid: None },

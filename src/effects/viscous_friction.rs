@@ -2,7 +2,7 @@
 //! a user-written effect (docs/effects.md, "Writing a new effect"); together with
 //! `seal_friction` it makes the Coulomb + viscous seal friction of the catalog.
 
-use super::{Effect, EffectInfo, FittedParameter, PlantSignals};
+use super::{CodeRef, Effect, EffectInfo, FittedParameter, PlantSignals};
 use crate::physics::params::Parameters;
 
 pub struct ViscousFriction;
@@ -10,6 +10,8 @@ pub struct ViscousFriction;
 static INFO: EffectInfo = EffectInfo {
     key: "viscous_friction",
     meaning: "viscous seal friction c_viscous·v (off: none)",
+    equation: "F = c_viscous·v_damper in the load path",
+    code: CodeRef { file: "src/effects/viscous_friction.rs", function: "ViscousFriction::force" },
     fitted: &[FittedParameter {
         name: "c_viscous",
         search: (0.0, 20_000.0),

@@ -3,19 +3,19 @@
 //! ```text
 //! effective bulk modulus (polytropic air in oil, Merritt; MathWorks "Hydraulic Fluid"):
 //!   r(p)   = (p_atm / (p + p_atm))^(1/n)
-//!   β_e(p) = (1 + α₀ r) / (1/β_L + α₀ r / (n (p + p_atm)))          p gauge [Pa]
+//!   β_e(p) = (1 + α₀ r) / (1/β_L + α₀ r / (n (p + p_atm)))          p gauge (Pa)
 //! orifice with a laminar region (MathWorks Fixed Orifice form):
 //!   Q(A, Δp) = C_d A sqrt(2/ρ) Δp / (Δp² + p_tr²)^(1/4)
 //! ```
 //! For |Δp| ≫ p_tr the orifice law is the turbulent `C_d A sqrt(2|Δp|/ρ)`; at Δp = 0 its slope is
 //! finite, `C_d A sqrt(2/ρ)/sqrt(p_tr)`, which keeps the Jacobian bounded at flow reversals.
 
-/// Standard atmospheric pressure [Pa].
+/// Standard atmospheric pressure (Pa).
 pub const P_ATM: f64 = 101_325.0;
 
-/// Effective bulk modulus [Pa] of oil (bulk modulus `beta_oil` [Pa]) carrying `air_fraction`
+/// Effective bulk modulus (Pa) of oil (bulk modulus `beta_oil` (Pa)) carrying `air_fraction`
 /// (air volume per oil volume at atmospheric pressure) of air with polytropic index `n`, at gauge
-/// pressure `p` [Pa]. Below 2 % of an atmosphere absolute the air law is frozen (cavitation region)
+/// pressure `p` (Pa). Below 2 % of an atmosphere absolute the air law is frozen (cavitation region)
 /// so that β_e stays positive.
 pub fn effective_bulk_modulus(p: f64, beta_oil: f64, air_fraction: f64, n: f64) -> f64 {
     if air_fraction == 0.0 {
@@ -26,8 +26,8 @@ pub fn effective_bulk_modulus(p: f64, beta_oil: f64, air_fraction: f64, n: f64) 
     (1.0 + air_fraction * r) / (1.0 / beta_oil + air_fraction * r / (n * p_abs))
 }
 
-/// Flow [m³/s] through a sharp-edged orifice of area `area` [m²] with discharge coefficient `cd`
-/// under the pressure drop `dp` [Pa], for oil of density `rho` [kg/m³]; `p_transition` [Pa] sets
+/// Flow (m³/s) through a sharp-edged orifice of area `area` (m²) with discharge coefficient `cd`
+/// under the pressure drop `dp` (Pa), for oil of density `rho` (kg/m³); `p_transition` (Pa) sets
 /// the laminar region around Δp = 0.
 #[inline]
 pub fn orifice_flow(cd: f64, area: f64, dp: f64, rho: f64, p_transition: f64) -> f64 {

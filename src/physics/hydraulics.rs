@@ -17,21 +17,21 @@ use std::f64::consts::PI;
 /// Cylinder geometry.
 #[derive(Clone, Copy, Debug)]
 pub struct Cylinder {
-    /// Piston (bore) area [m²].
+    /// Piston (bore) area (m²).
     pub a_piston: f64,
-    /// Rod area [m²].
+    /// Rod area (m²).
     pub a_rod: f64,
-    /// Annulus area A_p − A_r [m²].
+    /// Annulus area A_p − A_r (m²).
     pub a_annulus: f64,
-    /// Annulus-side volume at mid-stroke, hose included [m³].
+    /// Annulus-side volume at mid-stroke, hose included (m³).
     pub v_a0: f64,
-    /// Piston-side volume at mid-stroke [m³].
+    /// Piston-side volume at mid-stroke (m³).
     pub v_b0: f64,
 }
 
 impl Cylinder {
-    /// Geometry from bore `d_piston`, rod `d_rod`, half stroke `l_half`, dead length `l_dead` [m]
-    /// and the hose volume `v_hose` [m³].
+    /// Geometry from bore `d_piston`, rod `d_rod`, half stroke `l_half`, dead length `l_dead` (m)
+    /// and the hose volume `v_hose` (m³).
     pub fn new(d_piston: f64, d_rod: f64, l_half: f64, l_dead: f64, v_hose: f64) -> Self {
         let a_piston = PI / 4.0 * d_piston * d_piston;
         let a_rod = PI / 4.0 * d_rod * d_rod;
@@ -45,21 +45,21 @@ impl Cylinder {
         }
     }
 
-    /// Chamber volumes (V_A, V_B) [m³] at piston stroke `x_piston` [m] (extension positive),
+    /// Chamber volumes (V_A, V_B) (m³) at piston stroke `x_piston` (m) (extension positive),
     /// floored at 0.1 cm³ so a run beyond the stroke stays finite.
     pub fn volumes(&self, x_piston: f64) -> (f64, f64) {
         ((self.v_a0 - self.a_annulus * x_piston).max(1e-7), (self.v_b0 + self.a_piston * x_piston).max(1e-7))
     }
 }
 
-/// Open area [m²] of a check valve with leakage area `a_leak`, full area `a_max` [m²], cracking
-/// pressure `p_crack` and full-opening pressure `p_full` [Pa], under the forward drop `dp` [Pa].
+/// Open area (m²) of a check valve with leakage area `a_leak`, full area `a_max` (m²), cracking
+/// pressure `p_crack` and full-opening pressure `p_full` (Pa), under the forward drop `dp` (Pa).
 pub fn check_valve_area(a_leak: f64, a_max: f64, p_crack: f64, p_full: f64, dp: f64) -> f64 {
     a_leak + a_max * smoothstep((dp - p_crack) / (p_full - p_crack))
 }
 
-/// Gauge pressure [Pa] of the reservoir gas: pre-charge `p_r0` [Pa] at volume `v_g0` [m³],
-/// polytropic index `n`, present gas volume `v_gas` [m³].
+/// Gauge pressure (Pa) of the reservoir gas: pre-charge `p_r0` (Pa) at volume `v_g0` (m³),
+/// polytropic index `n`, present gas volume `v_gas` (m³).
 pub fn reservoir_pressure(p_r0: f64, v_g0: f64, n: f64, v_gas: f64) -> f64 {
     (p_r0 + P_ATM) * (v_g0 / v_gas.max(1e-9)).powf(n) - P_ATM
 }

@@ -2,7 +2,7 @@
 //! (the paper's Fig. 5).
 //!
 //! ```text
-//! F = g(δ) = k1 δ + k3 δ³          δ = mount deflection [m], tension positive
+//! F = g(δ) = k1 δ + k3 δ³          δ = mount deflection (m), tension positive
 //! δ = g⁻¹(F) = −2 sqrt(k1/(3k3)) sinh( asinh( −(3F/(2k1)) sqrt(3k3/k1) ) / 3 )   (k3 > 0)
 //! ```
 //! The spring is massless, so δ is not a state: it follows from the hydraulic force.
@@ -10,24 +10,24 @@
 /// Cubic series spring.
 #[derive(Clone, Copy, Debug)]
 pub struct CubicMount {
-    /// Linear stiffness [N/m].
+    /// Linear stiffness (N/m).
     pub k1: f64,
-    /// Cubic stiffness [N/m³].
+    /// Cubic stiffness (N/m³).
     pub k3: f64,
 }
 
 impl CubicMount {
-    /// Force [N] at deflection `delta` [m].
+    /// Force (N) at deflection `delta` (m).
     pub fn force(&self, delta: f64) -> f64 {
         self.k1 * delta + self.k3 * delta * delta * delta
     }
 
-    /// Tangent stiffness dF/dδ [N/m].
+    /// Tangent stiffness dF/dδ (N/m).
     pub fn stiffness(&self, delta: f64) -> f64 {
         self.k1 + 3.0 * self.k3 * delta * delta
     }
 
-    /// Deflection [m] carrying `force` [N]: the one real root of the cubic, in closed form
+    /// Deflection (m) carrying `force` (N): the one real root of the cubic, in closed form
     /// (hyperbolic form of Cardano, no cancellation).
     pub fn deflection(&self, force: f64) -> f64 {
         if self.k3 == 0.0 {

@@ -127,13 +127,13 @@ pub struct Derived {
     pub ports: ValvePorts,
     /// The series mount, `None` when `effect_mount_compliance` is off (rigid mount).
     pub mount: Option<CubicMount>,
-    /// Entrained air fraction in effect (0 when `effect_compressibility` is off) [-].
+    /// Entrained air fraction in effect (0 when `effect_compressibility` is off) (-).
     pub air_fraction: f64,
-    /// Check-valve cracking pressure in effect (0 when `effect_check_valve_cracking` is off) [Pa].
+    /// Check-valve cracking pressure in effect (0 when `effect_check_valve_cracking` is off) (Pa).
     pub p_cv_crack: f64,
-    /// Upper spool demand: 0.5 mm short of the end stop [m].
+    /// Upper spool demand: 0.5 mm short of the end stop (m).
     pub x_demand_max: f64,
-    /// Valve area at `x_demand_max` [m²].
+    /// Valve area at `x_demand_max` (m²).
     pub a_demand_max: f64,
     /// Amplifier delay in controller samples.
     pub delay_samples: usize,

@@ -31,19 +31,19 @@ pub type State = SVector<f64, N_STATES>;
 
 /// Index of each state in [`State`].
 pub mod idx {
-    /// Annulus (extension) chamber gauge pressure [Pa].
+    /// Annulus (extension) chamber gauge pressure (Pa).
     pub const P_A: usize = 0;
-    /// Full-bore (compression) chamber gauge pressure [Pa].
+    /// Full-bore (compression) chamber gauge pressure (Pa).
     pub const P_B: usize = 1;
-    /// Reservoir gas volume [m³].
+    /// Reservoir gas volume (m³).
     pub const V_GAS: usize = 2;
-    /// Spool position [m].
+    /// Spool position (m).
     pub const X_SPOOL: usize = 3;
-    /// Spool velocity [m/s].
+    /// Spool velocity (m/s).
     pub const V_SPOOL: usize = 4;
-    /// Coil current [A].
+    /// Coil current (A).
     pub const I_COIL: usize = 5;
-    /// Damper stroke [m].
+    /// Damper stroke (m).
     pub const X_DAMPER: usize = 6;
 }
 
@@ -52,15 +52,15 @@ pub mod idx {
 pub struct PlantOutputs {
     /// dy/dt.
     pub dydt: State,
-    /// Load-cell force [N], tension positive.
+    /// Load-cell force (N), tension positive.
     pub force: f64,
-    /// Reservoir gauge pressure [Pa].
+    /// Reservoir gauge pressure (Pa).
     pub p_reservoir: f64,
-    /// Flow through the proportional valve [m³/s].
+    /// Flow through the proportional valve (m³/s).
     pub q_valve: f64,
-    /// Steady flow force on the spool [N].
+    /// Steady flow force on the spool (N).
     pub flow_force: f64,
-    /// Mount deflection [m].
+    /// Mount deflection (m).
     pub delta_mount: f64,
 }
 
@@ -68,9 +68,9 @@ pub struct PlantOutputs {
 pub struct Plant<'a> {
     pub p: &'a Parameters,
     pub d: &'a Derived,
-    /// Damper extension velocity [m/s] (held over the communication step).
+    /// Damper extension velocity (m/s) (held over the communication step).
     pub v_damper: f64,
-    /// Delayed amplifier command to the coil [A] (held over the controller sample).
+    /// Delayed amplifier command to the coil (A) (held over the controller sample).
     pub i_command: f64,
 }
 
@@ -138,7 +138,7 @@ impl Plant<'_> {
         PlantOutputs { dydt, force, p_reservoir: p_r, q_valve, flow_force: f_flow, delta_mount: delta }
     }
 
-    /// Contact force [N] of the spool end stops (spring-damper beyond the travel).
+    /// Contact force (N) of the spool end stops (spring-damper beyond the travel).
     fn stop_force(&self, x_s: f64, v_s: f64) -> f64 {
         let p = self.p;
         if x_s < p.x_spool_min {
@@ -160,7 +160,7 @@ impl Plant<'_> {
     }
 }
 
-/// Coil current [A] that holds the spool at `x_spool` against its centring spring.
+/// Coil current (A) that holds the spool at `x_spool` against its centring spring.
 pub fn rest_current(p: &Parameters, x_spool: f64) -> f64 {
     (p.k_spool * x_spool / solenoid_force(p.k_sol, p.kappa_sol, p.x_spool_max, 1.0, x_spool)).clamp(0.0, p.i_max)
 }

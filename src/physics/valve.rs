@@ -16,16 +16,16 @@ use std::f64::consts::PI;
 /// Port geometry of the valve.
 #[derive(Clone, Copy, Debug)]
 pub struct ValvePorts {
-    /// Number of circular ports [-].
+    /// Number of circular ports (-).
     pub n_ports: f64,
-    /// Port radius [m].
+    /// Port radius (m).
     pub r_port: f64,
-    /// Spool overlap: ports start to open at this spool position [m].
+    /// Spool overlap: ports start to open at this spool position (m).
     pub x_lap: f64,
 }
 
 impl ValvePorts {
-    /// Open area [m²] at spool position `x_spool` [m].
+    /// Open area (m²) at spool position `x_spool` (m).
     pub fn area(&self, x_spool: f64) -> f64 {
         let r = self.r_port;
         let h = x_spool - self.x_lap;
@@ -39,7 +39,7 @@ impl ValvePorts {
         self.n_ports * one
     }
 
-    /// dA/dx_spool [m²/m]: the total chord length of the uncovered port edges.
+    /// dA/dx_spool (m²/m): the total chord length of the uncovered port edges.
     pub fn area_slope(&self, x_spool: f64) -> f64 {
         let r = self.r_port;
         let h = x_spool - self.x_lap;
@@ -50,7 +50,7 @@ impl ValvePorts {
         }
     }
 
-    /// Spool position [m] that opens `area` [m²]; `area` is clamped to [0, nπr²].
+    /// Spool position (m) that opens `area` (m²); `area` is clamped to [0, nπr²].
     /// Safeguarded Newton on the monotone port law: a fixed small number of iterations, so the
     /// controller's cost per sample is bounded and deterministic.
     pub fn position_for_area(&self, area: f64) -> f64 {
@@ -82,14 +82,14 @@ impl ValvePorts {
     }
 }
 
-/// Force [N] of the proportional solenoid with force constant `k_sol` [N/A] at current `i` [A],
-/// spool position `x_spool` [m]; `kappa` is the relative force slope over the stroke `x_max` [m].
+/// Force (N) of the proportional solenoid with force constant `k_sol` (N/A) at current `i` (A),
+/// spool position `x_spool` (m); `kappa` is the relative force slope over the stroke `x_max` (m).
 pub fn solenoid_force(k_sol: f64, kappa: f64, x_max: f64, i: f64, x_spool: f64) -> f64 {
     k_sol * i * (1.0 + kappa * (x_spool / x_max - 0.5))
 }
 
-/// Steady flow force [N] on the spool, acting to close the valve: jet momentum through the open
-/// area `area` [m²] under the pressure drop `dp` [Pa] (only positive drops drive the jet).
+/// Steady flow force (N) on the spool, acting to close the valve: jet momentum through the open
+/// area `area` (m²) under the pressure drop `dp` (Pa) (only positive drops drive the jet).
 pub fn flow_force(cd: f64, cv: f64, theta_jet: f64, area: f64, dp: f64) -> f64 {
     2.0 * cd * cv * theta_jet.cos() * area * dp.max(0.0)
 }

@@ -17,7 +17,7 @@ use nalgebra::{Const, DimMin, SMatrix, SVector};
 
 const GAMMA: f64 = 0.5;
 
-/// Advances `y` by one step `h` [s]; returns the new state and the embedded error estimate.
+/// Advances `y` by one step `h` (s); returns the new state and the embedded error estimate.
 /// One Jacobian, one LU factorisation and three right-hand-side evaluations per step.
 pub fn rodas3_step<const N: usize, S: OdeSystem<N>>(
     sys: &S,

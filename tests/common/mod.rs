@@ -22,7 +22,9 @@ unsafe extern "C" fn logger(
     _cat: fmi2String,
     msg: fmi2String,
 ) {
+    // SAFETY: the FMU passes NUL-terminated instance names and messages, valid for the call.
     let name = unsafe { CStr::from_ptr(name) }.to_string_lossy();
+    // SAFETY: as name.
     let msg = unsafe { CStr::from_ptr(msg) }.to_string_lossy();
     LOG.lock().unwrap().push(format!("{name} [{status}] {msg}"));
 }
@@ -55,6 +57,8 @@ impl Fmu {
         };
         let cname = CString::new(name).unwrap();
         let guid = CString::new(GUID).unwrap();
+        // SAFETY: the name and GUID are NUL-terminated CStrings and callbacks a valid struct, all alive for
+        // the call (the FMU copies what it keeps).
         let c = unsafe {
             fmi2Instantiate(
                 cname.as_ptr(),
@@ -85,11 +89,13 @@ impl Fmu {
     }
 
     pub fn set(&self, v: RealVar, x: f64) -> fmi2Status {
+        // SAFETY: vr and value point to one element each.
         unsafe { fmi2SetReal(self.c, &v.vr(), 1, &x) }
     }
 
     pub fn get(&self, v: RealVar) -> f64 {
         let mut x = f64::NAN;
+        // SAFETY: vr and value point to one element each.
         assert_eq!(unsafe { fmi2GetReal(self.c, &v.vr(), 1, &mut x) }, OK);
         x
     }
@@ -101,6 +107,7 @@ impl Fmu {
 
 impl Drop for Fmu {
     fn drop(&mut self) {
+        // SAFETY: c is this instance, freed once and not used afterwards.
         unsafe { fmi2FreeInstance(self.c) };
     }
 }

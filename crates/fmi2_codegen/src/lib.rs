@@ -1,7 +1,8 @@
 //! For an FMU crate's `build.rs`: reads its `modelDescription.xml` (the single source of truth for
 //! the FMU's variables) with quick-xml, checks it, and generates `$OUT_DIR/model_description.rs`:
 //! the GUID, the model identifier and one enum per FMI type (`RealVar`, `IntegerVar`, `BooleanVar`)
-//! with value reference, name, causality, start, min and max of every variable.
+//! with value reference, name, causality, start, min and max of every variable (and the unit of
+//! every Real).
 //!
 //! The FMU crate maps every variant in exhaustive `match`es, so a variable added to or removed from
 //! the XML does not compile until the code handles it. The GUID must equal a fingerprint of the
@@ -291,7 +292,9 @@ pub fn generate() {
         let _ = writeln!(out, "\n/// The {ty} variables of `modelDescription.xml`.");
         let _ = writeln!(out, "#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]\npub enum {enum_name} {{");
         for v in &vs {
-            let _ = writeln!(out, "    /// `{}` (vr {}, {}, {})", v.name, v.vr, v.causality, v.variability);
+            // The unit goes in backticks: bare `[N]` or `[m/s]` would be read as intra-doc links.
+            let unit = v.unit.as_ref().map_or(String::new(), |u| format!(", `{u}`"));
+            let _ = writeln!(out, "    /// `{}` (vr {}, {}, {}{unit})", v.name, v.vr, v.causality, v.variability);
             let _ = writeln!(out, "    {},", camel(&v.name));
         }
         let _ = writeln!(out, "}}\n\n#[allow(dead_code, unreachable_patterns, clippy::approx_constant, clippy::match_single_binding)]\nimpl {enum_name} {{");
@@ -317,6 +320,10 @@ pub fn generate() {
             "    pub const fn info(self) -> VarInfo {{\n        VarInfo {{ name: self.name(), causality: self.causality() }}\n    }}"
         );
         gen_fn(&mut out, "start", &format!("Option<{rust_ty}>"), &|v| lit(&v.start));
+        if ty == "Real" {
+            // the checks above made every Real carry a unit of UnitDefinitions
+            gen_fn(&mut out, "unit", "&'static str", &|v| format!("{:?}", v.unit.as_deref().unwrap_or_default()));
+        }
         if ty != "Boolean" {
             gen_fn(&mut out, "min", &format!("Option<{rust_ty}>"), &|v| lit(&v.min));
             gen_fn(&mut out, "max", &format!("Option<{rust_ty}>"), &|v| lit(&v.max));

@@ -115,6 +115,7 @@ pub unsafe fn instantiate<M: Model>(
     ffi_guard(ptr::null_mut(), || {
         // SAFETY: see the function's safety section.
         let callbacks = unsafe { functions.as_ref() }.copied();
+        // SAFETY: instance_name is NULL or NUL-terminated (the function's safety section).
         let name = unsafe { c_str(instance_name) };
         let logger = Logger::new(
             callbacks.and_then(|f| f.logger),
@@ -191,6 +192,7 @@ macro_rules! get_set {
             with_instance::<M>(c, $cget, |inst| {
                 // SAFETY: the importer supplies nvr elements in each array.
                 let vrs = unsafe { slice(vr, nvr) }.ok_or_else(|| null_arg(inst, $cget, "vr"))?;
+                // SAFETY: as for vr: value holds nvr writable elements, and it is not vr's memory.
                 let values = unsafe { slice_mut(value, nvr) }.ok_or_else(|| null_arg(inst, $cget, "value"))?;
                 inst.$get(vrs, values)
             })
@@ -202,6 +204,7 @@ macro_rules! get_set {
             with_instance::<M>(c, $cset, |inst| {
                 // SAFETY: the importer supplies nvr elements in each array.
                 let vrs = unsafe { slice(vr, nvr) }.ok_or_else(|| null_arg(inst, $cset, "vr"))?;
+                // SAFETY: as for vr: value holds nvr elements.
                 let values = unsafe { slice(value, nvr) }.ok_or_else(|| null_arg(inst, $cset, "value"))?;
                 inst.$set(vrs, values)
             })
@@ -256,6 +259,7 @@ unsafe fn store_state<M: Model>(
 ) -> Outcome {
     // SAFETY: see above.
     let slot = unsafe { slot.as_mut() }.ok_or_else(|| null_arg(inst, function, "FMUstate"))?;
+    // SAFETY: a non-null *slot is a state this library returned (the function's safety section).
     match unsafe { state_ref::<M>(*slot) } {
         Some(existing) => existing.state = state,
         None if slot.is_null() => *slot = Box::into_raw(Box::new(StateBox { tag: STATE_TAG, state })) as fmi2FMUstate,
@@ -296,10 +300,13 @@ pub unsafe fn free_fmu_state<M: Model>(c: fmi2Component, fmu_state: *mut fmi2FMU
         if slot.is_null() {
             return Ok(());
         }
-        // SAFETY: checked by tag; the box came from Box::into_raw and is freed once.
+        // SAFETY: *slot is a state of this library or foreign (the function's safety section);
+        // state_ref tells them apart by the tag.
         if unsafe { state_ref::<M>(*slot) }.is_none() {
             return Err(inst.error(format_args!("fmi2FreeFMUstate: not a state of this FMU")));
         }
+        // SAFETY: the tag check above proved that *slot is a box of this library, and the slot is
+        // cleared below, so it is freed once.
         let mut b = unsafe { Box::from_raw(*slot as *mut StateBox<M::State>) };
         b.tag = 0;
         *slot = ptr::null_mut();
@@ -319,6 +326,7 @@ pub unsafe fn serialized_fmu_state_size<M: Model>(
         // SAFETY: see the function's safety section.
         let b = unsafe { state_ref::<M>(fmu_state) }
             .ok_or_else(|| inst.error(format_args!("fmi2SerializedFMUstateSize: FMUstate is NULL or foreign")))?;
+        // SAFETY: size is NULL or writable (the function's safety section).
         let out = unsafe { size.as_mut() }.ok_or_else(|| null_arg(inst, "fmi2SerializedFMUstateSize", "size"))?;
         *out = M::serialize(&b.state).len();
         Ok(())
@@ -344,6 +352,7 @@ pub unsafe fn serialize_fmu_state<M: Model>(
                 inst.error(format_args!("fmi2SerializeFMUstate: buffer of {size} bytes, {} needed", serialized.len()))
             );
         }
+        // SAFETY: bytes holds size ≥ serialized.len() writable bytes (the function's safety section).
         let out = unsafe { slice_mut(bytes as *mut u8, serialized.len()) }
             .ok_or_else(|| null_arg(inst, "fmi2SerializeFMUstate", "serializedState"))?;
         out.copy_from_slice(&serialized);
@@ -365,6 +374,8 @@ pub unsafe fn deserialize_fmu_state<M: Model>(
         let data = unsafe { slice(bytes as *const u8, size) }
             .ok_or_else(|| null_arg(inst, "fmi2DeSerializeFMUstate", "serializedState"))?;
         let state = M::deserialize(data).map_err(|e| inst.error(format_args!("fmi2DeSerializeFMUstate: {e}")))?;
+        // SAFETY: fmu_state is NULL or writable, a non-null *fmu_state a state of this library (the
+        // function's safety section).
         unsafe { store_state(inst, "fmi2DeSerializeFMUstate", fmu_state, state) }
     })
 }
@@ -401,6 +412,7 @@ pub unsafe fn get_boolean_status<M: Model>(c: fmi2Component, kind: fmi2StatusKin
             return Err(inst.error(format_args!("fmi2GetBooleanStatus: only fmi2Terminated is available")));
         }
         // The slave never asks to end the simulation: a discarded step can be retried or restored.
+        // SAFETY: the importer supplies a writable value (the function's safety section).
         *unsafe { value.as_mut() }.ok_or_else(|| null_arg(inst, "fmi2GetBooleanStatus", "value"))? = fmi2False;
         Ok(())
     })

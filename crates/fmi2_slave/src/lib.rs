@@ -8,10 +8,14 @@
 //! Layout: `fmi2` (the C types), `api` (pointer handling per entry point), `instance` (one FMU instance: state machine,
 //! experiment times, variable access rules), `state_machine` (the legal-call table), `logger`,
 //! `guard` (panic guard and checked slices), `snapshot` (versioned byte format of FMU states).
+// The C ABI's raw pointers: the crate denies unsafe code (Cargo.toml) except in these modules.
+#[allow(unsafe_code)]
 pub mod api;
 pub mod fmi2;
+#[allow(unsafe_code)]
 mod guard;
 mod instance;
+#[allow(unsafe_code)]
 mod logger;
 pub mod snapshot;
 mod state_machine;
@@ -56,13 +60,13 @@ pub trait Model: Clone + Default {
     fn set_integer(&mut self, vr: u32, value: i32) -> Result<(), String>;
     fn set_boolean(&mut self, vr: u32, value: bool) -> Result<(), String>;
 
-    /// Checks the parameters and starts at `start_time` [s].
+    /// Checks the parameters and starts at `start_time` (s).
     fn initialize(&mut self, start_time: f64) -> Result<(), String>;
-    /// Time of the model's state [s], `None` before initialisation.
+    /// Time of the model's state (s), `None` before initialisation.
     fn time(&self) -> Option<f64>;
     /// Sets the model's clock to the master's communication point (equal to within rounding).
     fn align_time(&mut self, t: f64);
-    /// Advances by `h` [s] > 0 with the present inputs held; on failure the state is unchanged.
+    /// Advances by `h` (s) > 0 with the present inputs held; on failure the state is unchanged.
     fn do_step(&mut self, h: f64) -> Result<(), Self::StepError>;
 
     fn state(&self) -> Self::State;
@@ -75,6 +79,8 @@ pub trait Model: Clone + Default {
 
 /// Emits the FMI 2.0 Co-Simulation C API for the [`Model`] type `$model`: call once, at the crate
 /// root or in a module of the FMU crate.
+// Neither rustc's unsafe_code nor Clippy's undocumented_unsafe_blocks looks at the expansion in
+// another crate, so the SAFETY comments below are kept by hand.
 #[macro_export]
 macro_rules! export_fmi2 {
     ($model:ty) => {
@@ -97,6 +103,7 @@ macro_rules! export_fmi2 {
             n: usize,
             categories: *const __fmi2::fmi2String,
         ) -> __fmi2::fmi2Status {
+            // SAFETY: the caller upholds this function's safety section, which is the api function's.
             unsafe { $crate::api::set_debug_logging::<$model>(c, on, n, categories) }
         }
         /// # Safety
@@ -111,12 +118,14 @@ macro_rules! export_fmi2 {
             visible: __fmi2::fmi2Boolean,
             logging_on: __fmi2::fmi2Boolean,
         ) -> __fmi2::fmi2Component {
+            // SAFETY: the caller upholds this function's safety section, which is the api function's.
             unsafe { $crate::api::instantiate::<$model>(name, ty, guid, resources, functions, visible, logging_on) }
         }
         /// # Safety
         /// `c` must be NULL or an instance of this library, not used afterwards.
         #[unsafe(no_mangle)]
         pub unsafe extern "C" fn fmi2FreeInstance(c: __fmi2::fmi2Component) {
+            // SAFETY: the caller upholds this function's safety section, which is the api function's.
             unsafe { $crate::api::free_instance::<$model>(c) }
         }
         #[unsafe(no_mangle)]
@@ -155,6 +164,7 @@ macro_rules! export_fmi2 {
             nvr: usize,
             value: *mut f64,
         ) -> __fmi2::fmi2Status {
+            // SAFETY: the caller upholds this function's safety section, which is the api function's.
             unsafe { $crate::api::get_real::<$model>(c, vr, nvr, value) }
         }
         /// # Safety
@@ -166,6 +176,7 @@ macro_rules! export_fmi2 {
             nvr: usize,
             value: *mut i32,
         ) -> __fmi2::fmi2Status {
+            // SAFETY: the caller upholds this function's safety section, which is the api function's.
             unsafe { $crate::api::get_integer::<$model>(c, vr, nvr, value) }
         }
         /// # Safety
@@ -177,6 +188,7 @@ macro_rules! export_fmi2 {
             nvr: usize,
             value: *mut i32,
         ) -> __fmi2::fmi2Status {
+            // SAFETY: the caller upholds this function's safety section, which is the api function's.
             unsafe { $crate::api::get_boolean::<$model>(c, vr, nvr, value) }
         }
         /// # Safety
@@ -188,6 +200,7 @@ macro_rules! export_fmi2 {
             nvr: usize,
             _value: *mut __fmi2::fmi2String,
         ) -> __fmi2::fmi2Status {
+            // SAFETY: the caller upholds this function's safety section, which is the api function's.
             unsafe { $crate::api::no_strings::<$model>(c, "fmi2GetString", vr, nvr) }
         }
         /// # Safety
@@ -199,6 +212,7 @@ macro_rules! export_fmi2 {
             nvr: usize,
             value: *const f64,
         ) -> __fmi2::fmi2Status {
+            // SAFETY: the caller upholds this function's safety section, which is the api function's.
             unsafe { $crate::api::set_real::<$model>(c, vr, nvr, value) }
         }
         /// # Safety
@@ -210,6 +224,7 @@ macro_rules! export_fmi2 {
             nvr: usize,
             value: *const i32,
         ) -> __fmi2::fmi2Status {
+            // SAFETY: the caller upholds this function's safety section, which is the api function's.
             unsafe { $crate::api::set_integer::<$model>(c, vr, nvr, value) }
         }
         /// # Safety
@@ -221,6 +236,7 @@ macro_rules! export_fmi2 {
             nvr: usize,
             value: *const i32,
         ) -> __fmi2::fmi2Status {
+            // SAFETY: the caller upholds this function's safety section, which is the api function's.
             unsafe { $crate::api::set_boolean::<$model>(c, vr, nvr, value) }
         }
         /// # Safety
@@ -232,6 +248,7 @@ macro_rules! export_fmi2 {
             nvr: usize,
             _value: *const __fmi2::fmi2String,
         ) -> __fmi2::fmi2Status {
+            // SAFETY: the caller upholds this function's safety section, which is the api function's.
             unsafe { $crate::api::no_strings::<$model>(c, "fmi2SetString", vr, nvr) }
         }
         /// # Safety
@@ -241,6 +258,7 @@ macro_rules! export_fmi2 {
             c: __fmi2::fmi2Component,
             state: *mut __fmi2::fmi2FMUstate,
         ) -> __fmi2::fmi2Status {
+            // SAFETY: the caller upholds this function's safety section, which is the api function's.
             unsafe { $crate::api::get_fmu_state::<$model>(c, state) }
         }
         /// # Safety
@@ -250,6 +268,7 @@ macro_rules! export_fmi2 {
             c: __fmi2::fmi2Component,
             state: __fmi2::fmi2FMUstate,
         ) -> __fmi2::fmi2Status {
+            // SAFETY: the caller upholds this function's safety section, which is the api function's.
             unsafe { $crate::api::set_fmu_state::<$model>(c, state) }
         }
         /// # Safety
@@ -259,6 +278,7 @@ macro_rules! export_fmi2 {
             c: __fmi2::fmi2Component,
             state: *mut __fmi2::fmi2FMUstate,
         ) -> __fmi2::fmi2Status {
+            // SAFETY: the caller upholds this function's safety section, which is the api function's.
             unsafe { $crate::api::free_fmu_state::<$model>(c, state) }
         }
         /// # Safety
@@ -269,6 +289,7 @@ macro_rules! export_fmi2 {
             state: __fmi2::fmi2FMUstate,
             size: *mut usize,
         ) -> __fmi2::fmi2Status {
+            // SAFETY: the caller upholds this function's safety section, which is the api function's.
             unsafe { $crate::api::serialized_fmu_state_size::<$model>(c, state, size) }
         }
         /// # Safety
@@ -280,6 +301,7 @@ macro_rules! export_fmi2 {
             bytes: *mut __fmi2::fmi2Byte,
             size: usize,
         ) -> __fmi2::fmi2Status {
+            // SAFETY: the caller upholds this function's safety section, which is the api function's.
             unsafe { $crate::api::serialize_fmu_state::<$model>(c, state, bytes, size) }
         }
         /// # Safety
@@ -291,6 +313,7 @@ macro_rules! export_fmi2 {
             size: usize,
             state: *mut __fmi2::fmi2FMUstate,
         ) -> __fmi2::fmi2Status {
+            // SAFETY: the caller upholds this function's safety section, which is the api function's.
             unsafe { $crate::api::deserialize_fmu_state::<$model>(c, bytes, size, state) }
         }
         #[unsafe(no_mangle)]
@@ -366,6 +389,7 @@ macro_rules! export_fmi2 {
             kind: __fmi2::fmi2StatusKind,
             value: *mut f64,
         ) -> __fmi2::fmi2Status {
+            // SAFETY: the caller upholds this function's safety section, which is the api function's.
             unsafe { $crate::api::get_real_status::<$model>(c, kind, value) }
         }
         #[unsafe(no_mangle)]
@@ -388,6 +412,7 @@ macro_rules! export_fmi2 {
             kind: __fmi2::fmi2StatusKind,
             value: *mut i32,
         ) -> __fmi2::fmi2Status {
+            // SAFETY: the caller upholds this function's safety section, which is the api function's.
             unsafe { $crate::api::get_boolean_status::<$model>(c, kind, value) }
         }
         #[unsafe(no_mangle)]

@@ -35,18 +35,18 @@ pub struct Params {
 /// Inputs, held over a communication step.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Inputs {
-    /// Road height [m].
+    /// Road height (m).
     pub z_road: f64,
-    /// Road height rate [m/s].
+    /// Road height rate (m/s).
     pub v_road: f64,
-    /// Damper force, tension positive [N].
+    /// Damper force, tension positive (N).
     pub f_damper: f64,
 }
 
 /// States [z_body, v_body, z_axle, v_axle] (m, m/s, m, m/s).
 pub type State = [f64; 4];
 
-/// Clipped Modified Skyhook demand [N] for relative velocity `v_rel` and body velocity `v_body`.
+/// Clipped Modified Skyhook demand (N) for relative velocity `v_rel` and body velocity `v_body`.
 pub fn msd_demand(cm: f64, alpha: f64, v_rel: f64, v_body: f64) -> f64 {
     let f = cm * (alpha * v_rel + (1.0 - alpha) * v_body);
     if f * v_rel > 0.0 {
@@ -60,16 +60,16 @@ pub fn msd_demand(cm: f64, alpha: f64, v_rel: f64, v_body: f64) -> f64 {
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Evaluation {
     pub dydt: State,
-    /// Damper force on the masses [N], by `damper_mode`.
+    /// Damper force on the masses (N), by `damper_mode`.
     pub f_suspension: f64,
-    /// Dynamic tyre force, compression positive [N].
+    /// Dynamic tyre force, compression positive (N).
     pub f_tyre: f64,
-    /// Clipped MSD demand [N].
+    /// Clipped MSD demand (N).
     pub f_demand: f64,
 }
 
 impl Params {
-    /// Derivatives and forces at state `y`, `t` [s] after the start of the communication step.
+    /// Derivatives and forces at state `y`, `t` (s) after the start of the communication step.
     pub fn evaluate(&self, u: &Inputs, y: &State, t: f64) -> Evaluation {
         let [z_s, v_s, z_u, v_u] = *y;
         let v_rel = v_s - v_u;
@@ -90,7 +90,7 @@ impl Params {
         }
     }
 
-    /// Advances `y` over `h` [s] from the start of a communication step.
+    /// Advances `y` over `h` (s) from the start of a communication step.
     pub fn advance(&self, u: &Inputs, y: &mut State, h: f64) {
         let n = ((h / self.h_max) - 1e-9).ceil().max(1.0) as usize;
         let dt = h / n as f64;
