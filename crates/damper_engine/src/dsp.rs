@@ -38,12 +38,26 @@ pub struct Metrics {
     pub samples: usize,
 }
 
+/// The fit metrics of a model `yhat` against a measurement `y`.
 pub fn metrics(y: &[f64], yhat: &[f64]) -> Metrics {
     let r: Vec<f64> = yhat.iter().zip(y).map(|(m, y)| m - y).collect();
     let rmse = rms(&r);
     let s = std(y);
     let nrmse = rmse / s;
     Metrics { fit_percent: 100.0 * (1.0 - nrmse), nrmse, rmse, bias: mean(&r), std_measured: s, samples: y.len() }
+}
+
+/// The normalised RMS error of a model `yhat` against a measurement `y` ([`Metrics::nrmse`]).
+pub fn nrmse(y: &[f64], yhat: &[f64]) -> f64 {
+    metrics(y, yhat).nrmse
+}
+
+/// Standard deviation of white noise in `r`, from its second differences: white sensor noise of
+/// variance σ² gives second differences of variance 6σ², while a model error, being smooth at the
+/// sample rate, barely shows in them.
+pub fn noise_sigma(r: &[f64]) -> f64 {
+    let d2: Vec<f64> = r.windows(3).map(|w| w[0] - 2.0 * w[1] + w[2]).collect();
+    (d2.iter().map(|d| d * d).sum::<f64>() / d2.len().max(1) as f64 / 6.0).sqrt()
 }
 
 /// In-place radix-2 FFT of (re, im); the length must be a power of two.
@@ -227,6 +241,20 @@ pub fn smooth_rate(t: &[f64], x: &[f64], half: usize) -> Vec<f64> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn noise_sigma_sees_white_noise_not_smooth_error() {
+        let mut s = 1u64;
+        let mut rnd = || {
+            s = s.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            (s >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        };
+        // uniform noise of width 1: σ = 1/√12; plus a smooth 2 Hz error sampled at 1 kHz
+        let r: Vec<f64> =
+            (0..20_000).map(|k| rnd() + 50.0 * (k as f64 * 2e-3 * std::f64::consts::PI * 2.0).sin()).collect();
+        let sigma = noise_sigma(&r);
+        assert!((sigma - 1.0 / 12f64.sqrt()).abs() < 0.02, "{sigma}");
+    }
 
     #[test]
     fn fft_matches_dft() {

@@ -12,7 +12,7 @@
 //!   residual test should).
 
 use crate::dsp::{
-    autocorrelation, chi2_95, cross_correlation, ljung_box, mean, metrics, peak_lag, rms, smooth_rate, std, welch,
+    autocorrelation, chi2_95, cross_correlation, ljung_box, mean, metrics, noise_sigma, peak_lag, rms, smooth_rate, std, welch,
     Metrics,
 };
 use crate::measurement::Measurement;
@@ -483,7 +483,7 @@ pub fn analyse(m: &Measurement, drive: &Drive, p: &Prediction, split: usize) -> 
         .collect();
     let reversal_jump = (!jumps.is_empty()).then(|| mean(&jumps));
 
-    let noise_floor_estimate = crate::diagnose::noise_sigma(rv) / std(&y[split..]);
+    let noise_floor_estimate = noise_sigma(rv) / std(&y[split..]);
 
     Analysis {
         samples: n,

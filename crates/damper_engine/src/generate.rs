@@ -1,5 +1,5 @@
-//! `damper generate`: measurement-like CSV from the model with effects hidden in it, and the truth
-//! in a separate JSON file that `compare` and `diagnose` never read.
+//! What `damper generate` makes: measurement-like CSV from the model with effects hidden in it,
+//! and the truth in a separate JSON file that `compare` and `diagnose` never read.
 //!
 //! The truth model is driven over the measurement's own sample grid with the inputs held over
 //! each interval, exactly as `compare` drives its model, so that a model equal to the truth leaves
@@ -168,7 +168,6 @@ pub struct GenerateOptions {
     pub road: String,
     /// Vehicle speed [m/s] (HiL).
     pub speed: f64,
-    pub quiet: bool,
 }
 
 impl GenerateOptions {
@@ -191,7 +190,6 @@ impl GenerateOptions {
             tare_load_cell: None,
             road: "minor".into(),
             speed: 14.0,
-            quiet: true,
         }
     }
 }
@@ -788,8 +786,9 @@ pub fn csv_text(g: &Generated, o: &GenerateOptions) -> String {
     s
 }
 
-/// `damper generate`: writes the CSV and the truth file.
-pub fn run(o: &GenerateOptions) -> Result<Generated, String> {
+/// Generates and writes the CSV to `o.out` and the truth to `o.truth`: the data set is the two
+/// files, which `compare` reads back (the CSV) and tests score against (the truth).
+pub fn write(o: &GenerateOptions) -> Result<Generated, String> {
     if o.out == o.truth {
         return Err("--out and --truth must be different files".into());
     }
@@ -801,19 +800,5 @@ pub fn run(o: &GenerateOptions) -> Result<Generated, String> {
     }
     std::fs::write(&o.out, csv_text(&g, o)).map_err(|e| format!("{}: {e}", o.out.display()))?;
     std::fs::write(&o.truth, crate::summary::to_json(&g.truth)).map_err(|e| format!("{}: {e}", o.truth.display()))?;
-    if !o.quiet {
-        let names: Vec<&str> = g.columns.iter().map(|(c, _)| c.name()).collect();
-        println!(
-            "damper generate: {} samples at {} Hz ({} s, {} inputs, seed {}) → {} [{}]",
-            g.time.len(),
-            o.rate,
-            o.duration,
-            if o.input == InputStyle::Rig { "rig" } else { "HiL" },
-            o.seed,
-            o.out.display(),
-            names.join(", ")
-        );
-        println!("truth (not read by compare/diagnose) → {}", o.truth.display());
-    }
     Ok(g)
 }
