@@ -3,6 +3,8 @@
 //! commands use).
 
 use crate::{compare, diagnose_cmd};
+use clap::error::{ContextKind, ContextValue, ErrorKind};
+use clap::{Args, CommandFactory, Parser, Subcommand, ValueEnum};
 use damper_engine::candidate::Candidate;
 use damper_engine::comparison::CompareOptions;
 use damper_engine::diagnosed::diagnose_measurement;
@@ -10,8 +12,6 @@ use damper_engine::generate::{self, GenerateOptions, InputStyle, Noise};
 use damper_engine::measurement::{Mapping, Measurement, DEFAULT_MAX_GAP};
 use damper_engine::parameters::{effect, effects, parse_assignment, EffectExt};
 use damper_engine::units::unit_list;
-use clap::error::{ContextKind, ContextValue, ErrorKind};
-use clap::{Args, CommandFactory, Parser, Subcommand, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::io::IsTerminal;
 use std::path::PathBuf;

@@ -14,7 +14,8 @@ pub fn run(opts: &CompareOptions, out: &Path, quiet: bool) -> Result<Comparison,
     let c = compare(opts)?;
     std::fs::create_dir_all(out).map_err(|e| format!("{}: cannot create: {e}", out.display()))?;
     let json_path = out.join("summary.json");
-    std::fs::write(&json_path, to_json(&json_summary::compared(&c))).map_err(|e| format!("{}: {e}", json_path.display()))?;
+    std::fs::write(&json_path, to_json(&json_summary::compared(&c)))
+        .map_err(|e| format!("{}: {e}", json_path.display()))?;
     let html_path = out.join("report.html");
     std::fs::write(&html_path, report::html(&c)).map_err(|e| format!("{}: {e}", html_path.display()))?;
     if !quiet {

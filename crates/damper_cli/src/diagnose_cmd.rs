@@ -126,7 +126,8 @@ pub fn terminal_summary(r: &Diagnosed) -> String {
 pub fn write(r: &Diagnosed, out: &Path, quiet: bool) -> Result<(), String> {
     std::fs::create_dir_all(out).map_err(|e| format!("{}: cannot create: {e}", out.display()))?;
     let json_path = out.join("summary.json");
-    std::fs::write(&json_path, to_json(&json_summary::diagnosed(r))).map_err(|e| format!("{}: {e}", json_path.display()))?;
+    std::fs::write(&json_path, to_json(&json_summary::diagnosed(r)))
+        .map_err(|e| format!("{}: {e}", json_path.display()))?;
     let mut html = report::html(&r.comparison);
     let cut = html.find("<h2>Which effect is missing</h2>").or_else(|| html.rfind("</body>")).unwrap_or(html.len());
     html.truncate(cut);

@@ -12,8 +12,8 @@
 //!   residual test should).
 
 use crate::dsp::{
-    autocorrelation, chi2_95, cross_correlation, ljung_box, mean, metrics, noise_sigma, peak_lag, rms, smooth_rate, std, welch,
-    Metrics,
+    autocorrelation, chi2_95, cross_correlation, ljung_box, mean, metrics, noise_sigma, peak_lag, rms, smooth_rate,
+    std, welch, Metrics,
 };
 use crate::measurement::Measurement;
 use crate::model::{Demand, Drive, Prediction};

@@ -3,12 +3,10 @@
 
 use crate::analysis::{analyse, Analysis};
 use crate::dsp::mean;
-use crate::measurement::{Mapping, Measurement, DEFAULT_MAX_GAP};
 use crate::fmu_model::FmuModel;
+use crate::measurement::{Mapping, Measurement, DEFAULT_MAX_GAP};
 use crate::model::{Backend, Drive, InProcess, Model, Prediction};
-use crate::parameters::{
-    changed_parameters, effect, effect_on, effects, set_effect, set_parameter, EffectExt, Value,
-};
+use crate::parameters::{changed_parameters, effect, effect_on, effects, set_effect, set_parameter, EffectExt, Value};
 use crate::units::Column;
 use semi_active_damper::variables::default_parameters;
 use std::path::PathBuf;

@@ -4,14 +4,14 @@
 //! on the held-out validation part. The verdict:
 //!
 //! - `none`: the baseline's validation residual is at the noise floor and no candidate improves it;
-//! - `effect`: the best candidate explains at least [`MIN_EXPLAINED`](crate::criteria::MIN_EXPLAINED) of the validation error above
-//!   the noise floor with plausible parameters, and either clearly more than the best plausible
-//!   runner-up or it alone brings the residual to the noise floor;
+//! - `effect`: the best candidate explains at least [`MIN_EXPLAINED`] of the validation error
+//!   above the noise floor with plausible parameters, and either clearly more than the best
+//!   plausible runner-up or it alone brings the residual to the noise floor;
 //! - `unexplained`: neither.
 //!
-//! The share explained is (b² − c²)/(b² − f²) with b, c, f the NRMSE of the baseline, of the
-//! candidate and of the noise floor ([`share`](crate::criteria::share)): a weak effect near the noise cannot halve the NRMSE, but can
-//! explain all of the error the noise leaves room for.
+//! The share explained ([`share`](crate::criteria::share)) is (b² − c²)/(b² − f²) with b, c, f
+//! the NRMSE of the baseline, of the candidate and of the noise floor: a weak effect near the
+//! noise cannot halve the NRMSE, but can explain all of the error the noise leaves room for.
 //!
 //! The noise floor is white sensor noise, estimated from the residual ([`noise_sigma`]).
 
@@ -39,7 +39,7 @@ pub struct Diagnosis {
     pub effects: Vec<&'static str>,
 }
 
-/// Runs the diagnosis over `specs` (usually the whole [`catalog`]) with the model, data and
+/// Runs the diagnosis over `specs` (usually the whole [`catalog`](crate::candidate::catalog)) with the model, data and
 /// thread pool of `fit`, from the `baseline` parameters whose force over the measurement is `base`
 /// (the comparison has it already).
 pub fn diagnose(

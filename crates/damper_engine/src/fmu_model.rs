@@ -152,7 +152,6 @@ impl FmuModel {
         import.instantiate_cs("damper", false, false).map_err(|e| format!("{at}: cannot instantiate the FMU: {e}"))?;
         Ok(FmuModel { path: path.to_path_buf(), import, parameters, inputs, outputs })
     }
-
 }
 
 impl Backend for FmuModel {
