@@ -10,7 +10,7 @@ bash scripts/setup.sh --importer
 echo "+ cargo fmt --check && cargo clippy --release --all-targets -- -D warnings && cargo doc (warnings denied)"
 cargo fmt --check
 cargo clippy --release --all-targets -- -D warnings
-RUSTDOCFLAGS="-D warnings" cargo doc --no-deps -p semi_active_damper -p fmi2_slave -p fmi2_codegen -p quarter_truck
+RUSTDOCFLAGS="-D warnings" cargo doc --no-deps --workspace
 echo "+ cargo test --release"
 cargo test --release
 echo "+ python3 scripts/package_fmu.py && python3 scripts/package_truck.py --no-build"

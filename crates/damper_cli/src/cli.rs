@@ -2,14 +2,16 @@
 //! (clap's derive API; every value is checked while parsing, with the parse functions the
 //! commands use).
 
-use crate::compare::{self, CompareOptions};
-use crate::diagnose::Candidate;
-use crate::diagnose_cmd;
-use crate::generate::{self, GenerateOptions, InputStyle, Noise};
-use crate::measurement::{Mapping, Measurement, DEFAULT_MAX_GAP};
-use crate::parameters::{effects, parse_assignment, EffectExt};
+use crate::{compare, diagnose_cmd};
 use clap::error::{ContextKind, ContextValue, ErrorKind};
 use clap::{Args, CommandFactory, Parser, Subcommand, ValueEnum};
+use damper_engine::candidate::Candidate;
+use damper_engine::comparison::CompareOptions;
+use damper_engine::diagnosed::diagnose_measurement;
+use damper_engine::generate::{self, GenerateOptions, InputStyle, Noise};
+use damper_engine::measurement::{Mapping, Measurement, DEFAULT_MAX_GAP};
+use damper_engine::parameters::{effect, effects, parse_assignment, EffectExt};
+use damper_engine::units::unit_list;
 use indicatif::{ProgressBar, ProgressStyle};
 use std::io::IsTerminal;
 use std::path::PathBuf;
@@ -174,8 +176,9 @@ struct CompareArgs {
 }
 
 impl CompareArgs {
-    fn options(self, quiet: bool) -> CompareOptions {
-        let mut o = CompareOptions::new(self.measurement, self.out);
+    /// The comparison's options, and the directory for its files.
+    fn options(self) -> (CompareOptions, PathBuf) {
+        let mut o = CompareOptions::new(self.measurement);
         o.with = self.with;
         o.without = self.without;
         o.maps = self.map;
@@ -185,8 +188,7 @@ impl CompareArgs {
         o.load_cell_lowpass_hz = self.load_cell_lowpass;
         o.fmu = self.fmu;
         o.max_gap = self.max_gap;
-        o.quiet = quiet;
-        o
+        (o, self.out)
     }
 }
 
@@ -194,7 +196,7 @@ impl CompareArgs {
 fn map_long_help() -> String {
     format!(
         "CSV column SOURCE is the variable NAME, in UNIT; repeatable, e.g. --map vel=v_damper:mm/s\n\nUnits: {}.",
-        crate::units::unit_list()
+        unit_list()
     )
 }
 
@@ -224,10 +226,10 @@ struct GenerateArgs {
     /// a random road with the MSD demand
     #[arg(long, value_enum, default_value_t = Input::Rig, help_heading = "Inputs")]
     input: Input,
-    /// Record length [s]
+    /// Record length (s)
     #[arg(long, value_parser = number_arg, value_name = "S", default_value_t = 10.0, allow_negative_numbers = true, help_heading = "Inputs")]
     duration: f64,
-    /// Sample rate [Hz]
+    /// Sample rate (Hz)
     #[arg(long, value_parser = number_arg, value_name = "HZ", default_value_t = 1000.0, allow_negative_numbers = true, help_heading = "Inputs")]
     rate: f64,
     /// spool: x_spool_demand instead of F_demand (rig only)
@@ -236,7 +238,7 @@ struct GenerateArgs {
     /// HiL road: motorway, major, minor or ISO 8608 class A-H
     #[arg(long, value_name = "NAME", default_value = "minor", help_heading = "Inputs")]
     road: String,
-    /// HiL vehicle speed [m/s]
+    /// HiL vehicle speed (m/s)
     #[arg(long, value_parser = number_arg, value_name = "M/S", default_value_t = 14.0, allow_negative_numbers = true, help_heading = "Inputs")]
     speed: f64,
     /// Drive the truth with the true velocity, not the measured one
@@ -252,7 +254,7 @@ struct GenerateArgs {
     /// Only time, velocity, demand and F_damper
     #[arg(long, help_heading = "Columns and sensors")]
     minimal: bool,
-    /// Load-cell low-pass [Hz], or off
+    /// Load-cell low-pass (Hz), or off
     #[arg(long, value_name = "HZ|off", default_value = "400", value_parser = lowpass_arg, help_heading = "Columns and sensors")]
     lowpass: Lowpass,
     /// Multiply every sensor noise level by K (0: quantisation only)
@@ -290,7 +292,7 @@ enum Control {
 struct Lowpass(Option<f64>);
 
 impl GenerateArgs {
-    fn options(self, quiet: bool) -> GenerateOptions {
+    fn options(self) -> GenerateOptions {
         let mut o = GenerateOptions::new(self.out, self.truth);
         o.effects = self.effect;
         o.sets = self.set;
@@ -317,7 +319,6 @@ impl GenerateArgs {
         o.displacement = self.displacement;
         o.minimal = self.minimal;
         o.errors_in_variables = self.errors_in_variables;
-        o.quiet = quiet;
         o
     }
 }
@@ -340,7 +341,7 @@ fn threads_arg(text: &str) -> Result<usize, String> {
 
 /// `KEY` or `KEY=VALUE`: the key is checked against the catalog here, the value where it is set.
 fn effect_arg(text: &str) -> Result<String, String> {
-    crate::parameters::effect(text.split_once('=').map_or(text, |(key, _)| key))?;
+    effect(text.split_once('=').map_or(text, |(key, _)| key))?;
     Ok(text.to_string())
 }
 
@@ -441,7 +442,8 @@ fn print_effects() {
 
 fn run_compare(a: CompareArgs, g: &Global) -> Result<(), String> {
     let t0 = Instant::now();
-    let c = compare::run(&a.options(g.quiet))?;
+    let (o, out) = a.options();
+    let c = compare::run(&o, &out, g.quiet)?;
     if g.verbose {
         print_reader(&c.measurement);
         eprintln!("time: {:.2} s in all, {:.2} s of it the model run", t0.elapsed().as_secs_f64(), c.run_seconds);
@@ -451,9 +453,9 @@ fn run_compare(a: CompareArgs, g: &Global) -> Result<(), String> {
 
 fn run_diagnose(a: DiagnoseArgs, g: &Global) -> Result<(), String> {
     let t0 = Instant::now();
-    let mut o = a.compare.options(g.quiet);
+    let (mut o, out) = a.compare.options();
     o.skip = a.skip;
-    let threads = g.threads.unwrap_or_else(crate::model::default_threads);
+    let threads = g.threads.unwrap_or_else(damper_engine::model::default_threads);
     let bar = fit_bar(g.quiet);
     let fits = AtomicUsize::new(0);
     let progress = |c: &Candidate, done: usize, total: usize| {
@@ -479,10 +481,10 @@ fn run_diagnose(a: DiagnoseArgs, g: &Global) -> Result<(), String> {
     if g.verbose {
         eprintln!("damper diagnose: fitting the candidate effects on {threads} threads");
     }
-    let r = diagnose_cmd::diagnose_measurement(&o, threads, &progress);
+    let r = diagnose_measurement(&o, threads, &progress);
     bar.finish_and_clear();
     let r = r?;
-    diagnose_cmd::write(&o, &r)?;
+    diagnose_cmd::write(&r, &out, g.quiet)?;
     if g.verbose {
         print_reader(&r.comparison.measurement);
         eprintln!(
@@ -530,7 +532,22 @@ fn print_reader(m: &Measurement) {
 
 fn run_generate(a: GenerateArgs, g: &Global) -> Result<(), String> {
     let t0 = Instant::now();
-    generate::run(&a.options(g.quiet))?;
+    let o = a.options();
+    let d = generate::write(&o)?;
+    if !g.quiet {
+        let names: Vec<&str> = d.columns.iter().map(|(c, _)| c.name()).collect();
+        println!(
+            "damper generate: {} samples at {} Hz ({} s, {} inputs, seed {}) → {} [{}]",
+            d.time.len(),
+            o.rate,
+            o.duration,
+            if o.input == InputStyle::Rig { "rig" } else { "HiL" },
+            o.seed,
+            o.out.display(),
+            names.join(", ")
+        );
+        println!("truth (not read by compare/diagnose) → {}", o.truth.display());
+    }
     if g.verbose {
         eprintln!("time: {:.2} s", t0.elapsed().as_secs_f64());
     }

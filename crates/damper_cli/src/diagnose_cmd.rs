@@ -1,100 +1,15 @@
-//! `damper diagnose`: compare (steps 1–2), then name the missing effect (step 3) and show the error
-//! fall as the candidates are added in turn (step 4, the ladder). Writes `report.html` (the
-//! compare report with a diagnosis section) and `summary.json` (with `verdict`, `best_effect`,
-//! `effects`, `nrmse_baseline`, `candidates`, `ladder`), and prints a terminal summary.
+//! `damper diagnose`'s presentation: the diagnosis section of `report.html`, the terminal summary,
+//! and the files written (`report.html`: the compare report with a diagnosis section;
+//! `summary.json`: with `verdict`, `best_effect`, `effects`, `nrmse_baseline`, `candidates`,
+//! `ladder`).
 
-use crate::before_after::{self, After};
-use crate::compare::{self, CompareOptions, Comparison};
-use crate::diagnose::{diagnose, Candidate, Diagnosis, FitSetup, Progress};
-use crate::ladder::Rung;
-use crate::summary::{self, Summary};
 use crate::svg::esc;
-use crate::units::Column;
-
-/// A finished diagnosis with its comparison.
-pub struct Diagnosed {
-    pub comparison: Comparison,
-    pub diagnosis: Diagnosis,
-    /// The model with the named effects, when the verdict is `effect`.
-    pub after: Option<After>,
-}
-
-/// Reads, compares and diagnoses (no files written, nothing printed) on `threads` threads;
-/// `progress` is told of each candidate fitted.
-pub fn diagnose_measurement(
-    opts: &CompareOptions,
-    threads: usize,
-    progress: &Progress<'_>,
-) -> Result<Diagnosed, String> {
-    let c = compare::compare(opts)?;
-    let split = compare::split_index(&c.measurement, opts.split)?;
-    let measured = c.measurement.get(Column::FDamper).ok_or("the measurement has no F_damper column")?.to_vec();
-    let simulate = c.setup.backend.force_simulator(&c.drive, opts.load_cell_lowpass_hz);
-    let baseline = c.setup.model.params;
-    let skipped =
-        opts.skip.iter().map(|k| crate::parameters::effect(k).map(|e| e.key)).collect::<Result<Vec<_>, _>>()?;
-    let candidates: Vec<_> = crate::diagnose::catalog().filter(|e| !skipped.contains(&e.key)).collect();
-    if candidates.is_empty() {
-        return Err("--skip leaves no candidate effect".into());
-    }
-    let pool = crate::model::thread_pool(threads)?;
-    let fit = FitSetup { simulate: &simulate, measured: &measured, split, pool: &pool, progress };
-    let d = diagnose(&fit, &candidates, &baseline, &c.prediction.f_damper)?;
-    drop(simulate);
-    let after = match d.effects.as_slice() {
-        [] => None,
-        effects => Some(before_after::after(&c, effects, d.ladder.params)?),
-    };
-    Ok(Diagnosed { comparison: c, diagnosis: d, after })
-}
-
-fn candidate(c: &Candidate) -> summary::Candidate {
-    summary::Candidate {
-        effect: c.effect.into(),
-        action: c.action.into(),
-        nrmse_train: c.nrmse_train,
-        nrmse_validation: c.nrmse_validation,
-        reduction: c.reduction,
-        explained: c.explained,
-        params: summary::fitted(&c.params),
-        plausible: c.plausible,
-        flags: c.flags.clone(),
-        signature: c.signature.into(),
-        model_runs: c.evaluations,
-    }
-}
-
-/// The summary of compare with the diagnosis filled in.
-pub fn summary(r: &Diagnosed) -> Summary {
-    let d = &r.diagnosis;
-    Summary {
-        nrmse_baseline: d.nrmse_baseline,
-        verdict: Some(d.verdict.into()),
-        best_effect: d.best_effect.map(String::from),
-        candidates: Some(d.candidates.iter().map(candidate).collect()),
-        diagnosis: Some(summary::Diagnosis {
-            effects: d.effects.iter().map(|e| e.to_string()).collect(),
-            nrmse_after_ladder: d.ladder.nrmse_validation,
-            after: r.after.as_ref().map(|a| before_after::summary(&r.comparison, a)),
-            nrmse_noise_floor: d.nrmse_noise_floor,
-            explanation: d.explanation.clone(),
-            ladder: d
-                .ladder
-                .rungs
-                .iter()
-                .map(|l| summary::Rung {
-                    added: l.added.into(),
-                    refit: l.refit,
-                    params: summary::fitted(&l.params),
-                    nrmse_validation: l.nrmse_validation,
-                    explained: l.explained,
-                    kept: l.kept,
-                })
-                .collect(),
-        }),
-        ..compare::summary(&r.comparison)
-    }
-}
+use crate::{before_after_report, compare, json_summary, report};
+use damper_engine::criteria::MIN_EXPLAINED;
+use damper_engine::diagnosed::Diagnosed;
+use damper_engine::ladder::Rung;
+use damper_engine::summary::to_json;
+use std::path::Path;
 
 /// A rung as the report and the terminal name it: `+ effect` or `effect refitted`, and a note
 /// when it was not kept.
@@ -126,7 +41,7 @@ pub fn html_section(r: &Diagnosed) -> String {
         d.verdict,
         if d.effects.is_empty() { String::new() } else { format!(": {}", d.effects.join(" + ")) },
         esc(&d.explanation),
-        100.0 * crate::diagnose::MIN_EXPLAINED
+        100.0 * MIN_EXPLAINED
     );
     h.push_str(
         "<table><tr><th>rank</th><th>effect</th><th>action</th><th>validation NRMSE</th><th>change</th><th>fitted parameters \
@@ -206,27 +121,28 @@ pub fn terminal_summary(r: &Diagnosed) -> String {
     t
 }
 
-/// The end of `damper diagnose`: writes the report and the summary of `r` to `opts.out`, prints
-/// the summary unless `opts.quiet`.
-pub fn write(opts: &CompareOptions, r: &Diagnosed) -> Result<(), String> {
-    std::fs::create_dir_all(&opts.out).map_err(|e| format!("{}: cannot create: {e}", opts.out.display()))?;
-    let json_path = opts.out.join("summary.json");
-    std::fs::write(&json_path, summary::to_json(&summary(r))).map_err(|e| format!("{}: {e}", json_path.display()))?;
-    let mut html = crate::report::html(&r.comparison);
+/// The end of `damper diagnose`: writes the report and the summary of `r` to `out`, prints the
+/// summary unless `quiet`.
+pub fn write(r: &Diagnosed, out: &Path, quiet: bool) -> Result<(), String> {
+    std::fs::create_dir_all(out).map_err(|e| format!("{}: cannot create: {e}", out.display()))?;
+    let json_path = out.join("summary.json");
+    std::fs::write(&json_path, to_json(&json_summary::diagnosed(r)))
+        .map_err(|e| format!("{}: {e}", json_path.display()))?;
+    let mut html = report::html(&r.comparison);
     let cut = html.find("<h2>Which effect is missing</h2>").or_else(|| html.rfind("</body>")).unwrap_or(html.len());
     html.truncate(cut);
     html.push_str(&html_section(r));
     if let Some(a) = &r.after {
-        html.push_str(&before_after::html(&r.comparison, a));
+        html.push_str(&before_after_report::html(&r.comparison, a));
     }
     html.push_str("</body></html>");
-    let html_path = opts.out.join("report.html");
+    let html_path = out.join("report.html");
     std::fs::write(&html_path, html).map_err(|e| format!("{}: {e}", html_path.display()))?;
-    if !opts.quiet {
+    if !quiet {
         print!("{}", compare::terminal_summary(&r.comparison));
         print!("{}", terminal_summary(r));
         if let Some(a) = &r.after {
-            print!("{}", before_after::terminal(&r.comparison, a));
+            print!("{}", before_after_report::terminal(&r.comparison, a));
         }
         println!("report:  {}", html_path.display());
         println!("summary: {}", json_path.display());

@@ -1,11 +1,12 @@
 //! The self-contained HTML report of `damper compare`: inline CSS and SVG, no scripts, no links
 //! to anything outside the file.
 
-use crate::analysis::Analysis;
-use crate::compare::{describe_model, Comparison};
-use crate::model::Demand;
+use crate::describe::describe_model;
 use crate::svg::{esc, Axis, Plot, Series, ACCENT, GREEN, MEASURED, MODEL, ORANGE, RESIDUAL};
-use crate::units::Column;
+use damper_engine::analysis::{observations, Analysis, V_REVERSAL};
+use damper_engine::comparison::Comparison;
+use damper_engine::model::Demand;
+use damper_engine::units::Column;
 use std::fmt::Write;
 
 const CSS: &str = r#"
@@ -106,7 +107,7 @@ pub fn html(c: &Comparison) -> String {
     h.push_str(
         "<p><b>Observations</b> (what the residual shows; naming the missing effect is diagnose's job):</p><ul>",
     );
-    for o in crate::analysis::observations(a) {
+    for o in observations(a) {
         let _ = write!(h, "<li>{}</li>", esc(&o));
     }
     h.push_str("</ul>");
@@ -248,7 +249,7 @@ pub fn html(c: &Comparison) -> String {
         "<p class=\"small\">{} velocity reversals (crossing ±{} m/s), {} demand steps (jumps ≥ {}). Residual jump across a velocity reversal \
          (mean over 5–25 ms after minus 25–5 ms before, + for compression → extension; a friction-like force F·sign(v) missing from the model gives −2F): <b>{}</b>.</p>",
         a.reversals.len(),
-        crate::analysis::V_REVERSAL,
+        V_REVERSAL,
         a.demand_steps.len(),
         if c.drive.control_mode() == 0 { "1 kN" } else { "0.1 mm" },
         a.reversal_jump.map_or("—".to_string(), |j| format!("{j:+.0} N"))

@@ -5,8 +5,8 @@
 mod common;
 
 use common::{checked_summary, schema_errors, scratch, validator};
-use damper_cli::generate::{Truth, TruthInputs};
-use damper_cli::summary::to_json;
+use damper_engine::generate::{Truth, TruthInputs};
+use damper_engine::summary::to_json;
 use serde_json::Value;
 use std::process::Command;
 
@@ -40,7 +40,7 @@ fn compare_and_diagnose_summaries_follow_the_schema() {
     let after = diagnosis.after.as_ref().expect("an effect named: before and after");
     assert!(after.validation_nrmse["F_damper"].after < after.validation_nrmse["F_damper"].before);
     assert_eq!(diagnosis.ladder[0].added, "baseline");
-    assert_eq!(d.candidates.as_ref().map(Vec::len), Some(damper_cli::diagnose::catalog().count()));
+    assert_eq!(d.candidates.as_ref().map(Vec::len), Some(damper_engine::candidate::catalog().count()));
 
     // the schema tells the two apart and knows every key
     let compare_value: Value = serde_json::to_value(&c).unwrap();

@@ -3,8 +3,8 @@
 
 mod common;
 
-use damper_cli::measurement::Mapping;
-use damper_cli::units::Column;
+use damper_engine::measurement::Mapping;
+use damper_engine::units::Column;
 use std::path::Path;
 
 /// The `--map` options of the README's command.
@@ -24,7 +24,7 @@ fn example() -> std::path::PathBuf {
 }
 
 /// NRMSE against the noise floor, as in round_trip.rs.
-fn assert_at_floor(c: &damper_cli::compare::Comparison, expected: f64, what: &str) {
+fn assert_at_floor(c: &damper_engine::comparison::Comparison, expected: f64, what: &str) {
     let nrmse = c.analysis.force().validation.nrmse;
     eprintln!("{what}: validation NRMSE {nrmse:.5}, expected floor {expected:.5} (ratio {:.3})", nrmse / expected);
     assert!((0.9..1.1).contains(&(nrmse / expected)), "{what}: NRMSE {nrmse} is not at the noise floor {expected}");

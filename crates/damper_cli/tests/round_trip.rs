@@ -4,13 +4,13 @@
 mod common;
 
 use common::{compare, generate, regime, scratch};
-use damper_cli::generate::InputStyle;
+use damper_engine::generate::InputStyle;
 
 /// The whiteness statistic may exceed its 95 % quantile by chance; a model error puts it far
 /// above (thousands here). This factor keeps the test from failing on the 5 % chance alone.
 const LJUNG_BOX_MARGIN: f64 = 1.5;
 
-fn assert_at_floor(c: &damper_cli::compare::Comparison, expected: f64, what: &str) {
+fn assert_at_floor(c: &damper_engine::comparison::Comparison, expected: f64, what: &str) {
     let f = c.analysis.force();
     let w = &c.analysis.whiteness;
     eprintln!(
@@ -30,7 +30,7 @@ fn assert_at_floor(c: &damper_cli::compare::Comparison, expected: f64, what: &st
     assert!(w.ljung_box_q < LJUNG_BOX_MARGIN * w.chi2_95, "{what}: residual not white, Q = {}", w.ljung_box_q);
     assert!(w.fraction_outside <= 0.1, "{what}: {} of the lags outside ±1.96/√N", w.fraction_outside);
     assert_eq!(f.lag.samples, 0, "{what}: lag");
-    let said = damper_cli::analysis::observations(&c.analysis);
+    let said = damper_engine::analysis::observations(&c.analysis);
     assert!(said[0].contains("at the noise floor"), "{what}: {said:?}");
     assert!(f.lag.refined_seconds.abs() < 0.25e-3, "{what}: refined lag {}", f.lag.refined_seconds);
     for x in &c.analysis.input_correlations {
@@ -117,7 +117,7 @@ fn hidden_seal_friction_jumps_at_velocity_reversals() {
         let r = regime(&c, "velocity", band);
         assert!((r.rms - 300.0).abs() < 40.0, "{band}: RMS {}", r.rms);
     }
-    let said = damper_cli::analysis::observations(&c.analysis);
+    let said = damper_engine::analysis::observations(&c.analysis);
     assert!(said.iter().any(|o| o.contains("friction-like")), "{said:?}");
     // the residual steps by −2·F_c at a reversal (a little less: tanh(v/v_friction) is smooth)
     assert!((-650.0..-450.0).contains(&jump), "jump {jump}");
@@ -227,32 +227,5 @@ fn the_command_line_runs_end_to_end() {
         .unwrap();
     assert_eq!(missing.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&missing.stderr).contains("nope.csv"));
-    let _ = std::fs::remove_dir_all(&dir);
-}
-
-#[test]
-fn models_run_in_parallel_give_the_sequential_results() {
-    use damper_cli::model::{force_simulator, run_parallel, Drive, Model};
-    use damper_cli::parameters::{set_effect, set_real};
-    let dir = scratch("parallel");
-    let (csv, _) = generate(&dir, "p", |o| o.duration = 1.0);
-    let m = damper_cli::measurement::Measurement::read(&csv, &[], damper_cli::measurement::DEFAULT_MAX_GAP).unwrap();
-    let drive = Drive::from_measurement(&m);
-    let models: Vec<Model> = [0.0f64, 150.0, 300.0]
-        .iter()
-        .map(|&fc| {
-            let mut p = semi_active_damper::variables::default_parameters();
-            set_effect(&mut p, "seal_friction", fc > 0.0).unwrap();
-            set_real(&mut p, "F_coulomb", fc.max(1.0)).unwrap();
-            Model::new(p)
-        })
-        .collect();
-    let parallel = run_parallel(&models, &drive, 2);
-    let simulate = force_simulator(&drive, None);
-    for (model, result) in models.iter().zip(parallel) {
-        let sequential = model.run(&drive).unwrap();
-        assert_eq!(result.unwrap().f_damper, sequential.f_damper);
-        assert_eq!(simulate(&model.params, 500).unwrap(), sequential.f_damper[..500].to_vec());
-    }
     let _ = std::fs::remove_dir_all(&dir);
 }

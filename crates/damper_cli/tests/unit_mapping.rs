@@ -3,8 +3,8 @@
 
 mod common;
 
-use damper_cli::measurement::Mapping;
-use damper_cli::units::Column;
+use damper_engine::measurement::Mapping;
+use damper_engine::units::Column;
 
 /// Rewrites a generated SI CSV: every column renamed and scaled by `1/factor`.
 fn convert(si: &str, columns: &[(&str, &str, f64)]) -> String {

@@ -1,9 +1,9 @@
 //! Helpers shared by the damper CLI tests.
 #![allow(dead_code)]
 
-use damper_cli::compare::{self, CompareOptions, Comparison};
-use damper_cli::generate::{self, GenerateOptions, Generated};
-use damper_cli::summary::{to_json, Summary};
+use damper_engine::comparison::{CompareOptions, Comparison};
+use damper_engine::generate::{self, GenerateOptions, Generated};
+use damper_engine::summary::{to_json, Summary};
 use serde_json::Value;
 use std::path::{Path, PathBuf};
 
@@ -28,7 +28,7 @@ pub fn generate(
     let mut o = GenerateOptions::new(&csv, dir.join(format!("{name}_truth.json")));
     o.duration = 5.0;
     configure(&mut o);
-    let g = generate::run(&o).expect("generate");
+    let g = generate::write(&o).expect("generate");
     (csv, g)
 }
 
@@ -40,13 +40,13 @@ pub fn compare(
     out: &str,
     configure: impl FnOnce(&mut CompareOptions),
 ) -> Comparison {
-    let mut o = CompareOptions::new(csv, dir.join(out));
+    let mut o = CompareOptions::new(csv);
     o.load_cell_lowpass_hz = Some(400.0);
     configure(&mut o);
-    compare::run(&o).expect("compare")
+    damper_cli::compare::run(&o, &dir.join(out), true).expect("compare")
 }
 
-pub fn regime<'a>(c: &'a Comparison, group: &str, name_starts: &str) -> &'a damper_cli::analysis::Regime {
+pub fn regime<'a>(c: &'a Comparison, group: &str, name_starts: &str) -> &'a damper_engine::analysis::Regime {
     c.analysis
         .regimes
         .iter()

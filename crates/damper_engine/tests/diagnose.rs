@@ -7,9 +7,9 @@
 //! cell, as from temperature) gets "unexplained".
 mod common;
 
-use damper_cli::compare::CompareOptions;
-use damper_cli::diagnose_cmd::{diagnose_measurement, Diagnosed};
-use damper_cli::parameters::get_real;
+use damper_engine::comparison::CompareOptions;
+use damper_engine::diagnosed::{diagnose_measurement, Diagnosed};
+use damper_engine::parameters::get_real;
 
 /// The floors.
 const MIN_CUT: f64 = 0.5;
@@ -18,10 +18,9 @@ const PARAM_TOLERANCE: f64 = 0.2;
 const FLOOR_FACTOR: f64 = 1.3;
 const SEEDS: [u64; 3] = [1, 2, 3];
 
-fn run(csv: &std::path::Path, dir: &std::path::Path) -> Diagnosed {
-    let mut o = CompareOptions::new(csv, dir.join("out"));
+fn run(csv: &std::path::Path) -> Diagnosed {
+    let mut o = CompareOptions::new(csv);
     o.load_cell_lowpass_hz = Some(400.0);
-    o.quiet = true;
     diagnose_measurement(&o, 2, &|_, _, _| {}).expect("diagnose")
 }
 
@@ -45,7 +44,7 @@ fn each_hidden_catalog_effect_is_named_and_fitted() {
                 o.effects = vec![effect.to_string()];
                 o.seed = seed;
             });
-            let r = run(&csv, &dir);
+            let r = run(&csv);
             let d = &r.diagnosis;
             let best = &d.candidates[0];
             let truth = get_real(&g.params, param).unwrap();
@@ -71,7 +70,7 @@ fn nothing_hidden_gives_none() {
     for seed in SEEDS {
         let dir = common::scratch(&format!("diag_none_{seed}"));
         let (csv, _) = common::generate(&dir, "m", |o| o.seed = seed);
-        let d = run(&csv, &dir).diagnosis;
+        let d = run(&csv).diagnosis;
         assert_eq!(d.verdict, "none", "seed {seed}: {}", d.explanation);
         assert_eq!(d.best_effect, None);
     }
@@ -98,7 +97,7 @@ fn an_effect_outside_the_catalog_is_unexplained() {
     }
     let drifted = dir.join("drifted.csv");
     std::fs::write(&drifted, out).unwrap();
-    let d = run(&drifted, &dir).diagnosis;
+    let d = run(&drifted).diagnosis;
     assert_eq!(d.verdict, "unexplained", "{}", d.explanation);
     assert_eq!(d.best_effect, None);
 }
@@ -112,7 +111,7 @@ fn two_hidden_effects_are_both_found_by_the_ladder() {
             o.effects = vec![a.to_string(), b.to_string()];
             o.seed = 4;
         });
-        let d = run(&csv, &dir).diagnosis;
+        let d = run(&csv).diagnosis;
         let what = format!(
             "{a} + {b}: verdict {}, effects {:?}, NRMSE {:.4} → {:.4} (floor {:.4}); {}",
             d.verdict, d.effects, d.nrmse_baseline, d.ladder.nrmse_validation, d.nrmse_noise_floor, d.explanation
@@ -151,7 +150,7 @@ fn a_user_written_effect_turns_unexplained_into_named() {
         o.effects = vec!["viscous_friction".to_string()];
         o.seed = 1;
     });
-    let mut o = CompareOptions::new(&csv, dir.join("before"));
+    let mut o = CompareOptions::new(&csv);
     o.load_cell_lowpass_hz = Some(400.0);
     o.skip = vec!["viscous_friction".into()];
     let before = diagnose_measurement(&o, 2, &|_, _, _| {}).unwrap().diagnosis;
@@ -167,7 +166,7 @@ fn a_user_written_effect_turns_unexplained_into_named() {
     // the report's before/after: the error falls in every regime that has samples
     let after = r.after.as_ref().expect("the model with the named effect");
     for (group, name, _, rms_before, rms_after) in
-        damper_cli::before_after::regime_rows(&r.comparison.analysis, &after.analysis)
+        damper_engine::before_after::regime_rows(&r.comparison.analysis, &after.analysis)
     {
         assert!(rms_after < rms_before, "{group} {name}: {rms_before:.0} N → {rms_after:.0} N");
     }
@@ -183,11 +182,11 @@ fn hil_inputs_name_every_effect() {
         let dir = common::scratch(&format!("diag_hil_{effect}"));
         let (csv, g) = common::generate(&dir, "m", |o| {
             o.effects = vec![effect.to_string()];
-            o.input = damper_cli::generate::InputStyle::Hil;
+            o.input = damper_engine::generate::InputStyle::Hil;
             o.duration = 10.0;
             o.seed = 1;
         });
-        let mut o = CompareOptions::new(&csv, dir.join("out"));
+        let mut o = CompareOptions::new(&csv);
         o.load_cell_lowpass_hz = Some(400.0);
         o.tare_load_cell = true;
         let d = diagnose_measurement(&o, 2, &|_, _, _| {}).unwrap().diagnosis;

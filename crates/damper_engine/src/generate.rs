@@ -1,5 +1,5 @@
-//! `damper generate`: measurement-like CSV from the model with effects hidden in it, and the truth
-//! in a separate JSON file that `compare` and `diagnose` never read.
+//! What `damper generate` makes: measurement-like CSV from the model with effects hidden in it,
+//! and the truth in a separate JSON file that `compare` and `diagnose` never read.
 //!
 //! The truth model is driven over the measurement's own sample grid with the inputs held over
 //! each interval, exactly as `compare` drives its model, so that a model equal to the truth leaves
@@ -159,16 +159,15 @@ pub struct GenerateOptions {
     pub minimal: bool,
     /// Drive the truth with the true velocity, not the measured one (see [`generate`]).
     pub errors_in_variables: bool,
-    /// Load-cell low-pass [Hz]; None: no filter.
+    /// Load-cell low-pass (Hz); None: no filter.
     pub lowpass_hz: Option<f64>,
     pub noise: Noise,
     /// Default: false for rig data (raw load cell), true for HiL data (as the HiL runs).
     pub tare_load_cell: Option<bool>,
     /// ISO 8608 class A–H or motorway/major/minor (HiL).
     pub road: String,
-    /// Vehicle speed [m/s] (HiL).
+    /// Vehicle speed (m/s) (HiL).
     pub speed: f64,
-    pub quiet: bool,
 }
 
 impl GenerateOptions {
@@ -191,7 +190,6 @@ impl GenerateOptions {
             tare_load_cell: None,
             road: "minor".into(),
             speed: 14.0,
-            quiet: true,
         }
     }
 }
@@ -225,9 +223,9 @@ pub struct Truth {
     /// The seed of the random streams (effects, inputs, noise).
     pub seed: u64,
     pub samples: usize,
-    /// Sample rate [Hz].
+    /// Sample rate (Hz).
     pub rate_hz: f64,
-    /// Record length [s].
+    /// Record length (s).
     pub duration_s: f64,
     /// The truth model's control_mode: 0 force, 1 spool position.
     pub control_mode: i64,
@@ -256,9 +254,9 @@ pub enum TruthInputs {
     Hil {
         /// Road class (ISO 8608 A–H or motorway/major/minor).
         road: String,
-        /// Road roughness Gd(n0) at n0 = 0.1 cycle/m [m³].
+        /// Road roughness Gd(n0) at n0 = 0.1 cycle/m (m³).
         road_gd_n0_m3: f64,
-        /// Vehicle speed [m/s].
+        /// Vehicle speed (m/s).
         speed_m_s: f64,
         description: String,
     },
@@ -317,12 +315,12 @@ impl From<Sensor> for TruthSensor {
     }
 }
 
-/// The load cell: noise [N], resolution [N] and its low-pass.
+/// The load cell: noise (N), resolution (N) and its low-pass.
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct LoadCell {
     pub noise_std: f64,
     pub quantum: f64,
-    /// Low-pass cut-off [Hz]; null: none.
+    /// Low-pass cut-off (Hz); null: none.
     pub lowpass_hz: Option<f64>,
     pub lowpass: String,
 }
@@ -330,13 +328,13 @@ pub struct LoadCell {
 /// The validation NRMSE of F_damper the best model could reach.
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct TruthNoiseFloor {
-    /// Share of the samples in the train part [1].
+    /// Share of the samples in the train part (1).
     pub train_fraction: f64,
-    /// From the force sensor's noise and resolution alone [1].
+    /// From the force sensor's noise and resolution alone (1).
     #[serde(deserialize_with = "nan_if_null")]
     pub expected_nrmse_validation: f64,
     pub expected_definition: String,
-    /// The truth model itself, driven by the measured inputs [1].
+    /// The truth model itself, driven by the measured inputs (1).
     #[serde(deserialize_with = "nan_if_null")]
     pub oracle_nrmse_validation: f64,
     pub oracle_definition: String,
@@ -387,7 +385,7 @@ fn truth_parameters(o: &GenerateOptions, rng: &mut Rng) -> Result<(Parameters, V
     Ok((p, records))
 }
 
-/// Linear ramp from 0 to 1 over `w` [s] at both ends of [0, len]. Linear, not smooth: the
+/// Linear ramp from 0 to 1 over `w` (s) at both ends of [0, len]. Linear, not smooth: the
 /// velocity passes zero briskly instead of lingering near it, where the controller's direction
 /// follows the sign of the velocity noise.
 fn taper(tau: f64, len: f64, w: f64) -> f64 {
@@ -497,7 +495,7 @@ fn rig_inputs(t: &[f64], rng: &mut Rng, spool: bool, x_spool_rest: f64) -> (Vec<
     (v, demand)
 }
 
-/// ISO 8608 G_d(n0) [m³] of a road name or class.
+/// ISO 8608 G_d(n0) (m³) of a road name or class.
 fn road_gd0(road: &str) -> Result<f64, String> {
     let r = road.trim().to_ascii_lowercase();
     Ok(match r.as_str() {
@@ -788,8 +786,9 @@ pub fn csv_text(g: &Generated, o: &GenerateOptions) -> String {
     s
 }
 
-/// `damper generate`: writes the CSV and the truth file.
-pub fn run(o: &GenerateOptions) -> Result<Generated, String> {
+/// Generates and writes the CSV to `o.out` and the truth to `o.truth`: the data set is the two
+/// files, which `compare` reads back (the CSV) and tests score against (the truth).
+pub fn write(o: &GenerateOptions) -> Result<Generated, String> {
     if o.out == o.truth {
         return Err("--out and --truth must be different files".into());
     }
@@ -801,19 +800,5 @@ pub fn run(o: &GenerateOptions) -> Result<Generated, String> {
     }
     std::fs::write(&o.out, csv_text(&g, o)).map_err(|e| format!("{}: {e}", o.out.display()))?;
     std::fs::write(&o.truth, crate::summary::to_json(&g.truth)).map_err(|e| format!("{}: {e}", o.truth.display()))?;
-    if !o.quiet {
-        let names: Vec<&str> = g.columns.iter().map(|(c, _)| c.name()).collect();
-        println!(
-            "damper generate: {} samples at {} Hz ({} s, {} inputs, seed {}) → {} [{}]",
-            g.time.len(),
-            o.rate,
-            o.duration,
-            if o.input == InputStyle::Rig { "rig" } else { "HiL" },
-            o.seed,
-            o.out.display(),
-            names.join(", ")
-        );
-        println!("truth (not read by compare/diagnose) → {}", o.truth.display());
-    }
     Ok(g)
 }

@@ -51,10 +51,10 @@ pub struct Summary {
     pub measurement: String,
     /// Samples in the record.
     pub samples: usize,
-    /// Sample interval [s].
+    /// Sample interval (s).
     #[serde(deserialize_with = "nan_if_null")]
     pub sample_interval_s: f64,
-    /// Last sample time minus first [s].
+    /// Last sample time minus first (s).
     #[serde(deserialize_with = "nan_if_null")]
     pub duration_s: f64,
     /// `force` (the record has F_demand) or `spool_position` (only x_spool_demand).
@@ -65,13 +65,13 @@ pub struct Summary {
     pub split: Split,
     /// The residual's sign convention.
     pub residual_definition: String,
-    /// Validation NRMSE of F_damper with the model as run [1]; diagnose: of its baseline.
+    /// Validation NRMSE of F_damper with the model as run (1); diagnose: of its baseline.
     #[serde(deserialize_with = "nan_if_null")]
     pub nrmse_baseline: f64,
     /// What the analysis concludes, one sentence each.
     pub observations: Vec<String>,
     /// Validation NRMSE that white sensor noise alone would give, estimated from the second
-    /// differences of the residual [1].
+    /// differences of the residual (1).
     #[serde(deserialize_with = "nan_if_null")]
     pub noise_floor_estimate: f64,
     /// Per measured output, F_damper first.
@@ -88,7 +88,7 @@ pub struct Summary {
     /// Cross-correlation of the F_damper residual with each input.
     pub input_cross_correlation: IndexMap<String, CrossCorrelation>,
     pub events: Events,
-    /// Wall time of the model run [s].
+    /// Wall time of the model run (s).
     #[serde(deserialize_with = "nan_if_null")]
     pub model_run_s: f64,
     /// Notes on the data and the settings.
@@ -111,7 +111,7 @@ pub struct ModelSettings {
     pub control_mode: i64,
     /// The model's force has its rest offset removed.
     pub tare_load_cell: bool,
-    /// Load-cell low-pass applied to the model's force [Hz]; null: none.
+    /// Load-cell low-pass applied to the model's force (Hz); null: none.
     pub load_cell_lowpass_hz: Option<f64>,
     /// `in_process` or `fmu`.
     pub backend: String,
@@ -126,12 +126,12 @@ pub struct ModelSettings {
 /// The train/validation split.
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct Split {
-    /// Share of the samples in the train part [1].
+    /// Share of the samples in the train part (1).
     #[serde(deserialize_with = "nan_if_null")]
     pub train_fraction: f64,
     /// Index of the first validation sample.
     pub first_validation_sample: usize,
-    /// Time of the first validation sample [s].
+    /// Time of the first validation sample (s).
     #[serde(deserialize_with = "nan_if_null")]
     pub t_split: f64,
 }
@@ -143,13 +143,13 @@ pub struct Signal {
     pub unit: String,
     pub train: Metrics,
     pub validation: Metrics,
-    /// Lag of the measured signal against the model's, whole samples [s].
+    /// Lag of the measured signal against the model's, whole samples (s).
     #[serde(deserialize_with = "nan_if_null")]
     pub lag_s: f64,
-    /// The same, refined between samples [s].
+    /// The same, refined between samples (s).
     #[serde(deserialize_with = "nan_if_null")]
     pub lag_refined_s: f64,
-    /// The same on the sample-to-sample changes [s].
+    /// The same on the sample-to-sample changes (s).
     #[serde(deserialize_with = "nan_if_null")]
     pub lag_of_changes_s: f64,
 }
@@ -157,10 +157,10 @@ pub struct Signal {
 /// Model against measurement on one part of the record; errors in the signal's unit.
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct Metrics {
-    /// 100 (1 − NRMSE) [%].
+    /// 100 (1 − NRMSE) (%).
     #[serde(deserialize_with = "nan_if_null")]
     pub fit_percent: f64,
-    /// RMS error over the measured signal's standard deviation [1].
+    /// RMS error over the measured signal's standard deviation (1).
     #[serde(deserialize_with = "nan_if_null")]
     pub nrmse: f64,
     /// RMS error.
@@ -182,19 +182,19 @@ pub struct Regime {
     pub group: String,
     pub regime: String,
     pub samples: usize,
-    /// Share of the record's time in the regime [1].
+    /// Share of the record's time in the regime (1).
     #[serde(deserialize_with = "nan_if_null")]
     pub time_share: f64,
-    /// RMS residual [N].
+    /// RMS residual (N).
     #[serde(deserialize_with = "nan_if_null")]
     pub rms_residual: f64,
-    /// Mean residual [N].
+    /// Mean residual (N).
     #[serde(deserialize_with = "nan_if_null")]
     pub mean_residual: f64,
-    /// Share of the squared residual in the regime [1].
+    /// Share of the squared residual in the regime (1).
     #[serde(deserialize_with = "nan_if_null")]
     pub error_share: f64,
-    /// error_share / time_share [1]: above 1 the error concentrates there.
+    /// error_share / time_share (1): above 1 the error concentrates there.
     #[serde(deserialize_with = "nan_if_null")]
     pub concentration: f64,
 }
@@ -202,19 +202,19 @@ pub struct Regime {
 /// The F_damper residual in one frequency band.
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct Band {
-    /// Lower band edge [Hz].
+    /// Lower band edge (Hz).
     #[serde(deserialize_with = "nan_if_null")]
     pub f_lo_hz: f64,
-    /// Upper band edge [Hz].
+    /// Upper band edge (Hz).
     #[serde(deserialize_with = "nan_if_null")]
     pub f_hi_hz: f64,
-    /// Share of the residual's power in the band [1].
+    /// Share of the residual's power in the band (1).
     #[serde(deserialize_with = "nan_if_null")]
     pub residual_share: f64,
-    /// RMS of the residual in the band [N].
+    /// RMS of the residual in the band (N).
     #[serde(deserialize_with = "nan_if_null")]
     pub residual_rms: f64,
-    /// sqrt(residual power / measured power) in the band [1].
+    /// sqrt(residual power / measured power) in the band (1).
     #[serde(deserialize_with = "nan_if_null")]
     pub band_nrmse: f64,
 }
@@ -222,19 +222,19 @@ pub struct Band {
 /// A window of large F_damper residual.
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct Window {
-    /// Start [s].
+    /// Start (s).
     #[serde(deserialize_with = "nan_if_null")]
     pub t_start: f64,
-    /// End [s].
+    /// End (s).
     #[serde(deserialize_with = "nan_if_null")]
     pub t_end: f64,
-    /// RMS residual [N].
+    /// RMS residual (N).
     #[serde(deserialize_with = "nan_if_null")]
     pub rms_residual: f64,
-    /// Mean residual [N].
+    /// Mean residual (N).
     #[serde(deserialize_with = "nan_if_null")]
     pub mean_residual: f64,
-    /// Mean |v_damper| [m/s].
+    /// Mean |v_damper| (m/s).
     #[serde(deserialize_with = "nan_if_null")]
     pub mean_abs_velocity: f64,
     /// What happens in the window (reversal, demand step, ...).
@@ -246,19 +246,19 @@ pub struct Window {
 pub struct Lag {
     /// Whole samples; positive: the measured force comes later.
     pub samples: i64,
-    /// The same [s].
+    /// The same (s).
     #[serde(deserialize_with = "nan_if_null")]
     pub seconds: f64,
-    /// Refined between samples (parabola through the peak) [s].
+    /// Refined between samples (parabola through the peak) (s).
     #[serde(deserialize_with = "nan_if_null")]
     pub refined_seconds: f64,
-    /// Normalised cross-correlation at the peak [1].
+    /// Normalised cross-correlation at the peak (1).
     #[serde(deserialize_with = "nan_if_null")]
     pub peak_correlation: f64,
-    /// Lags searched: ± this [s].
+    /// Lags searched: ± this (s).
     #[serde(deserialize_with = "nan_if_null")]
     pub search_range_s: f64,
-    /// The same estimate on the sample-to-sample changes of both forces [s].
+    /// The same estimate on the sample-to-sample changes of both forces (s).
     #[serde(deserialize_with = "nan_if_null")]
     pub of_changes_s: f64,
     pub definition: String,
@@ -272,18 +272,18 @@ pub struct Whiteness {
     pub samples: usize,
     /// Autocorrelation lags tested: 1..=max_lag.
     pub max_lag: usize,
-    /// The 95 % band of a white residual's autocorrelation, ±1.96/√N [1].
+    /// The 95 % band of a white residual's autocorrelation, ±1.96/√N (1).
     #[serde(deserialize_with = "nan_if_null")]
     pub band: f64,
-    /// Share of the lags outside the band [1].
+    /// Share of the lags outside the band (1).
     #[serde(deserialize_with = "nan_if_null")]
     pub fraction_outside: f64,
-    /// Ljung–Box statistic [1].
+    /// Ljung–Box statistic (1).
     #[serde(deserialize_with = "nan_if_null")]
     pub ljung_box_q: f64,
     /// Lags in the Ljung–Box statistic.
     pub ljung_box_lags: usize,
-    /// 95 % quantile of χ² with ljung_box_lags degrees of freedom [1].
+    /// 95 % quantile of χ² with ljung_box_lags degrees of freedom (1).
     #[serde(deserialize_with = "nan_if_null")]
     pub chi2_95: f64,
     /// ljung_box_q below chi2_95.
@@ -293,13 +293,13 @@ pub struct Whiteness {
 /// Cross-correlation of the F_damper residual (validation part) with an input.
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct CrossCorrelation {
-    /// Largest |correlation| over the lags [1].
+    /// Largest |correlation| over the lags (1).
     #[serde(deserialize_with = "nan_if_null")]
     pub max_abs: f64,
-    /// Its lag; positive: the residual after the input [s].
+    /// Its lag; positive: the residual after the input (s).
     #[serde(deserialize_with = "nan_if_null")]
     pub at_lag_s: f64,
-    /// The 95 % band of an uncorrelated residual, ±1.96/√N [1].
+    /// The 95 % band of an uncorrelated residual, ±1.96/√N (1).
     #[serde(deserialize_with = "nan_if_null")]
     pub band: f64,
     /// max_abs ≤ band.
@@ -311,7 +311,7 @@ pub struct CrossCorrelation {
 pub struct Events {
     pub velocity_reversals: usize,
     pub demand_steps: usize,
-    /// Mean jump of the F_damper residual across the velocity reversals [N]; null: too few.
+    /// Mean jump of the F_damper residual across the velocity reversals (N); null: too few.
     pub residual_jump_at_reversals: Option<f64>,
 }
 
@@ -335,16 +335,16 @@ pub struct Candidate {
     pub effect: String,
     /// `switched on`, or `refitted` where the baseline has the effect.
     pub action: String,
-    /// Train NRMSE of F_damper with the candidate [1].
+    /// Train NRMSE of F_damper with the candidate (1).
     #[serde(deserialize_with = "nan_if_null")]
     pub nrmse_train: f64,
-    /// Validation NRMSE of F_damper with the candidate [1].
+    /// Validation NRMSE of F_damper with the candidate (1).
     #[serde(deserialize_with = "nan_if_null")]
     pub nrmse_validation: f64,
-    /// 1 − nrmse_validation / nrmse_baseline [1].
+    /// 1 − nrmse_validation / nrmse_baseline (1).
     #[serde(deserialize_with = "nan_if_null")]
     pub reduction: f64,
-    /// Share of the validation error above the noise floor it explains, (b² − c²)/(b² − f²) [1].
+    /// Share of the validation error above the noise floor it explains, (b² − c²)/(b² − f²) (1).
     #[serde(deserialize_with = "nan_if_null")]
     pub explained: f64,
     pub params: IndexMap<String, Fitted>,
@@ -362,13 +362,13 @@ pub struct Candidate {
 pub struct Diagnosis {
     /// The effects named, in the ladder's order.
     pub effects: Vec<String>,
-    /// Validation NRMSE of F_damper at the ladder's end [1].
+    /// Validation NRMSE of F_damper at the ladder's end (1).
     #[serde(deserialize_with = "nan_if_null")]
     pub nrmse_after_ladder: f64,
     /// The model with the named effects against the baseline; absent when none is named.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub after: Option<After>,
-    /// Validation NRMSE of the noise floor [1].
+    /// Validation NRMSE of the noise floor (1).
     #[serde(deserialize_with = "nan_if_null")]
     pub nrmse_noise_floor: f64,
     /// Why the verdict.
@@ -386,10 +386,10 @@ pub struct Rung {
     pub refit: bool,
     /// Its parameters on this rung.
     pub params: IndexMap<String, Fitted>,
-    /// Validation NRMSE of F_damper [1].
+    /// Validation NRMSE of F_damper (1).
     #[serde(deserialize_with = "nan_if_null")]
     pub nrmse_validation: f64,
-    /// Share of the error left above the floor it explains [1].
+    /// Share of the error left above the floor it explains (1).
     #[serde(deserialize_with = "nan_if_null")]
     pub explained: f64,
     /// The rung was kept (it helped enough).
@@ -401,11 +401,11 @@ pub struct Rung {
 pub struct After {
     /// The effects added, in the ladder's order.
     pub effects: Vec<String>,
-    /// Validation NRMSE of each measured output [1].
+    /// Validation NRMSE of each measured output (1).
     pub validation_nrmse: IndexMap<String, BeforeAfter>,
     /// The residual is white after.
     pub white_after: bool,
-    /// Ljung–Box statistic of the F_damper residual [1].
+    /// Ljung–Box statistic of the F_damper residual (1).
     pub ljung_box_q: BeforeAfter,
     /// RMS F_damper residual per regime (regimes with samples).
     pub regimes: Vec<RegimeChange>,
@@ -425,13 +425,13 @@ pub struct BeforeAfter {
 pub struct RegimeChange {
     pub group: String,
     pub regime: String,
-    /// Share of the record's time in the regime [1].
+    /// Share of the record's time in the regime (1).
     #[serde(deserialize_with = "nan_if_null")]
     pub time_share: f64,
-    /// RMS residual before [N].
+    /// RMS residual before (N).
     #[serde(deserialize_with = "nan_if_null")]
     pub rms_before: f64,
-    /// RMS residual after [N].
+    /// RMS residual after (N).
     #[serde(deserialize_with = "nan_if_null")]
     pub rms_after: f64,
 }

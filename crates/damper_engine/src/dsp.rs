@@ -25,7 +25,7 @@ pub fn rms(x: &[f64]) -> f64 {
 /// Fit metrics of a model `yhat` against a measurement `y`.
 #[derive(Clone, Copy, Debug)]
 pub struct Metrics {
-    /// 100·(1 − ‖y − ŷ‖/‖y − ȳ‖) [%].
+    /// 100·(1 − ‖y − ŷ‖/‖y − ȳ‖) (%).
     pub fit_percent: f64,
     /// RMSE/std(y).
     pub nrmse: f64,
@@ -38,12 +38,26 @@ pub struct Metrics {
     pub samples: usize,
 }
 
+/// The fit metrics of a model `yhat` against a measurement `y`.
 pub fn metrics(y: &[f64], yhat: &[f64]) -> Metrics {
     let r: Vec<f64> = yhat.iter().zip(y).map(|(m, y)| m - y).collect();
     let rmse = rms(&r);
     let s = std(y);
     let nrmse = rmse / s;
     Metrics { fit_percent: 100.0 * (1.0 - nrmse), nrmse, rmse, bias: mean(&r), std_measured: s, samples: y.len() }
+}
+
+/// The normalised RMS error of a model `yhat` against a measurement `y` ([`Metrics::nrmse`]).
+pub fn nrmse(y: &[f64], yhat: &[f64]) -> f64 {
+    metrics(y, yhat).nrmse
+}
+
+/// Standard deviation of white noise in `r`, from its second differences: white sensor noise of
+/// variance σ² gives second differences of variance 6σ², while a model error, being smooth at the
+/// sample rate, barely shows in them.
+pub fn noise_sigma(r: &[f64]) -> f64 {
+    let d2: Vec<f64> = r.windows(3).map(|w| w[0] - 2.0 * w[1] + w[2]).collect();
+    (d2.iter().map(|d| d * d).sum::<f64>() / d2.len().max(1) as f64 / 6.0).sqrt()
 }
 
 /// In-place radix-2 FFT of (re, im); the length must be a power of two.
@@ -86,7 +100,7 @@ pub fn fft(re: &mut [f64], im: &mut [f64]) {
 }
 
 /// One-sided power spectral density by Welch's method: Hann window, 50 % overlap, each segment's
-/// mean removed. Returns (frequencies [Hz], PSD [unit²/Hz]); its sum times the bin width is the
+/// mean removed. Returns (frequencies (Hz), PSD (unit²/Hz)); its sum times the bin width is the
 /// variance. `segment` is rounded down to a power of two and to the record length.
 pub fn welch(x: &[f64], fs: f64, segment: usize) -> (Vec<f64>, Vec<f64>) {
     let mut nseg = segment.min(x.len()).max(8);
@@ -154,7 +168,7 @@ pub fn cross_correlation(a: &[f64], b: &[f64], max_lag: usize) -> Vec<f64> {
         .collect()
 }
 
-/// The lag [samples] of the largest value of a cross-correlation from [`cross_correlation`], and
+/// The lag (samples) of the largest value of a cross-correlation from [`cross_correlation`], and
 /// its parabolic refinement (fractional samples).
 pub fn peak_lag(c: &[f64]) -> (isize, f64, f64) {
     let l = (c.len() / 2) as isize;
@@ -174,7 +188,7 @@ pub fn peak_lag(c: &[f64]) -> (isize, f64, f64) {
     (k, refined, v)
 }
 
-/// Ljung–Box statistic Q = n(n+2) Σ_{k=1..m} r_k²/(n−k) of an autocorrelation `r` (r[0] = 1).
+/// Ljung–Box statistic Q = n(n+2) Σ_{k=1..m} r_k²/(n−k) of an autocorrelation `r` (r(0) = 1).
 pub fn ljung_box(r: &[f64], n: usize, m: usize) -> f64 {
     let n = n as f64;
     n * (n + 2.0) * (1..=m.min(r.len() - 1)).map(|k| r[k] * r[k] / (n - k as f64)).sum::<f64>()
@@ -187,7 +201,7 @@ pub fn chi2_95(dof: usize) -> f64 {
     k * (1.0 - h + 1.644_853_6 * h.sqrt()).powi(3)
 }
 
-/// First-order low-pass of cut-off `fc` [Hz] on a sampled signal, exact for an input that varies
+/// First-order low-pass of cut-off `fc` (Hz) on a sampled signal, exact for an input that varies
 /// linearly between samples (first-order hold), starting in steady state at the first sample:
 /// y_k = α y_{k−1} + u_k − α u_{k−1} − τ r (1 − α),  α = exp(−h/τ),  r = (u_k − u_{k−1})/h.
 pub fn lowpass(t: &[f64], u: &[f64], fc: f64) -> Vec<f64> {
@@ -227,6 +241,20 @@ pub fn smooth_rate(t: &[f64], x: &[f64], half: usize) -> Vec<f64> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn noise_sigma_sees_white_noise_not_smooth_error() {
+        let mut s = 1u64;
+        let mut rnd = || {
+            s = s.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            (s >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        };
+        // uniform noise of width 1: σ = 1/√12; plus a smooth 2 Hz error sampled at 1 kHz
+        let r: Vec<f64> =
+            (0..20_000).map(|k| rnd() + 50.0 * (k as f64 * 2e-3 * std::f64::consts::PI * 2.0).sin()).collect();
+        let sigma = noise_sigma(&r);
+        assert!((sigma - 1.0 / 12f64.sqrt()).abs() < 0.02, "{sigma}");
+    }
 
     #[test]
     fn fft_matches_dft() {

@@ -129,7 +129,7 @@ impl Measurement {
         }
     }
 
-    /// Median sample interval [s].
+    /// Median sample interval (s).
     pub fn median_interval(&self) -> f64 {
         median_interval(&self.time)
     }

@@ -12,36 +12,36 @@
 //!   residual test should).
 
 use crate::dsp::{
-    autocorrelation, chi2_95, cross_correlation, ljung_box, mean, metrics, peak_lag, rms, smooth_rate, std, welch,
-    Metrics,
+    autocorrelation, chi2_95, cross_correlation, ljung_box, mean, metrics, noise_sigma, peak_lag, rms, smooth_rate,
+    std, welch, Metrics,
 };
 use crate::measurement::Measurement;
 use crate::model::{Demand, Drive, Prediction};
 use crate::units::Column;
 
-/// Velocity below which the damper counts as at standstill for the direction split [m/s].
+/// Velocity below which the damper counts as at standstill for the direction split (m/s).
 pub const V_STANDSTILL: f64 = 0.02;
-/// Velocity the motion must cross, both ways, to count as a reversal [m/s].
+/// Velocity the motion must cross, both ways, to count as a reversal (m/s).
 pub const V_REVERSAL: f64 = 0.01;
-/// Half-width of the window around a velocity reversal [s].
+/// Half-width of the window around a velocity reversal (s).
 pub const REVERSAL_WINDOW: f64 = 0.02;
-/// Window after a demand step [s].
+/// Window after a demand step (s).
 pub const STEP_WINDOW: f64 = 0.06;
-/// A force-demand jump of at least this within one sample is a step [N].
+/// A force-demand jump of at least this within one sample is a step (N).
 pub const FORCE_STEP: f64 = 1000.0;
-/// A spool-demand jump of at least this within one sample is a step [m].
+/// A spool-demand jump of at least this within one sample is a step (m).
 pub const SPOOL_STEP: f64 = 1e-4;
-/// Length of the windows ranked as worst [s].
+/// Length of the windows ranked as worst (s).
 pub const WORST_WINDOW: f64 = 0.1;
 /// Number of worst windows reported.
 pub const N_WORST: usize = 5;
-/// Longest lag searched for the measured–model delay [s].
+/// Longest lag searched for the measured–model delay (s).
 pub const MAX_LAG: f64 = 0.05;
-/// Longest lag of the correlation plots [s].
+/// Longest lag of the correlation plots (s).
 pub const CORR_LAG: f64 = 0.1;
 /// Lags of the Ljung–Box whiteness statistic.
 pub const LJUNG_BOX_LAGS: usize = 20;
-/// Half-width of the smoothed derivative used for force rate and acceleration [s].
+/// Half-width of the smoothed derivative used for force rate and acceleration (s).
 pub const RATE_HALF_WIDTH: f64 = 0.0025;
 
 const VELOCITY_BANDS: [f64; 7] = [0.0, 0.02, 0.05, 0.1, 0.2, 0.4, f64::INFINITY];
@@ -55,15 +55,15 @@ pub struct Lag {
     /// Whole samples; positive: the measurement comes later than the model.
     pub samples: isize,
     pub seconds: f64,
-    /// Parabolic refinement of the peak [s].
+    /// Parabolic refinement of the peak (s).
     pub refined_seconds: f64,
     /// Correlation at the peak.
     pub peak: f64,
-    /// Search range ± [s].
+    /// Search range ± (s).
     pub max_seconds: f64,
     /// The same estimate on the sample-to-sample changes of both signals, which weights fast
     /// content (steps) and ignores slow drifts: a delay in the valve path shows here even when
-    /// the velocity-driven part of the force dominates the signal itself [s].
+    /// the velocity-driven part of the force dominates the signal itself (s).
     pub changes_seconds: f64,
 }
 
@@ -84,7 +84,7 @@ pub struct Regime {
     pub samples: usize,
     pub time_share: f64,
     pub rms: f64,
-    /// Mean residual (model − measured) [N].
+    /// Mean residual (model − measured) (N).
     pub mean: f64,
     /// Share of the record's squared error.
     pub error_share: f64,
@@ -99,7 +99,7 @@ pub struct Band {
     pub hi: f64,
     /// Share of the residual variance.
     pub residual_share: f64,
-    /// RMS residual in the band [N].
+    /// RMS residual in the band (N).
     pub residual_rms: f64,
     /// sqrt(residual power / measured power) in the band.
     pub band_nrmse: f64,
@@ -160,10 +160,10 @@ pub struct Analysis {
     /// First validation sample.
     pub split: usize,
     pub split_fraction: f64,
-    /// Median sample interval [s].
+    /// Median sample interval (s).
     pub dt: f64,
     pub fits: Vec<SignalFit>,
-    /// Force residual, model − measured [N].
+    /// Force residual, model − measured (N).
     pub residual: Vec<f64>,
     pub regimes: Vec<Regime>,
     pub bands: Vec<Band>,
@@ -483,7 +483,7 @@ pub fn analyse(m: &Measurement, drive: &Drive, p: &Prediction, split: usize) -> 
         .collect();
     let reversal_jump = (!jumps.is_empty()).then(|| mean(&jumps));
 
-    let noise_floor_estimate = crate::diagnose::noise_sigma(rv) / std(&y[split..]);
+    let noise_floor_estimate = noise_sigma(rv) / std(&y[split..]);
 
     Analysis {
         samples: n,

@@ -1,5 +1,5 @@
-//! The damper model driven by a measurement's inputs, in-process or through a packaged FMU
-//! ([`Backend`]; the FMU runner is [`crate::fmu_model`]).
+//! The damper model driven by a measurement's inputs, in-process ([`InProcess`]) or through a
+//! packaged FMU (`crate::fmu_model`), both behind the trait [`Backend`].
 //!
 //! The model starts at rest at the first sample and is stepped from sample to sample: the
 //! communication step is the sample interval and the inputs are held over it (the FMU's
@@ -8,20 +8,19 @@
 //! [`Model`] is plain data, so fits may call it from several threads ([`run_parallel`]).
 
 use crate::dsp::lowpass;
-use crate::fmu_model::FmuModel;
 use crate::measurement::Measurement;
 use crate::units::Column;
 use semi_active_damper::damper::{Damper, Inputs};
 use semi_active_damper::physics::params::Parameters;
 use semi_active_damper::physics::plant::idx;
-use std::sync::Arc;
+use std::path::Path;
 
 /// What the controller is given.
 #[derive(Clone, Debug)]
 pub enum Demand {
-    /// Force demand [N] (`control_mode` 0).
+    /// Force demand (N) (`control_mode` 0).
     Force(Vec<f64>),
-    /// Spool position demand [m] (`control_mode` 1).
+    /// Spool position demand (m) (`control_mode` 1).
     SpoolPosition(Vec<f64>),
 }
 
@@ -73,10 +72,10 @@ impl Drive {
 /// The model's signals at the samples of the drive.
 #[derive(Clone, Debug, Default)]
 pub struct Prediction {
-    /// Load-cell force [N] (after the load-cell filter, if any).
+    /// Load-cell force (N) (after the load-cell filter, if any).
     pub f_damper: Vec<f64>,
     pub x_spool: Vec<f64>,
-    /// Spool demand of the controller [m] (the force loop's output in force control).
+    /// Spool demand of the controller (m) (the force loop's output in force control).
     pub x_spool_ref: Vec<f64>,
     pub i_sol: Vec<f64>,
     pub p_ext: Vec<f64>,
@@ -105,7 +104,7 @@ impl Prediction {
 #[derive(Clone, Copy, Debug)]
 pub struct Model {
     pub params: Parameters,
-    /// First-order low-pass of the load cell / its amplifier [Hz], applied to the model's force
+    /// First-order low-pass of the load cell / its amplifier (Hz), applied to the model's force
     /// (None: the force as the model computes it).
     pub load_cell_lowpass_hz: Option<f64>,
 }
@@ -181,79 +180,57 @@ pub fn thread_pool(threads: usize) -> Result<rayon::ThreadPool, String> {
 }
 
 /// The force predictor a fit needs, `(parameters, n) → F_damper over the first n samples`, for
-/// this drive and load-cell filter, in-process; `Sync`, so candidates can be fitted on several
+/// this drive and load-cell filter on `backend`; `Sync`, so candidates can be fitted on several
 /// threads.
-pub fn force_simulator(
-    drive: &Drive,
+pub fn force_simulator<'a>(
+    backend: &'a dyn Backend,
+    drive: &'a Drive,
     load_cell_lowpass_hz: Option<f64>,
-) -> impl Fn(&Parameters, usize) -> Result<Vec<f64>, String> + Sync + '_ {
-    move |params: &Parameters, n: usize| Model { params: *params, load_cell_lowpass_hz }.force(drive, n)
-}
-
-/// Where the model runs. Both run the same drive with the same stepping and give the same
-/// numbers; the FMU is the check that the packaged FMU is the model this program fits.
-#[derive(Clone, Debug, Default)]
-pub enum Backend {
-    /// The model compiled into this program (the default: no FMU to package, no FFI).
-    #[default]
-    InProcess,
-    /// A packaged `.fmu`, imported once and instantiated per run (`--fmu PATH.fmu`).
-    Fmu(Arc<FmuModel>),
-}
-
-impl Backend {
-    /// Imports the FMU at `path`, checked against this program's parameters.
-    pub fn fmu(path: &std::path::Path) -> Result<Backend, String> {
-        Ok(Backend::Fmu(Arc::new(FmuModel::load(path)?)))
+) -> impl Fn(&Parameters, usize) -> Result<Vec<f64>, String> + Sync + 'a {
+    move |params: &Parameters, n: usize| {
+        let model = Model { params: *params, load_cell_lowpass_hz };
+        Ok(backend.run_first(&model, drive, n, false)?.f_damper)
     }
+}
 
-    /// As [`Model::run_first`], on this backend.
-    pub fn run_first(&self, model: &Model, drive: &Drive, n: usize, all: bool) -> Result<Prediction, String> {
-        match self {
-            Backend::InProcess => model.run_first(drive, n, all),
-            Backend::Fmu(fmu) => fmu.run_first(model, drive, n, all),
-        }
+/// Where the model runs. Every back end runs the same drive with the same stepping and gives the
+/// same numbers; the FMU is the check that the packaged FMU is the model this program fits.
+pub trait Backend: std::fmt::Debug + Send + Sync {
+    /// As [`Model::run_first`], on this back end.
+    fn run_first(&self, model: &Model, drive: &Drive, n: usize, all: bool) -> Result<Prediction, String>;
+
+    /// `"in_process"` or `"fmu"` (summary.json).
+    fn name(&self) -> &'static str;
+
+    /// One phrase for the summary and the report.
+    fn describe(&self) -> String;
+
+    /// The FMU's path, if the model runs through one.
+    fn fmu_path(&self) -> Option<&Path> {
+        None
     }
 
     /// All predicted signals over the whole drive.
-    pub fn run(&self, model: &Model, drive: &Drive) -> Result<Prediction, String> {
+    fn run(&self, model: &Model, drive: &Drive) -> Result<Prediction, String> {
         self.run_first(model, drive, drive.len(), true)
     }
+}
 
-    /// [`force_simulator`] on this backend.
-    pub fn force_simulator<'a>(
-        &'a self,
-        drive: &'a Drive,
-        load_cell_lowpass_hz: Option<f64>,
-    ) -> impl Fn(&Parameters, usize) -> Result<Vec<f64>, String> + Sync + 'a {
-        move |params: &Parameters, n: usize| {
-            let model = Model { params: *params, load_cell_lowpass_hz };
-            Ok(self.run_first(&model, drive, n, false)?.f_damper)
-        }
+/// The model compiled into this program (the default: no FMU to package, no FFI).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct InProcess;
+
+impl Backend for InProcess {
+    fn run_first(&self, model: &Model, drive: &Drive, n: usize, all: bool) -> Result<Prediction, String> {
+        model.run_first(drive, n, all)
     }
 
-    /// `"in_process"` or `"fmu"` (summary.json).
-    pub fn name(&self) -> &'static str {
-        match self {
-            Backend::InProcess => "in_process",
-            Backend::Fmu(_) => "fmu",
-        }
+    fn name(&self) -> &'static str {
+        "in_process"
     }
 
-    /// The FMU's path, if the model runs through one.
-    pub fn fmu_path(&self) -> Option<&std::path::Path> {
-        match self {
-            Backend::InProcess => None,
-            Backend::Fmu(f) => Some(f.path()),
-        }
-    }
-
-    /// One phrase for the summary and the report.
-    pub fn describe(&self) -> String {
-        match self {
-            Backend::InProcess => "run in-process".into(),
-            Backend::Fmu(f) => format!("run through the FMU {}", f.path().display()),
-        }
+    fn describe(&self) -> String {
+        "run in-process".into()
     }
 }
 

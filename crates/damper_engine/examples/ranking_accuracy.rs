@@ -2,11 +2,11 @@
 //! (the CI tests in `tests/diagnose.rs` use two).
 //!
 //! ```sh
-//! cargo run --release -p damper_cli --example ranking_accuracy -- \
+//! cargo run --release -p damper_engine --example ranking_accuracy -- \
 //!     [--seeds N] [--out FILE.json] [--only rig|hil|pairs|none|drift[,...]] [--hil-seconds S]
 //! ```
 //!
-//! Groups (data from `damper_cli::generate`, written to a scratch directory, diagnosed with
+//! Groups (data from `damper_engine::generate`, written to a scratch directory, diagnosed with
 //! `diagnose_measurement`, load-cell low-pass 400 Hz, 2 threads, one diagnosis after another):
 //!
 //! - `rig`: every catalog effect hidden alone (at a random plausible value, absent from the model or
@@ -25,12 +25,12 @@
 //! the ladder) and the estimated noise floor, the reduction, whether the residual reached the floor
 //! (≤ 1.3× floor), the fitted size parameter against the truth, and the wall time.
 
-use damper_cli::compare::CompareOptions;
-use damper_cli::diagnose::Diagnosis;
-use damper_cli::diagnose_cmd::diagnose_measurement;
-use damper_cli::generate::{self, GenerateOptions, Generated, InputStyle};
-use damper_cli::parameters::{effect, get_real};
-use damper_cli::summary::to_json;
+use damper_engine::comparison::CompareOptions;
+use damper_engine::diagnose::Diagnosis;
+use damper_engine::diagnosed::diagnose_measurement;
+use damper_engine::generate::{self, GenerateOptions, Generated, InputStyle};
+use damper_engine::parameters::{effect, get_real};
+use damper_engine::summary::to_json;
 use indexmap::IndexMap;
 use serde::Serialize;
 use std::io::Write as _;
@@ -46,10 +46,10 @@ const AT_FLOOR: f64 = 1.3;
 const MIN_CUT: f64 = 0.5;
 const ROOM_FOR_HALVING: f64 = 2.0;
 const PARAM_TOLERANCE: f64 = 0.2;
-/// Record lengths [s].
+/// Record lengths (s).
 const RIG_SECONDS: f64 = 5.0;
 const DEFAULT_HIL_SECONDS: f64 = 10.0;
-/// The out-of-catalog load-cell drift over the record [N].
+/// The out-of-catalog load-cell drift over the record (N).
 const DRIFT_N: f64 = 600.0;
 /// Pairs hidden at once: a force-path effect with a valve/hydraulic one.
 const PAIRS: [(&str, &str); 6] = [
@@ -74,7 +74,7 @@ struct Options {
     /// Run only these groups [default: all]
     #[arg(long, value_name = "GROUP,...", value_delimiter = ',', value_parser = clap::builder::PossibleValuesParser::new(GROUPS))]
     only: Vec<String>,
-    /// Length of the HiL records [s]
+    /// Length of the HiL records (s)
     #[arg(long, value_name = "S", default_value_t = DEFAULT_HIL_SECONDS)]
     hil_seconds: f64,
 }
@@ -418,7 +418,7 @@ fn run_case(c: &Case, dir: &Path) -> Result<Record, String> {
     o.input = c.input;
     o.effects = c.hidden.iter().map(|h| h.to_string()).collect();
     let t0 = Instant::now();
-    let g = generate::run(&o)?;
+    let g = generate::write(&o)?;
     let measurement = if c.kind == Kind::Drift {
         let drifted = dir.join("drifted.csv");
         add_drift(&csv, &drifted)?;
@@ -427,9 +427,8 @@ fn run_case(c: &Case, dir: &Path) -> Result<Record, String> {
         csv
     };
     let seconds_generate = t0.elapsed().as_secs_f64();
-    let mut co = CompareOptions::new(&measurement, dir.join("out"));
+    let mut co = CompareOptions::new(&measurement);
     co.load_cell_lowpass_hz = Some(400.0);
-    co.quiet = true;
     // the HiL load cell is tared (README, `--tare-load-cell`); the rig's is raw
     co.tare_load_cell = c.input == InputStyle::Hil;
     let t1 = Instant::now();

@@ -11,7 +11,7 @@
 //! concurrently.
 
 use crate::dsp::lowpass;
-use crate::model::{Drive, Model, Prediction};
+use crate::model::{Backend, Drive, Model, Prediction};
 use crate::parameters::{get_parameter, parameter_names, Value};
 use fmi::fmi2::import::Fmi2Import;
 use fmi::fmi2::instance::{CoSimulation, Common, InstanceCS};
@@ -152,14 +152,12 @@ impl FmuModel {
         import.instantiate_cs("damper", false, false).map_err(|e| format!("{at}: cannot instantiate the FMU: {e}"))?;
         Ok(FmuModel { path: path.to_path_buf(), import, parameters, inputs, outputs })
     }
+}
 
-    pub fn path(&self) -> &Path {
-        &self.path
-    }
-
+impl Backend for FmuModel {
     /// As [`Model::run_first`], through the FMU: the first `n` samples; `all` records every
     /// signal, otherwise only the force. Each call has its own FMU instance.
-    pub fn run_first(&self, model: &Model, drive: &Drive, n: usize, all: bool) -> Result<Prediction, String> {
+    fn run_first(&self, model: &Model, drive: &Drive, n: usize, all: bool) -> Result<Prediction, String> {
         let n = n.min(drive.len());
         let t = &drive.time;
         let mut out = Prediction::default();
@@ -209,6 +207,20 @@ impl FmuModel {
         Ok(out)
     }
 
+    fn name(&self) -> &'static str {
+        "fmu"
+    }
+
+    fn describe(&self) -> String {
+        format!("run through the FMU {}", self.path.display())
+    }
+
+    fn fmu_path(&self) -> Option<&Path> {
+        Some(&self.path)
+    }
+}
+
+impl FmuModel {
     /// Sets every parameter of the FMU by name, from `params`.
     fn set_parameters(&self, fmu: &mut InstanceCS, params: &Parameters) -> Result<(), String> {
         for p in &self.parameters {

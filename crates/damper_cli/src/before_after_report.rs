@@ -1,32 +1,15 @@
-//! Step 4's evidence: the model before and after adding the effects the diagnosis names, on the
-//! same record: the fit of every signal, the error in every regime, the residual's whiteness, and
-//! the residual over time, against velocity and in frequency, each before and after in one view.
+//! Step 4's evidence in the report and on the terminal: the model before and after adding the
+//! effects the diagnosis names, on the same record: the fit of every signal, the error in every
+//! regime, the residual's whiteness, and the residual over time, against velocity and in
+//! frequency, each before and after in one view.
 
-use crate::analysis::{analyse, Analysis};
-use crate::compare::Comparison;
-use crate::model::{Model, Prediction};
 use crate::report::scaled;
-use crate::summary;
 use crate::svg::{esc, Axis, Plot, Series, ACCENT, GREEN, MEASURED, RESIDUAL};
-use crate::units::Column;
-use semi_active_damper::physics::params::Parameters;
+use damper_engine::analysis::Analysis;
+use damper_engine::before_after::{regime_rows, After};
+use damper_engine::comparison::Comparison;
+use damper_engine::units::Column;
 use std::fmt::Write;
-
-/// The model with the named effects, run and analysed like the baseline.
-pub struct After {
-    /// The effects added, in the ladder's order.
-    pub effects: Vec<&'static str>,
-    pub prediction: Prediction,
-    pub analysis: Analysis,
-}
-
-/// Runs the comparison's model with `params` (the baseline plus the fitted effects).
-pub fn after(c: &Comparison, effects: &[&'static str], params: Parameters) -> Result<After, String> {
-    let model = Model { params, ..c.setup.model };
-    let prediction = c.setup.backend.run(&model, &c.drive)?;
-    let analysis = analyse(&c.measurement, &c.drive, &prediction, c.analysis.split);
-    Ok(After { effects: effects.to_vec(), prediction, analysis })
-}
 
 fn change(before: f64, after: f64) -> String {
     if before.is_finite() && after.is_finite() && before > 0.0 {
@@ -34,18 +17,6 @@ fn change(before: f64, after: f64) -> String {
     } else {
         "—".into()
     }
-}
-
-/// Per regime: (group, name, time share, RMS before, RMS after), regimes with samples only.
-pub fn regime_rows<'a>(b: &'a Analysis, a: &'a Analysis) -> Vec<(&'static str, &'a str, f64, f64, f64)> {
-    b.regimes
-        .iter()
-        .filter(|r| r.samples > 0)
-        .filter_map(|r| {
-            let ra = a.regimes.iter().find(|x| x.group == r.group && x.name == r.name)?;
-            Some((r.group, r.name.as_str(), r.time_share, r.rms, ra.rms))
-        })
-        .collect()
 }
 
 /// The report section.
@@ -133,33 +104,6 @@ pub fn html(c: &Comparison, after: &After) -> String {
     .with(Series::line(fx, idx.iter().map(|&i| a.psd_residual[i]).collect(), GREEN, "after"))
     .svg();
     h
-}
-
-/// The summary's `after` object.
-pub fn summary(c: &Comparison, after: &After) -> summary::After {
-    let (b, a) = (&c.analysis, &after.analysis);
-    let before_after = |before, after| summary::BeforeAfter { before, after };
-    summary::After {
-        effects: after.effects.iter().map(|e| e.to_string()).collect(),
-        validation_nrmse: b
-            .fits
-            .iter()
-            .zip(&a.fits)
-            .map(|(fb, fa)| (fb.column.name().to_string(), before_after(fb.validation.nrmse, fa.validation.nrmse)))
-            .collect(),
-        white_after: a.whiteness.white,
-        ljung_box_q: before_after(b.whiteness.ljung_box_q, a.whiteness.ljung_box_q),
-        regimes: regime_rows(b, a)
-            .into_iter()
-            .map(|(g, n, share, rb, ra)| summary::RegimeChange {
-                group: g.into(),
-                regime: n.into(),
-                time_share: share,
-                rms_before: rb,
-                rms_after: ra,
-            })
-            .collect(),
-    }
 }
 
 /// The terminal lines: the regimes where the error was largest, before → after.

@@ -12,13 +12,14 @@
 //! The kept effects are the answer only when they reach the noise floor or the first of them is
 //! named on its own (the verdict of [`crate::diagnose`]).
 
-use crate::diagnose::{Candidate, FitSetup, FLOOR_FACTOR, MIN_EXPLAINED};
-
-/// Most rounds of refitting the kept effects with the others in place.
-pub const POLISH_PASSES: usize = 2;
+use crate::candidate::{Candidate, FitSetup};
+use crate::criteria::{FLOOR_FACTOR, MIN_EXPLAINED};
 use crate::parameters::{set_effect, set_real};
 use semi_active_damper::effects::EffectInfo;
 use semi_active_damper::physics::params::Parameters;
+
+/// Most rounds of refitting the kept effects with the others in place.
+pub const POLISH_PASSES: usize = 2;
 
 /// A rung of the ladder: the model after adding one more effect.
 #[derive(Clone, Debug)]
@@ -140,9 +141,4 @@ pub fn climb(
         }
     }
     Ok(ladder)
-}
-
-/// Share of the error above the floor `f` that going from NRMSE `b` to `c` explains.
-pub fn share(b: f64, c: f64, f: f64) -> f64 {
-    ((b * b - c * c) / (b * b - f * f).max(1e-300)).min(1.0)
 }

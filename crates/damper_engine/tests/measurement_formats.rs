@@ -1,8 +1,8 @@
 //! Measurement files as engineers' loggers and spreadsheets write them: quoted cells, a byte-order
 //! mark, another encoding, decimal commas, timestamps, jittered or dropped samples.
 
-use damper_cli::measurement::{Mapping, Measurement, DEFAULT_MAX_GAP};
-use damper_cli::units::Column;
+use damper_engine::measurement::{Mapping, Measurement, DEFAULT_MAX_GAP};
+use damper_engine::units::Column;
 
 fn parse(text: &[u8], maps: &[&str]) -> Result<Measurement, String> {
     let maps: Vec<Mapping> = maps.iter().map(|m| Mapping::parse(m).unwrap()).collect();
@@ -224,16 +224,16 @@ fn dropped_samples_are_interpolated_and_listed_longer_gaps_refused() {
 
 #[test]
 fn max_gap_reaches_the_reader_through_compare_options() {
-    let dir = std::env::temp_dir().join(format!("damper_cli_test_max_gap_{}", std::process::id()));
+    let dir = std::env::temp_dir().join(format!("damper_engine_test_max_gap_{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let t: Vec<f64> = (0..400).filter(|k| !(200..207).contains(k)).map(|k| k as f64 * 1e-3).collect();
     let csv = dir.join("gap7.csv");
     std::fs::write(&csv, linear(&t)).unwrap();
-    let mut o = damper_cli::compare::CompareOptions::new(&csv, dir.join("out"));
-    let err = damper_cli::compare::compare(&o).unwrap_err();
+    let mut o = damper_engine::comparison::CompareOptions::new(&csv);
+    let err = damper_engine::comparison::compare(&o).unwrap_err();
     assert!(err.contains("gap7.csv, line 202") && err.contains("--max-gap 5"), "{err}");
     o.max_gap = 7;
-    let c = damper_cli::compare::compare(&o).expect("bridged");
+    let c = damper_engine::comparison::compare(&o).expect("bridged");
     assert_eq!(c.measurement.len(), 400);
     assert!(c.warnings.iter().any(|w| w.contains("1 gap(s)")), "{:?}", c.warnings);
     let _ = std::fs::remove_dir_all(&dir);

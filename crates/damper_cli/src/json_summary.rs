@@ -1,0 +1,233 @@
+//! `summary.json` (typed in `damper_engine::summary`) from a comparison or a diagnosis.
+
+use damper_engine::analysis::observations;
+use damper_engine::before_after::{regime_rows, After};
+use damper_engine::candidate::Candidate;
+use damper_engine::comparison::{Comparison, ModelSetup};
+use damper_engine::diagnosed::Diagnosed;
+use damper_engine::dsp::Metrics;
+use damper_engine::summary::{self, Summary};
+
+fn metrics(m: &Metrics) -> summary::Metrics {
+    summary::Metrics {
+        fit_percent: m.fit_percent,
+        nrmse: m.nrmse,
+        rmse: m.rmse,
+        bias: m.bias,
+        std_measured: m.std_measured,
+        samples: m.samples,
+    }
+}
+
+/// The model settings of the summary.
+pub fn model_settings(setup: &ModelSetup) -> summary::ModelSettings {
+    let p = &setup.model.params;
+    summary::ModelSettings {
+        control_mode: p.control_mode.into(),
+        tare_load_cell: p.tare_load_cell,
+        load_cell_lowpass_hz: setup.model.load_cell_lowpass_hz,
+        backend: setup.backend.name().into(),
+        fmu: setup.backend.fmu_path().map(|p| p.display().to_string()),
+        effects: setup.effects.iter().map(|(k, on)| (k.to_string(), *on)).collect(),
+        changed_parameters: setup.changed.iter().map(|(n, v)| (n.to_string(), (*v).into())).collect(),
+    }
+}
+
+/// `summary.json` of `damper compare`, with the diagnosis empty.
+pub fn compared(c: &Comparison) -> Summary {
+    let a = &c.analysis;
+    let m = &c.measurement;
+    let f = a.force();
+    let w = &a.whiteness;
+    Summary {
+        tool: "damper compare".into(),
+        version: env!("CARGO_PKG_VERSION").into(),
+        measurement: m.path.clone(),
+        samples: m.len(),
+        sample_interval_s: a.dt,
+        duration_s: m.time[m.len() - 1] - m.time[0],
+        control_mode: if c.drive.control_mode() == 0 { "force" } else { "spool_position" }.into(),
+        velocity_from_displacement: m.velocity_from_displacement,
+        model: model_settings(&c.setup),
+        split: summary::Split {
+            train_fraction: c.options.split,
+            first_validation_sample: a.split,
+            t_split: m.time[a.split],
+        },
+        residual_definition: "model - measured (as in docs/effects.md)".into(),
+        nrmse_baseline: f.validation.nrmse,
+        observations: observations(a),
+        noise_floor_estimate: a.noise_floor_estimate,
+        signals: a
+            .fits
+            .iter()
+            .map(|s| {
+                let signal = summary::Signal {
+                    unit: s.column.si_unit().into(),
+                    train: metrics(&s.train),
+                    validation: metrics(&s.validation),
+                    lag_s: s.lag.seconds,
+                    lag_refined_s: s.lag.refined_seconds,
+                    lag_of_changes_s: s.lag.changes_seconds,
+                };
+                (s.column.name().to_string(), signal)
+            })
+            .collect(),
+        regimes: a
+            .regimes
+            .iter()
+            .map(|r| summary::Regime {
+                group: r.group.into(),
+                regime: r.name.clone(),
+                samples: r.samples,
+                time_share: r.time_share,
+                rms_residual: r.rms,
+                mean_residual: r.mean,
+                error_share: r.error_share,
+                concentration: r.concentration,
+            })
+            .collect(),
+        frequency_bands: a
+            .bands
+            .iter()
+            .map(|b| summary::Band {
+                f_lo_hz: b.lo,
+                f_hi_hz: b.hi,
+                residual_share: b.residual_share,
+                residual_rms: b.residual_rms,
+                band_nrmse: b.band_nrmse,
+            })
+            .collect(),
+        worst_windows: a
+            .worst
+            .iter()
+            .map(|w| summary::Window {
+                t_start: w.t_start,
+                t_end: w.t_end,
+                rms_residual: w.rms,
+                mean_residual: w.mean,
+                mean_abs_velocity: w.mean_abs_velocity,
+                tags: w.tags.clone(),
+            })
+            .collect(),
+        lag: summary::Lag {
+            samples: f.lag.samples as i64,
+            seconds: f.lag.seconds,
+            refined_seconds: f.lag.refined_seconds,
+            peak_correlation: f.lag.peak,
+            search_range_s: f.lag.max_seconds,
+            of_changes_s: f.lag.changes_seconds,
+            definition: "argmax_k sum_t y(t+k) yhat(t): positive = the measured force comes later".into(),
+        },
+        whiteness: summary::Whiteness {
+            part: "validation".into(),
+            samples: w.samples,
+            max_lag: w.max_lag,
+            band: w.band,
+            fraction_outside: w.fraction_outside,
+            ljung_box_q: w.ljung_box_q,
+            ljung_box_lags: w.ljung_box_lags,
+            chi2_95: w.chi2_95,
+            white: w.white,
+        },
+        input_cross_correlation: a
+            .input_correlations
+            .iter()
+            .map(|x| {
+                let xc = summary::CrossCorrelation {
+                    max_abs: x.max_abs,
+                    at_lag_s: x.at_lag_seconds,
+                    band: x.band,
+                    within_band: x.max_abs <= x.band,
+                };
+                (x.input.name().to_string(), xc)
+            })
+            .collect(),
+        events: summary::Events {
+            velocity_reversals: a.reversals.len(),
+            demand_steps: a.demand_steps.len(),
+            residual_jump_at_reversals: a.reversal_jump,
+        },
+        model_run_s: c.run_seconds,
+        warnings: c.warnings.clone(),
+        verdict: None,
+        best_effect: None,
+        candidates: None,
+        diagnosis: None,
+    }
+}
+
+/// `summary.json` of `damper diagnose`: compare's with the diagnosis filled in.
+pub fn diagnosed(r: &Diagnosed) -> Summary {
+    let d = &r.diagnosis;
+    Summary {
+        nrmse_baseline: d.nrmse_baseline,
+        verdict: Some(d.verdict.into()),
+        best_effect: d.best_effect.map(String::from),
+        candidates: Some(d.candidates.iter().map(candidate).collect()),
+        diagnosis: Some(summary::Diagnosis {
+            effects: d.effects.iter().map(|e| e.to_string()).collect(),
+            nrmse_after_ladder: d.ladder.nrmse_validation,
+            after: r.after.as_ref().map(|a| after(&r.comparison, a)),
+            nrmse_noise_floor: d.nrmse_noise_floor,
+            explanation: d.explanation.clone(),
+            ladder: d
+                .ladder
+                .rungs
+                .iter()
+                .map(|l| summary::Rung {
+                    added: l.added.into(),
+                    refit: l.refit,
+                    params: summary::fitted(&l.params),
+                    nrmse_validation: l.nrmse_validation,
+                    explained: l.explained,
+                    kept: l.kept,
+                })
+                .collect(),
+        }),
+        ..compared(&r.comparison)
+    }
+}
+
+fn candidate(c: &Candidate) -> summary::Candidate {
+    summary::Candidate {
+        effect: c.effect.into(),
+        action: c.action.into(),
+        nrmse_train: c.nrmse_train,
+        nrmse_validation: c.nrmse_validation,
+        reduction: c.reduction,
+        explained: c.explained,
+        params: summary::fitted(&c.params),
+        plausible: c.plausible,
+        flags: c.flags.clone(),
+        signature: c.signature.into(),
+        model_runs: c.evaluations,
+    }
+}
+
+/// The summary's `after` object.
+fn after(c: &Comparison, after: &After) -> summary::After {
+    let (b, a) = (&c.analysis, &after.analysis);
+    let before_after = |before, after| summary::BeforeAfter { before, after };
+    summary::After {
+        effects: after.effects.iter().map(|e| e.to_string()).collect(),
+        validation_nrmse: b
+            .fits
+            .iter()
+            .zip(&a.fits)
+            .map(|(fb, fa)| (fb.column.name().to_string(), before_after(fb.validation.nrmse, fa.validation.nrmse)))
+            .collect(),
+        white_after: a.whiteness.white,
+        ljung_box_q: before_after(b.whiteness.ljung_box_q, a.whiteness.ljung_box_q),
+        regimes: regime_rows(b, a)
+            .into_iter()
+            .map(|(g, n, share, rb, ra)| summary::RegimeChange {
+                group: g.into(),
+                regime: n.into(),
+                time_share: share,
+                rms_before: rb,
+                rms_after: ra,
+            })
+            .collect(),
+    }
+}

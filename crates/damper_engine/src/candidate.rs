@@ -1,0 +1,206 @@
+//! One candidate of the diagnosis: an effect of the catalog (docs/effects.md) switched on, or
+//! refitted where the model has it, its one or two parameters fitted on the training part and the
+//! candidate scored on the held-out validation part; and the fitting of a whole round of
+//! candidates in parallel.
+
+use crate::criteria::share;
+use crate::dsp::nrmse;
+use crate::fit::{minimize, standard_errors, Bound, Fit};
+use crate::parameters::{effect_on, get_real, set_effect, set_real};
+use semi_active_damper::effects::{EffectInfo, FittedParameter};
+use semi_active_damper::physics::params::Parameters;
+
+/// Objective evaluations per fit.
+pub const MAX_EVALS: usize = 25;
+
+/// The catalog: every effect of the model (`semi_active_damper::effects`), in its order.
+pub fn catalog() -> impl Iterator<Item = &'static EffectInfo> {
+    semi_active_damper::effects::CATALOG.into_iter().map(|e| e.info())
+}
+
+fn bound(f: &FittedParameter) -> Bound {
+    Bound { lo: f.search.0, hi: f.search.1, log: f.log }
+}
+
+/// The model as the diagnosis sees it: the force for the first `n` samples of the measurement.
+pub type Simulator<'a> = dyn Fn(&Parameters, usize) -> Result<Vec<f64>, String> + Sync + 'a;
+
+/// A scored candidate.
+#[derive(Clone, Debug)]
+pub struct Candidate {
+    pub effect: &'static str,
+    /// "switched on" or "refitted".
+    pub action: &'static str,
+    pub params: Vec<(&'static str, f64, Option<f64>)>,
+    pub nrmse_train: f64,
+    pub nrmse_validation: f64,
+    /// Relative cut of the validation NRMSE against the baseline.
+    pub reduction: f64,
+    /// Share of the baseline's validation error above the noise floor that this candidate explains.
+    pub explained: f64,
+    pub plausible: bool,
+    /// Why not plausible, or empty.
+    pub flags: Vec<String>,
+    pub signature: &'static str,
+    pub evaluations: usize,
+}
+
+/// Told of each fitted candidate, with how many of the fits of this round are done and how many
+/// the round has (a round: the ranking, then each step of the ladder). Calls come one at a time,
+/// `done` counting up, so a progress display needs no locking of its own.
+pub type Progress<'a> = dyn Fn(&Candidate, usize, usize) + Sync + 'a;
+
+/// What fitting a candidate needs: the model, the measured force, the train/validation split, the
+/// threads that fit candidates at once, and whom to tell of each fit.
+pub struct FitSetup<'a> {
+    pub simulate: &'a Simulator<'a>,
+    pub measured: &'a [f64],
+    pub split: usize,
+    pub pool: &'a rayon::ThreadPool,
+    pub progress: &'a Progress<'a>,
+}
+
+impl FitSetup<'_> {
+    /// Fits every effect of `specs` on top of `params` (whose validation NRMSE is the first of
+    /// `errors`, the noise floor the second), in parallel; best first. Each fit is a pure function
+    /// of its inputs and the ranking is made in catalog order, so the result does not depend on
+    /// the thread count.
+    pub fn all(
+        &self,
+        specs: &[&'static EffectInfo],
+        params: &Parameters,
+        errors: (f64, f64),
+    ) -> Result<Vec<Candidate>, String> {
+        use rayon::prelude::*;
+        // the costliest fits first (par_bridge hands the items out in this order), so that no
+        // thread is left alone with a long one at the end
+        let mut order: Vec<usize> = (0..specs.len()).collect();
+        order.sort_by_key(|&i| std::cmp::Reverse(model_runs(specs[i])));
+        let done = std::sync::Mutex::new(0);
+        let mut results: Vec<(usize, Result<Candidate, String>)> = self.pool.install(|| {
+            order
+                .into_iter()
+                .par_bridge()
+                .map(|i| {
+                    let c = try_candidate(self.simulate, params, self.measured, self.split, errors, specs[i]);
+                    if let Ok(c) = &c {
+                        let mut done = done.lock().expect("no fit panicked");
+                        *done += 1;
+                        (self.progress)(c, *done, specs.len());
+                    }
+                    (i, c)
+                })
+                .collect()
+        });
+        results.sort_by_key(|r| r.0);
+        let mut candidates = results.into_iter().map(|(_, c)| c).collect::<Result<Vec<_>, _>>()?;
+        candidates.sort_by(|a, b| a.nrmse_validation.total_cmp(&b.nrmse_validation));
+        Ok(candidates)
+    }
+}
+
+/// Model runs a fit of `spec` takes, about: its grid, or the simplex's budget and the Hessian.
+fn model_runs(spec: &EffectInfo) -> usize {
+    match spec.fitted {
+        [FittedParameter { search, grid: Some(step), .. }] => ((search.1 - search.0) / step).round() as usize + 1,
+        p => MAX_EVALS * p.len() + 2 * p.len() * p.len(),
+    }
+}
+
+/// Fits `spec` on top of `baseline` and scores it (`nrmse_baseline` is the error it starts from).
+pub fn try_candidate(
+    simulate: &Simulator<'_>,
+    baseline: &Parameters,
+    measured: &[f64],
+    split: usize,
+    (nrmse_baseline, nrmse_floor): (f64, f64),
+    spec: &EffectInfo,
+) -> Result<Candidate, String> {
+    let mut start = *baseline;
+    let action = if effect_on(baseline, spec.key)? { "refitted" } else { "switched on" };
+    set_effect(&mut start, spec.key, true)?;
+    let with = |x: &[f64]| -> Result<Parameters, String> {
+        let mut p = start;
+        for (s, &v) in spec.fitted.iter().zip(x) {
+            set_real(&mut p, s.name, v)?;
+        }
+        Ok(p)
+    };
+    let train = &measured[..split];
+    let sse = |x: &[f64]| -> f64 {
+        match with(x).and_then(|p| simulate(&p, split)) {
+            Ok(m) => m.iter().zip(train).map(|(m, y)| (m - y).powi(2)).sum(),
+            Err(_) => f64::INFINITY,
+        }
+    };
+    let x0: Vec<f64> = spec
+        .fitted
+        .iter()
+        .map(|s| get_real(&start, s.name).map(|v| v.clamp(s.search.0.max(1e-300), s.search.1)))
+        .collect::<Result<_, _>>()?;
+    let bounds: Vec<Bound> = spec.fitted.iter().map(bound).collect();
+    let (fit, errors) = match spec.fitted {
+        [p @ FittedParameter { grid: Some(step), .. }] => {
+            let bound = bound(p);
+            // the whole grid: the answer is exact to half a step
+            let n = ((bound.hi - bound.lo) / step).round() as usize;
+            let best = (0..=n)
+                .map(|k| bound.lo + k as f64 * step)
+                .map(|x| (x, sse(&[x])))
+                .min_by(|a, b| a.1.total_cmp(&b.1))
+                .expect("non-empty grid");
+            (Fit { x: vec![best.0], value: best.1, evaluations: n + 1 }, vec![Some(0.5 * step)])
+        }
+        _ => {
+            let fit = minimize(sse, &x0, &bounds, MAX_EVALS * spec.fitted.len());
+            let errors = standard_errors(sse, (&fit.x, fit.value), split, 1e-2);
+            (fit, errors)
+        }
+    };
+    let fitted = with(&fit.x)?;
+    let full = simulate(&fitted, measured.len())?;
+    let nrmse_validation = nrmse(&measured[split..], &full[split..]);
+    let nrmse_train = nrmse(train, &full[..split]);
+    let mut flags = Vec::new();
+    for (s, &x) in spec.fitted.iter().zip(&fit.x) {
+        if bound(s).at_bound(x) {
+            flags.push(format!("{} = {x:.4e} at its search bound", s.name));
+        } else if x < s.plausible.0 || x > s.plausible.1 {
+            flags.push(format!(
+                "{} = {x:.4e} outside the plausible {:.3e}–{:.3e}",
+                s.name, s.plausible.0, s.plausible.1
+            ));
+        }
+    }
+    Ok(Candidate {
+        effect: spec.key,
+        action,
+        params: spec.fitted.iter().zip(&fit.x).zip(errors).map(|((s, &x), e)| (s.name, x, e)).collect(),
+        nrmse_train,
+        nrmse_validation,
+        reduction: 1.0 - nrmse_validation / nrmse_baseline,
+        explained: share(nrmse_baseline, nrmse_validation, nrmse_floor),
+        plausible: flags.is_empty(),
+        flags,
+        signature: spec.signature,
+        evaluations: fit.evaluations,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn catalog_names_are_fmu_parameters() {
+        let mut p = semi_active_damper::variables::default_parameters();
+        for e in catalog() {
+            set_effect(&mut p, e.key, true).unwrap();
+            for s in e.fitted {
+                let v = get_real(&p, s.name).unwrap();
+                set_real(&mut p, s.name, v).unwrap();
+                assert!(s.plausible.0 >= s.search.0 && s.plausible.1 <= s.search.1, "{}", s.name);
+            }
+        }
+    }
+}

@@ -1,0 +1,206 @@
+//! A comparison: the measurement read, the model driven by its inputs, and the analysis of where
+//! it fails (what `damper compare` shows; nothing written or printed here).
+
+use crate::analysis::{analyse, Analysis};
+use crate::dsp::mean;
+use crate::fmu_model::FmuModel;
+use crate::measurement::{Mapping, Measurement, DEFAULT_MAX_GAP};
+use crate::model::{Backend, Drive, InProcess, Model, Prediction};
+use crate::parameters::{changed_parameters, effect, effect_on, effects, set_effect, set_parameter, EffectExt, Value};
+use crate::units::Column;
+use semi_active_damper::variables::default_parameters;
+use std::path::PathBuf;
+use std::sync::Arc;
+use std::time::Instant;
+
+/// Fewest samples in each of the train and validation parts.
+pub const MIN_PART: usize = 100;
+
+/// What to compare and with which model (`damper compare`'s options but where the results go).
+#[derive(Clone, Debug)]
+pub struct CompareOptions {
+    pub measurement: PathBuf,
+    /// `KEY` or `KEY=VALUE` (the effect's first parameter).
+    pub with: Vec<String>,
+    pub without: Vec<String>,
+    pub maps: Vec<Mapping>,
+    /// `--set NAME=VALUE`, applied last.
+    pub sets: Vec<(String, String)>,
+    /// Share of the samples in the train part.
+    pub split: f64,
+    /// The measured force has its rest offset removed (the model's `tare_load_cell`).
+    pub tare_load_cell: bool,
+    /// Load-cell low-pass applied to the model's force (Hz).
+    pub load_cell_lowpass_hz: Option<f64>,
+    /// Run the model through this packaged FMU instead of in-process (`--fmu`).
+    pub fmu: Option<PathBuf>,
+    /// Effects left out of a diagnosis's candidates (`--skip`).
+    pub skip: Vec<String>,
+    /// Most samples missing in one gap of the time column that are interpolated (`--max-gap`);
+    /// a longer gap is an error.
+    pub max_gap: usize,
+}
+
+impl CompareOptions {
+    pub fn new(measurement: impl Into<PathBuf>) -> CompareOptions {
+        CompareOptions {
+            measurement: measurement.into(),
+            with: Vec::new(),
+            without: Vec::new(),
+            maps: Vec::new(),
+            sets: Vec::new(),
+            split: 0.7,
+            tare_load_cell: false,
+            load_cell_lowpass_hz: None,
+            fmu: None,
+            skip: Vec::new(),
+            max_gap: DEFAULT_MAX_GAP,
+        }
+    }
+}
+
+/// The model a comparison uses and how it differs from the default.
+#[derive(Clone, Debug)]
+pub struct ModelSetup {
+    pub model: Model,
+    /// Where it runs: in-process or through the FMU of `--fmu`.
+    pub backend: Arc<dyn Backend>,
+    /// (effect key, on) for the whole catalog.
+    pub effects: Vec<(&'static str, bool)>,
+    /// Parameters that differ from the model's defaults.
+    pub changed: Vec<(&'static str, Value)>,
+}
+
+/// Builds the model for a drive: defaults, control mode from the drive, tare, `--with`,
+/// `--without`, then `--set`; the FMU of `--fmu` imported and checked against the parameters.
+pub fn build_model(opts: &CompareOptions, drive: &Drive) -> Result<ModelSetup, String> {
+    let mut p = default_parameters();
+    p.control_mode = drive.control_mode();
+    p.tare_load_cell = opts.tare_load_cell;
+    for w in &opts.with {
+        let (key, value) = match w.split_once('=') {
+            Some((k, v)) => (k.trim(), Some(v.trim())),
+            None => (w.trim(), None),
+        };
+        let e = effect(key)?;
+        if opts.without.iter().any(|o| effect(o).map(|x| x.key) == Ok(e.key)) {
+            return Err(format!("effect {} is both in --with and --without", e.key));
+        }
+        set_effect(&mut p, e.key, true)?;
+        if let Some(v) = value {
+            set_parameter(&mut p, e.size_parameter(), v).map_err(|err| format!("--with {w}: {err}"))?;
+        }
+    }
+    for w in &opts.without {
+        set_effect(&mut p, w, false)?;
+    }
+    for (name, value) in &opts.sets {
+        set_parameter(&mut p, name, value).map_err(|e| format!("--set {name}={value}: {e}"))?;
+    }
+    if p.control_mode != drive.control_mode() {
+        return Err(format!(
+            "--set control_mode={} contradicts the measurement: it has {} (control_mode {})",
+            p.control_mode,
+            if drive.control_mode() == 0 { "F_demand" } else { "only x_spool_demand" },
+            drive.control_mode()
+        ));
+    }
+    p.validate().map_err(|e| format!("model parameters: {e}"))?;
+    if let Some(fc) = opts.load_cell_lowpass_hz {
+        if !(fc > 0.0 && fc.is_finite()) {
+            return Err(format!("--load-cell-lowpass {fc}: must be a positive frequency in Hz"));
+        }
+    }
+    let backend: Arc<dyn Backend> = match &opts.fmu {
+        Some(path) => Arc::new(FmuModel::load(path)?),
+        None => Arc::new(InProcess),
+    };
+    let effects = effects().map(|e| (e.key, effect_on(&p, e.key).unwrap_or(false))).collect();
+    Ok(ModelSetup {
+        model: Model { params: p, load_cell_lowpass_hz: opts.load_cell_lowpass_hz },
+        backend,
+        effects,
+        changed: changed_parameters(&p),
+    })
+}
+
+/// The split index, or an error naming the file, the last line and the time column.
+pub fn split_index(m: &Measurement, fraction: f64) -> Result<usize, String> {
+    if !(fraction > 0.0 && fraction < 1.0) {
+        return Err(format!("--split {fraction}: must be between 0 and 1 (the train share)"));
+    }
+    let n = m.len();
+    let split = (fraction * n as f64).round() as usize;
+    if split < MIN_PART || n - split < MIN_PART {
+        return Err(format!(
+            "{}, line {}, {}: the record has only {n} samples ({:.3} s); --split {fraction} leaves {split} for training \
+             and {} for validation, and each part needs at least {MIN_PART}",
+            m.path,
+            m.lines.last().copied().unwrap_or(0),
+            m.describe_column(Column::Time),
+            m.time[n - 1] - m.time[0],
+            n - split
+        ));
+    }
+    Ok(split)
+}
+
+/// A finished comparison.
+#[derive(Clone, Debug)]
+pub struct Comparison {
+    pub options: CompareOptions,
+    pub measurement: Measurement,
+    pub drive: Drive,
+    pub setup: ModelSetup,
+    pub prediction: Prediction,
+    pub analysis: Analysis,
+    /// Wall time of the model run (s).
+    pub run_seconds: f64,
+    pub warnings: Vec<String>,
+}
+
+/// Reads, runs and analyses (no files written).
+pub fn compare(opts: &CompareOptions) -> Result<Comparison, String> {
+    let m = Measurement::read(&opts.measurement, &opts.maps, opts.max_gap)?;
+    let split = split_index(&m, opts.split)?;
+    let drive = Drive::from_measurement(&m);
+    let setup = build_model(opts, &drive)?;
+    let t0 = Instant::now();
+    let prediction = setup.backend.run(&setup.model, &drive).map_err(|e| format!("{}: {e}", m.path))?;
+    let run_seconds = t0.elapsed().as_secs_f64();
+    let analysis = analyse(&m, &drive, &prediction, split);
+    let mut warnings = m.notes.clone();
+    if !m.ignored.is_empty() {
+        warnings.push(format!("columns not used: {}", m.ignored.join(", ")));
+    }
+    if let Some(w) = tare_hint(&m, &prediction, opts.tare_load_cell) {
+        warnings.push(w);
+    }
+    Ok(Comparison { options: opts.clone(), measurement: m, drive, setup, prediction, analysis, run_seconds, warnings })
+}
+
+/// If the record starts at rest and the measured and modelled forces there differ by the gas
+/// force, the tare option is probably the wrong way round.
+fn tare_hint(m: &Measurement, p: &Prediction, tare: bool) -> Option<String> {
+    let v = m.get(Column::VDamper)?;
+    let y = m.get(Column::FDamper)?;
+    let k = v.iter().take_while(|x| x.abs() < 2e-3).count().min(200);
+    if k < 10 {
+        return None;
+    }
+    let (measured, model) = (mean(&y[..k]), mean(&p.f_damper[..k]));
+    if (measured - model).abs() < 300.0 {
+        return None;
+    }
+    Some(if tare {
+        format!(
+            "at rest (first {k} samples) the measured force is {measured:.0} N, the tared model's {model:.0} N: \
+             if the measured force keeps the rest offset (the reservoir gas force), drop --tare-load-cell"
+        )
+    } else {
+        format!(
+            "at rest (first {k} samples) the measured force is {measured:.0} N, the model's {model:.0} N \
+             (the reservoir gas force): if the load cell was zeroed at rest, add --tare-load-cell"
+        )
+    })
+}

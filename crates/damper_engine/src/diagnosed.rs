@@ -1,0 +1,46 @@
+//! What `damper diagnose` finds: the comparison (steps 1–2), the missing effect (step 3), the
+//! ladder of effects added in turn (step 4) and the model with the named effects.
+
+use crate::before_after::{self, After};
+use crate::candidate::{FitSetup, Progress};
+use crate::comparison::{self, CompareOptions, Comparison};
+use crate::diagnose::{diagnose, Diagnosis};
+use crate::model::{force_simulator, thread_pool};
+use crate::units::Column;
+
+/// A finished diagnosis with its comparison.
+pub struct Diagnosed {
+    pub comparison: Comparison,
+    pub diagnosis: Diagnosis,
+    /// The model with the named effects, when the verdict is `effect`.
+    pub after: Option<After>,
+}
+
+/// Reads, compares and diagnoses (no files written, nothing printed) on `threads` threads;
+/// `progress` is told of each candidate fitted.
+pub fn diagnose_measurement(
+    opts: &CompareOptions,
+    threads: usize,
+    progress: &Progress<'_>,
+) -> Result<Diagnosed, String> {
+    let c = comparison::compare(opts)?;
+    let split = comparison::split_index(&c.measurement, opts.split)?;
+    let measured = c.measurement.get(Column::FDamper).ok_or("the measurement has no F_damper column")?.to_vec();
+    let simulate = force_simulator(c.setup.backend.as_ref(), &c.drive, opts.load_cell_lowpass_hz);
+    let baseline = c.setup.model.params;
+    let skipped =
+        opts.skip.iter().map(|k| crate::parameters::effect(k).map(|e| e.key)).collect::<Result<Vec<_>, _>>()?;
+    let candidates: Vec<_> = crate::candidate::catalog().filter(|e| !skipped.contains(&e.key)).collect();
+    if candidates.is_empty() {
+        return Err("--skip leaves no candidate effect".into());
+    }
+    let pool = thread_pool(threads)?;
+    let fit = FitSetup { simulate: &simulate, measured: &measured, split, pool: &pool, progress };
+    let d = diagnose(&fit, &candidates, &baseline, &c.prediction.f_damper)?;
+    drop(simulate);
+    let after = match d.effects.as_slice() {
+        [] => None,
+        effects => Some(before_after::after(&c, effects, d.ladder.params)?),
+    };
+    Ok(Diagnosed { comparison: c, diagnosis: d, after })
+}

@@ -1,0 +1,34 @@
+//! The damper model against measurements (issue 4), as data: nothing here prints or writes HTML
+//! or SVG; the `damper` command line (crates/damper_cli) presents the results.
+//!
+//! - [`measurement`], [`units`]: reading a measurement CSV (column mapping, units, errors with
+//!   file, line and column);
+//! - [`model`]: the model driven by measured inputs ([`model::Model::run`], thread-safe), behind
+//!   the trait [`model::Backend`]: in-process or through a packaged FMU ([`fmu_model`]);
+//! - [`parameters`]: parameters by FMU name and the effect catalog's switches;
+//! - [`dsp`]: error metrics, spectra, correlations, the load-cell filter, the noise estimate;
+//! - [`analysis`]: fit per signal and where the error lives; [`comparison`]: read, run, analyse;
+//! - [`diagnose`]: which catalog effect is missing, by the thresholds of [`criteria`], from the
+//!   [`candidate`] fits ([`fit`]: bounded Nelder–Mead, parameter uncertainty), with [`ladder`]
+//!   (the effects added in turn) and [`before_after`] (the model with the named effects);
+//!   [`diagnosed`] runs it all on a measurement;
+//! - [`summary`]: the typed `summary.json` and the JSON writing shared with the truth file;
+//! - [`generate`]: measurement-like data with hidden effects ([`rng`]), and their truth.
+pub mod analysis;
+pub mod before_after;
+pub mod candidate;
+pub mod comparison;
+pub mod criteria;
+pub mod diagnose;
+pub mod diagnosed;
+pub mod dsp;
+pub mod fit;
+pub mod fmu_model;
+pub mod generate;
+pub mod ladder;
+pub mod measurement;
+pub mod model;
+pub mod parameters;
+pub mod rng;
+pub mod summary;
+pub mod units;
