@@ -1,117 +1,27 @@
-//! The quarter truck seen through its variables, without FMI types: the mapping of
-//! `modelDescription.xml`'s variables (exhaustive matches over the generated enums), range checks,
-//! stepping and the FMU state.
+//! The co-simulation slave without FMI types: variable access by value reference through the
+//! generated enums ([`crate::variables`]), range checks from the XML's min/max, initialisation,
+//! stepping and state save/restore ([`crate::snapshot`]). `fmi2_slave` adds the C boundary and
+//! the FMI state machine on top.
 
 use crate::model_description::{BooleanVar, Causality, IntegerVar, RealVar, GUID};
+use crate::snapshot::MAGIC;
 use crate::truck::{Evaluation, Inputs, Params, State};
-use fmi2_slave::snapshot::{self, int32, Visit, Visitor};
+use crate::variables::{real_input, real_output, real_parameter};
+use fmi2_slave::snapshot;
 use fmi2_slave::{check_integer, check_real, Model, VarInfo};
-
-const MAGIC: &[u8; 8] = b"QTRUCK01";
 
 /// The FMU state: parameters, inputs, and once initialised the states and time.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Slave {
-    params: Params,
-    inputs: Inputs,
-    y: State,
-    time: f64,
-    initialized: bool,
-}
-
-impl Default for Params {
-    fn default() -> Self {
-        let mut p = Params::default_zero();
-        for v in RealVar::ALL {
-            if let (Some(field), Some(start)) = (real_parameter(&mut p, v), v.start()) {
-                *field = start;
-            }
-        }
-        p.damper_mode = IntegerVar::DamperMode.start().expect("start value");
-        p
-    }
-}
-
-/// The field of a Real parameter (None for inputs and outputs).
-fn real_parameter(p: &mut Params, v: RealVar) -> Option<&mut f64> {
-    use RealVar::*;
-    Some(match v {
-        ZRoad | VRoad | FDamper | VDamper | FDemand | XDamper | VBody | ABody | AAxle | ZBody | ZAxle | FTyre
-        | FSuspension => return None,
-        MBody => &mut p.m_body,
-        MAxle => &mut p.m_axle,
-        KSusp => &mut p.k_susp,
-        KTyre => &mut p.k_tyre,
-        CSusp => &mut p.c_susp,
-        CTyre => &mut p.c_tyre,
-        CPassive => &mut p.c_passive,
-        Cm => &mut p.cm,
-        Alpha => &mut p.alpha,
-        Gravity => &mut p.gravity,
-        HMax => &mut p.h_max,
-        ZBodyStart => &mut p.z_body_start,
-        ZAxleStart => &mut p.z_axle_start,
-        VBodyStart => &mut p.v_body_start,
-        VAxleStart => &mut p.v_axle_start,
-    })
-}
-
-fn real_input(u: &mut Inputs, v: RealVar) -> Option<&mut f64> {
-    match v {
-        RealVar::ZRoad => Some(&mut u.z_road),
-        RealVar::VRoad => Some(&mut u.v_road),
-        RealVar::FDamper => Some(&mut u.f_damper),
-        _ => None,
-    }
-}
-
-/// Value of an output at state `y` with evaluation `e`.
-fn real_output(y: &State, e: &Evaluation, v: RealVar) -> Option<f64> {
-    use RealVar::*;
-    Some(match v {
-        VDamper => y[1] - y[3],
-        FDemand => e.f_demand,
-        XDamper => y[0] - y[2],
-        VBody => y[1],
-        ABody => e.dydt[1],
-        AAxle => e.dydt[3],
-        ZBody => y[0],
-        ZAxle => y[2],
-        FTyre => e.f_tyre,
-        FSuspension => e.f_suspension,
-        _ => return None,
-    })
+    pub(crate) params: Params,
+    pub(crate) inputs: Inputs,
+    pub(crate) y: State,
+    pub(crate) time: f64,
+    pub(crate) initialized: bool,
 }
 
 fn unknown(vr: u32) -> String {
     format!("unknown value reference {vr}")
-}
-
-impl Params {
-    fn default_zero() -> Self {
-        Params {
-            damper_mode: 0,
-            m_body: 0.0,
-            m_axle: 0.0,
-            k_susp: 0.0,
-            k_tyre: 0.0,
-            c_susp: 0.0,
-            c_tyre: 0.0,
-            c_passive: 0.0,
-            cm: 0.0,
-            alpha: 0.0,
-            gravity: 0.0,
-            h_max: 0.0,
-            z_body_start: 0.0,
-            z_axle_start: 0.0,
-            v_body_start: 0.0,
-            v_axle_start: 0.0,
-        }
-    }
-
-    fn start_state(&self) -> State {
-        [self.z_body_start, self.v_body_start, self.z_axle_start, self.v_axle_start]
-    }
 }
 
 impl Slave {
@@ -235,50 +145,5 @@ impl Model for Slave {
         let mut s = Slave::default();
         snapshot::from_bytes(MAGIC, GUID, bytes, &mut s)?;
         Ok(s)
-    }
-}
-
-impl Visit for Slave {
-    fn visit<V: Visitor>(&mut self, v: &mut V) {
-        let Slave { params, inputs, y, time, initialized } = self;
-        // every field named once: a field missing here is a compile error
-        macro_rules! visit_params {
-            (ints: [$($i:ident),*], reals: [$($r:ident),*]) => {{
-                let Params { $($i,)* $($r,)* } = params;
-                $(int32(v, $i);)*
-                $(v.real($r);)*
-            }};
-        }
-        visit_params!(
-            ints: [damper_mode],
-            reals: [
-                m_body, m_axle, k_susp, k_tyre, c_susp, c_tyre, c_passive, cm, alpha, gravity, h_max, z_body_start,
-                z_axle_start, v_body_start, v_axle_start
-            ]
-        );
-        let Inputs { z_road, v_road, f_damper } = inputs;
-        for x in [z_road, v_road, f_damper].into_iter().chain(y.iter_mut()) {
-            v.real(x);
-        }
-        v.real(time);
-        fmi2_slave::snapshot::boolean(v, initialized);
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn every_real_variable_is_mapped_once() {
-        let (mut p, mut u) = (Params::default(), Inputs::default());
-        let (y, e) = Slave::default().evaluation();
-        for v in RealVar::ALL {
-            let n = real_parameter(&mut p, v).is_some() as u8
-                + real_input(&mut u, v).is_some() as u8
-                + real_output(&y, &e, v).is_some() as u8;
-            assert_eq!(n, 1, "{}", v.name());
-        }
-        assert_eq!(Params::default().m_body, 4450.0);
     }
 }
