@@ -1,4 +1,4 @@
-//! `damper`: the damper model against measurements (issue 4), the command line and its
+//! `damper`: the damper model against measurements, the command line and its
 //! presentation; the engine (reading, model runs, analysis, diagnosis, generated data) is
 //! `damper_engine`.
 //!

@@ -1,4 +1,4 @@
-//! The damper model against measurements (issue 4), as data: nothing here prints or writes HTML
+//! The damper model against measurements, as data: nothing here prints or writes HTML
 //! or SVG; the `damper` command line (crates/damper_cli) presents the results.
 //!
 //! - [`measurement`], [`units`]: reading a measurement CSV (column mapping, units, errors with
