@@ -2,35 +2,17 @@
 #![allow(dead_code)]
 
 use damper_engine::comparison::{CompareOptions, Comparison};
-use damper_engine::generate::{self, GenerateOptions, Generated};
 use damper_engine::summary::{to_json, Summary};
 use serde_json::Value;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 const SCHEMA: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../docs/summary.schema.json");
 
-/// A fresh, empty scratch directory for one test.
-pub fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("damper_cli_test_{name}_{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).expect("scratch dir");
-    dir
-}
-
-/// Generates `name.csv` (+ `name_truth.json`) in `dir` with `configure` applied to the defaults
-/// (rig inputs, 5 s at 1 kHz, seed 1).
-pub fn generate(
-    dir: &std::path::Path,
-    name: &str,
-    configure: impl FnOnce(&mut GenerateOptions),
-) -> (PathBuf, Generated) {
-    let csv = dir.join(format!("{name}.csv"));
-    let mut o = GenerateOptions::new(&csv, dir.join(format!("{name}_truth.json")));
-    o.duration = 5.0;
-    configure(&mut o);
-    let g = generate::write(&o).expect("generate");
-    (csv, g)
-}
+// The engine's test helpers, shared rather than copied.
+#[path = "../../../damper_engine/tests/common/mod.rs"]
+mod engine_common;
+#[allow(unused_imports)] // each test binary uses its own subset
+pub use engine_common::{generate, scratch};
 
 /// Compares `csv` with the default model plus `configure`, load-cell filter 400 Hz (the
 /// generator's default), and writes the report into `dir/out_name`.
