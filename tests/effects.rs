@@ -32,7 +32,7 @@ fn every_effect_has_its_switch_and_parameters_in_the_model_description() {
             assert_eq!(e.is_on(&p), on, "{}: is_on does not read {switch}", info.key);
         }
         assert!(!info.fitted.is_empty() && info.fitted.len() <= 2, "{}: one or two fitted parameters", info.key);
-        for f in info.fitted {
+        for f in info.fitted.iter().chain(info.secondary) {
             let v = real_parameter(f.name);
             let (lo, hi) = (v.min().unwrap_or(f64::NEG_INFINITY), v.max().unwrap_or(f64::INFINITY));
             assert!(lo <= f.search.0 && f.search.1 <= hi, "{}: search range outside the XML's", f.name);
@@ -182,10 +182,12 @@ fn render_effect_table() -> String {
         let fitted: Vec<String> = info
             .fitted
             .iter()
-            .map(|f| {
+            .map(|f| (f, ""))
+            .chain(info.secondary.iter().map(|f| (f, ", once kept")))
+            .map(|(f, when)| {
                 let v = real_parameter(f.name);
                 let default = quantity(v.start().unwrap(), v.unit());
-                format!("`{}` {} ({default})", f.name, range(f.plausible.0, f.plausible.1, v.unit()))
+                format!("`{}` {} ({default}{when})", f.name, range(f.plausible.0, f.plausible.1, v.unit()))
             })
             .collect();
         let held: Vec<String> = info

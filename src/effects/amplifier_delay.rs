@@ -18,6 +18,7 @@ static INFO: EffectInfo = EffectInfo {
         plausible: (0.001, 0.006),
         grid: Some(0.5e-3),
     }],
+    secondary: &[],
     other: &[],
     // 7–8 ms makes the force loop oscillate (a 25 Hz limit cycle at 20 kN demands)
     hidden_range: (0.004, 0.005),

@@ -19,6 +19,7 @@ static INFO: EffectInfo = EffectInfo {
         plausible: (0.2e5, 0.85e5),
         grid: None,
     }],
+    secondary: &[],
     other: &[],
     // below p_cv_full (1 bar), where the valve is fully open
     hidden_range: (0.5e5, 0.8e5),

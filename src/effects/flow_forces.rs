@@ -12,6 +12,7 @@ static INFO: EffectInfo = EffectInfo {
     equation: "F_flow = 2·Cd_valve·Cv_valve·cos(theta_jet)·A·max(Δp, 0) on the spool, closing",
     code: CodeRef { file: "src/physics/valve.rs", function: "flow_force" },
     fitted: &[FittedParameter { name: "Cv_valve", search: (0.5, 1.0), log: false, plausible: (0.85, 1.0), grid: None }],
+    secondary: &[],
     other: &["theta_jet"],
     hidden_range: (0.9, 0.94),
     signature: "a force error growing with velocity and force: spool pushed towards closing by the jet",

@@ -1,7 +1,7 @@
 //! The effect catalog: the physical effects a damper model may lack, one file per effect.
 //!
-//! Each effect has a Boolean switch `effect_<key>` in `modelDescription.xml` and one or two
-//! parameters that set its size. An effect tells the tools around the model what it is
+//! Each effect has a Boolean switch `effect_<key>` in `modelDescription.xml` and one or more
+//! parameters that set its size and shape. An effect tells the tools around the model what it is
 //! ([`EffectInfo`]: its parameters, their plausible ranges, the residual signature it leaves when
 //! missing), and, if it adds a force or a flow to the circuit, computes it ([`Effect::force`],
 //! [`Effect::bypass_flow`]). The plant sums the contributions of the switched-on effects.
@@ -69,6 +69,10 @@ pub struct EffectInfo {
     pub code: CodeRef,
     /// The parameters a diagnosis fits, one or two; the first is the effect's size.
     pub fitted: &'static [FittedParameter],
+    /// Parameters fitted together with `fitted` once the diagnosis keeps the effect (the data pin
+    /// them only when the effect is clearly in the record; fitting them for every candidate
+    /// would cost more runs and give each candidate more freedom to absorb another's error).
+    pub secondary: &'static [FittedParameter],
     /// Its other parameters (held at their values during a fit).
     pub other: &'static [&'static str],
     /// Range a data generator draws the size from when it hides the effect: plausible, and away

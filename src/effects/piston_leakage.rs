@@ -17,6 +17,7 @@ static INFO: EffectInfo = EffectInfo {
         plausible: (5e-14, 3e-12),
         grid: None,
     }],
+    secondary: &[],
     other: &[],
     hidden_range: (3e-13, 1e-12),
     signature:

@@ -14,6 +14,7 @@ static INFO: EffectInfo = EffectInfo {
         FittedParameter { name: "F_coulomb", search: (0.0, 2000.0), log: false, plausible: (50.0, 600.0), grid: None },
         FittedParameter { name: "v_friction", search: (1e-4, 0.1), log: true, plausible: (5e-4, 0.05), grid: None },
     ],
+    secondary: &[],
     other: &[],
     hidden_range: (150.0, 400.0),
     signature:

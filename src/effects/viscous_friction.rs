@@ -19,6 +19,7 @@ static INFO: EffectInfo = EffectInfo {
         plausible: (200.0, 3000.0),
         grid: None,
     }],
+    secondary: &[],
     other: &[],
     hidden_range: (800.0, 2500.0),
     signature: "an error growing smoothly with velocity and no jump at reversals; in force control the loop removes most of it in steady motion, so it shows after demand steps, at high force rates and as two branches of the mean error against velocity",

@@ -99,7 +99,7 @@ enum Command {
     ///
     /// Compares (as `damper compare`), then names the missing effect: each catalog effect is
     /// switched on (or refitted), its parameters fitted on the train part and scored on the
-    /// validation part; ranked, with a verdict (effect / none / unexplained) and a ladder of the
+    /// validation part; ranked, with a verdict (effect / partial / none / does_not_fit / unexplained) and a ladder of the
     /// error as the effects are added one at a time (two or more when one does not explain the
     /// residual). Writes DIR/report.html and DIR/summary.json, prints a summary.
     #[command(after_help = DIAGNOSE_HELP)]

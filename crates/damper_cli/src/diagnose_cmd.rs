@@ -5,8 +5,10 @@
 
 use crate::svg::esc;
 use crate::{before_after_report, compare, json_summary, report};
-use damper_engine::criteria::MIN_EXPLAINED;
+use damper_engine::criteria::{DOES_NOT_FIT_NRMSE, EXPLAINED_FACTOR, MIN_EXPLAINED, MOVED_SIGMAS};
+use damper_engine::diagnose::Floor;
 use damper_engine::diagnosed::Diagnosed;
+use damper_engine::dsp::NoiseEstimate;
 use damper_engine::ladder::Rung;
 use damper_engine::summary::to_json;
 use std::path::Path;
@@ -27,6 +29,18 @@ fn rung_label(l: &Rung) -> (String, &'static str) {
     (what, note)
 }
 
+/// The floor's parts, one line.
+fn floor_line(f: &Floor) -> String {
+    format!(
+        "floor {:.4} = sensor noise {:.4} (σ {:.1} N; cross-checks {:.1} N windowed, {:.1} N median-absolute, {:.1} N over all samples) ⊕ the model's numerical error {:.4} (rtol {:.0e} against {:.0e})",
+        f.nrmse, f.nrmse_noise, f.noise.sigma, f.noise.sigma_window, f.noise.sigma_mad, f.noise.sigma_all, f.nrmse_numerics, f.rtol, f.rtol_check
+    )
+}
+
+fn floor_html(f: &Floor) -> String {
+    format!("<p class=\"small\">The {}. Noise: {}.</p>", esc(&floor_line(f)), esc(NoiseEstimate::METHOD))
+}
+
 /// The diagnosis section of the report.
 pub fn html_section(r: &Diagnosed) -> String {
     let d = &r.diagnosis;
@@ -34,14 +48,17 @@ pub fn html_section(r: &Diagnosed) -> String {
         "<h2>Which effect is missing</h2><p><b>Verdict: {}</b>{}. {}</p>\
          <p class=\"small\">Every effect of the catalog (docs/effects.md) is switched on, or refitted where the baseline has \
          it, its parameters are fitted on the train part (Nelder–Mead on bounded scales; delays on the controller's sample grid), \
-         and the candidate is scored by the validation NRMSE. Named only when it explains at least {:.0} % of the validation error above the noise floor \
-         (b² − c²)/(b² − f²), with plausible parameters, clearly more than the best plausible runner-up or alone down to the noise floor; or when the ladder's effects together reach the floor. Noise floor: white sensor noise estimated from the second \
-         differences of the residual. Parameter errors: Gauss–Newton from the curvature of the sum of squares (optimistic for \
-         coloured residuals).</p>",
+         and the candidate is scored by the validation NRMSE. Verdicts: <i>effect</i> when the named effects leave at most {EXPLAINED_FACTOR}× the floor and \
+         the first explains at least {:.0} % of the validation error above the floor (b² − c²)/(b² − f²) with plausible parameters, clearly more than the best \
+         plausible runner-up (or the ladder's effects reach the floor together); <i>partial</i> when they explain a clear share but leave more; \
+         <i>does_not_fit</i> when even the best leaves an NRMSE of {DOES_NOT_FIT_NRMSE} or more (calibrate first); <i>none</i> at the floor; else <i>unexplained</i>. \
+         A refit within {MOVED_SIGMAS} standard uncertainties of the model's value is not an effect. Parameter errors: Gauss–Newton from the curvature of the sum of squares (optimistic for \
+         coloured residuals).</p>{}",
         d.verdict,
         if d.effects.is_empty() { String::new() } else { format!(": {}", d.effects.join(" + ")) },
         esc(&d.explanation),
-        100.0 * MIN_EXPLAINED
+        100.0 * MIN_EXPLAINED,
+        floor_html(&d.floor)
     );
     h.push_str(
         "<table><tr><th>rank</th><th>effect</th><th>action</th><th>validation NRMSE</th><th>change</th><th>fitted parameters \
@@ -117,7 +134,7 @@ pub fn terminal_summary(r: &Diagnosed) -> String {
         t.push_str(&format!(" {what} {:.4}{note} →", l.nrmse_validation));
     }
     t.truncate(t.len() - " →".len());
-    t.push_str(&format!(" (noise floor {:.4})\n", d.nrmse_noise_floor));
+    t.push_str(&format!(" (floor {:.4})\n  {}\n", d.nrmse_noise_floor, floor_line(&d.floor)));
     t
 }
 

@@ -5,7 +5,7 @@ use damper_engine::before_after::{regime_rows, After};
 use damper_engine::candidate::Candidate;
 use damper_engine::comparison::{Comparison, ModelSetup};
 use damper_engine::diagnosed::Diagnosed;
-use damper_engine::dsp::Metrics;
+use damper_engine::dsp::{Metrics, NoiseEstimate};
 use damper_engine::summary::{self, Summary};
 
 fn metrics(m: &Metrics) -> summary::Metrics {
@@ -170,6 +170,17 @@ pub fn diagnosed(r: &Diagnosed) -> Summary {
             nrmse_after_ladder: d.ladder.nrmse_validation,
             after: r.after.as_ref().map(|a| after(&r.comparison, a)),
             nrmse_noise_floor: d.nrmse_noise_floor,
+            floor: summary::Floor {
+                nrmse_noise: d.floor.nrmse_noise,
+                nrmse_numerics: d.floor.nrmse_numerics,
+                noise_sigma: d.floor.noise.sigma,
+                noise_sigma_window: d.floor.noise.sigma_window,
+                noise_sigma_mad: d.floor.noise.sigma_mad,
+                noise_sigma_all: d.floor.noise.sigma_all,
+                noise_method: NoiseEstimate::METHOD.into(),
+                rtol: d.floor.rtol,
+                rtol_check: d.floor.rtol_check,
+            },
             explanation: d.explanation.clone(),
             ladder: d
                 .ladder

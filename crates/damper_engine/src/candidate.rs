@@ -3,7 +3,7 @@
 //! candidate scored on the held-out validation part; and the fitting of a whole round of
 //! candidates in parallel.
 
-use crate::criteria::share;
+use crate::criteria::{share, MOVED_SIGMAS};
 use crate::dsp::nrmse;
 use crate::fit::{minimize, standard_errors, Bound, Fit};
 use crate::parameters::{effect_on, get_real, set_effect, set_real};
@@ -99,6 +99,13 @@ impl FitSetup<'_> {
     }
 }
 
+impl FitSetup<'_> {
+    /// [`fit_effects`] with this setup's model and data.
+    pub fn joint(&self, params: &Parameters, keys: &[&str], fitted: &[FittedParameter]) -> Result<JointFit, String> {
+        fit_effects(self.simulate, params, (self.measured, self.split), keys, fitted)
+    }
+}
+
 /// Model runs a fit of `spec` takes, about: its grid, or the simplex's budget and the Hessian.
 fn model_runs(spec: &EffectInfo) -> usize {
     match spec.fitted {
@@ -107,21 +114,36 @@ fn model_runs(spec: &EffectInfo) -> usize {
     }
 }
 
-/// Fits `spec` on top of `baseline` and scores it (`nrmse_baseline` is the error it starts from).
-pub fn try_candidate(
+/// A fit of some effects' parameters on top of a model, scored on the validation part.
+#[derive(Clone, Debug)]
+pub struct JointFit {
+    /// (name, fitted value, standard uncertainty) of each parameter fitted.
+    pub params: Vec<(&'static str, f64, Option<f64>)>,
+    /// The model with the effects on at the fitted values.
+    pub model: Parameters,
+    pub nrmse_train: f64,
+    pub nrmse_validation: f64,
+    /// Why not plausible, or empty.
+    pub flags: Vec<String>,
+    pub evaluations: usize,
+}
+
+/// Switches the effects `keys` on in `baseline` and fits `fitted` (their parameters, starting at
+/// the model's values) on the training part of `measured`, then runs the whole record.
+pub fn fit_effects(
     simulate: &Simulator<'_>,
     baseline: &Parameters,
-    measured: &[f64],
-    split: usize,
-    (nrmse_baseline, nrmse_floor): (f64, f64),
-    spec: &EffectInfo,
-) -> Result<Candidate, String> {
+    (measured, split): (&[f64], usize),
+    keys: &[&str],
+    fitted: &[FittedParameter],
+) -> Result<JointFit, String> {
     let mut start = *baseline;
-    let action = if effect_on(baseline, spec.key)? { "refitted" } else { "switched on" };
-    set_effect(&mut start, spec.key, true)?;
+    for key in keys {
+        set_effect(&mut start, key, true)?;
+    }
     let with = |x: &[f64]| -> Result<Parameters, String> {
         let mut p = start;
-        for (s, &v) in spec.fitted.iter().zip(x) {
+        for (s, &v) in fitted.iter().zip(x) {
             set_real(&mut p, s.name, v)?;
         }
         Ok(p)
@@ -133,13 +155,12 @@ pub fn try_candidate(
             Err(_) => f64::INFINITY,
         }
     };
-    let x0: Vec<f64> = spec
-        .fitted
+    let x0: Vec<f64> = fitted
         .iter()
         .map(|s| get_real(&start, s.name).map(|v| v.clamp(s.search.0.max(1e-300), s.search.1)))
         .collect::<Result<_, _>>()?;
-    let bounds: Vec<Bound> = spec.fitted.iter().map(bound).collect();
-    let (fit, errors) = match spec.fitted {
+    let bounds: Vec<Bound> = fitted.iter().map(bound).collect();
+    let (fit, errors) = match fitted {
         [p @ FittedParameter { grid: Some(step), .. }] => {
             let bound = bound(p);
             // the whole grid: the answer is exact to half a step
@@ -152,17 +173,15 @@ pub fn try_candidate(
             (Fit { x: vec![best.0], value: best.1, evaluations: n + 1 }, vec![Some(0.5 * step)])
         }
         _ => {
-            let fit = minimize(sse, &x0, &bounds, MAX_EVALS * spec.fitted.len());
+            let fit = minimize(sse, &x0, &bounds, MAX_EVALS * fitted.len());
             let errors = standard_errors(sse, (&fit.x, fit.value), split, 1e-2);
             (fit, errors)
         }
     };
-    let fitted = with(&fit.x)?;
-    let full = simulate(&fitted, measured.len())?;
-    let nrmse_validation = nrmse(&measured[split..], &full[split..]);
-    let nrmse_train = nrmse(train, &full[..split]);
+    let model = with(&fit.x)?;
+    let full = simulate(&model, measured.len())?;
     let mut flags = Vec::new();
-    for (s, &x) in spec.fitted.iter().zip(&fit.x) {
+    for (s, &x) in fitted.iter().zip(&fit.x) {
         if bound(s).at_bound(x) {
             flags.push(format!("{} = {x:.4e} at its search bound", s.name));
         } else if x < s.plausible.0 || x > s.plausible.1 {
@@ -172,19 +191,60 @@ pub fn try_candidate(
             ));
         }
     }
-    Ok(Candidate {
-        effect: spec.key,
-        action,
-        params: spec.fitted.iter().zip(&fit.x).zip(errors).map(|((s, &x), e)| (s.name, x, e)).collect(),
-        nrmse_train,
-        nrmse_validation,
-        reduction: 1.0 - nrmse_validation / nrmse_baseline,
-        explained: share(nrmse_baseline, nrmse_validation, nrmse_floor),
-        plausible: flags.is_empty(),
+    // a refit that stays within its uncertainty of the model's value has found nothing
+    let was_on = keys.iter().map(|k| effect_on(baseline, k)).collect::<Result<Vec<_>, _>>()?;
+    if was_on.iter().all(|&on| on) {
+        let moved = fitted.iter().zip(&fit.x).zip(&x0).zip(&errors).any(|(((s, &x), &x0), e)| match (s.grid, e) {
+            (Some(step), _) => (x - x0).abs() >= 0.5 * step,
+            (None, Some(e)) => (x - x0).abs() > MOVED_SIGMAS * e,
+            (None, None) => (x - x0).abs() > 1e-3 * x0.abs(),
+        });
+        if !moved {
+            flags.push(format!("within {MOVED_SIGMAS} standard uncertainties of the model's value: nothing moved"));
+        }
+    }
+    Ok(JointFit {
+        params: fitted.iter().zip(&fit.x).zip(errors).map(|((s, &x), e)| (s.name, x, e)).collect(),
+        model,
+        nrmse_train: nrmse(train, &full[..split]),
+        nrmse_validation: nrmse(&measured[split..], &full[split..]),
         flags,
-        signature: spec.signature,
         evaluations: fit.evaluations,
     })
+}
+
+impl JointFit {
+    /// The fit as a candidate of effect `spec` against the error it starts from.
+    pub fn candidate(self, spec: &EffectInfo, action: &'static str, (b, f): (f64, f64)) -> Candidate {
+        Candidate {
+            effect: spec.key,
+            action,
+            params: self.params,
+            nrmse_train: self.nrmse_train,
+            nrmse_validation: self.nrmse_validation,
+            reduction: 1.0 - self.nrmse_validation / b,
+            explained: share(b, self.nrmse_validation, f),
+            plausible: self.flags.is_empty(),
+            flags: self.flags,
+            signature: spec.signature,
+            evaluations: self.evaluations,
+        }
+    }
+}
+
+/// Fits `spec` on top of `baseline` and scores it (the first of `errors` is the validation NRMSE
+/// it starts from, the second the floor).
+pub fn try_candidate(
+    simulate: &Simulator<'_>,
+    baseline: &Parameters,
+    measured: &[f64],
+    split: usize,
+    errors: (f64, f64),
+    spec: &EffectInfo,
+) -> Result<Candidate, String> {
+    let action = if effect_on(baseline, spec.key)? { "refitted" } else { "switched on" };
+    let fit = fit_effects(simulate, baseline, (measured, split), &[spec.key], spec.fitted)?;
+    Ok(fit.candidate(spec, action, errors))
 }
 
 #[cfg(test)]
@@ -200,6 +260,9 @@ mod tests {
                 let v = get_real(&p, s.name).unwrap();
                 set_real(&mut p, s.name, v).unwrap();
                 assert!(s.plausible.0 >= s.search.0 && s.plausible.1 <= s.search.1, "{}", s.name);
+            }
+            for s in e.secondary {
+                set_real(&mut p, s.name, get_real(&p, s.name).unwrap()).unwrap();
             }
         }
     }

@@ -7,11 +7,38 @@ pub const MIN_EXPLAINED: f64 = 0.5;
 pub const MAX_RUNNER_UP_RATIO: f64 = 0.7;
 /// A baseline within this factor of the noise floor has nothing to explain.
 pub const FLOOR_FACTOR: f64 = 1.3;
+/// Effects "explain" the record only when they leave at most this factor of the noise floor;
+/// more, and they are named as a partial explanation.
+pub const EXPLAINED_FACTOR: f64 = 2.0;
+/// A partial explanation explains at least this share of the error above the floor: with less,
+/// an effect of the catalog with a similar signature absorbs part of an error it does not cause
+/// (compressibility explains 52 % of a missing viscous friction).
+pub const PARTIAL_MIN_EXPLAINED: f64 = 0.75;
+/// The model does not fit the damper when even the best the diagnosis reaches leaves at least
+/// this validation NRMSE (and [`DOES_NOT_FIT_FLOOR_FACTOR`] times the floor): a missing catalog
+/// effect leaves less once it is added (0.005–0.03 in the tests), a damper of another kind or
+/// nominal parameters far from the damper's leave more (0.6 on a magnetorheological damper).
+pub const DOES_NOT_FIT_NRMSE: f64 = 0.15;
+/// ... and at least this factor of the noise floor (a very noisy record is not a misfit).
+pub const DOES_NOT_FIT_FLOOR_FACTOR: f64 = 10.0;
 /// Near the noise floor (a baseline within [`FLOOR_FACTOR`] of it) an effect is still named when
-/// it cuts the validation mean-square error by at least this share of the noise variance. Over 20
-/// records with nothing hidden (rig and HiL) no candidate cut more than 0.0014; a weak hidden piston
-/// leakage on HiL data cuts 0.07–0.57 (`crates/damper_engine/examples/ranking_accuracy.rs`).
+/// it cuts the validation mean-square error by at least this share of the noise variance, and by
+/// [`NUMERICS_MARGIN`] times the model's own numerical error variance. Over 20 records with
+/// nothing hidden (rig and HiL) no candidate cut more than 0.0014; a weak hidden piston leakage on
+/// HiL data cuts 0.07–0.57 (`crates/damper_engine/examples/ranking_accuracy.rs`).
 pub const MIN_GAIN: f64 = 0.02;
+/// A candidate can absorb the model's numerical error; a weak effect must cut this many times
+/// more.
+pub const NUMERICS_MARGIN: f64 = 4.0;
+/// A refitted parameter that moved less than this many standard uncertainties from the model's
+/// value has not moved: the refit is not an effect.
+pub const MOVED_SIGMAS: f64 = 3.0;
+/// Relative tolerance the diagnosis runs the model at (the FMU's default, 1e-3, leaves a numerical
+/// error of about 0.3 load-cell noise sigmas at fast transients; 1e-4 about 0.07, at 1.5× the
+/// cost). A user's `--set rtol=…` wins.
+pub const DIAGNOSIS_RTOL: f64 = 1e-4;
+/// The model's numerical error is measured against the same run at this fraction of the rtol.
+pub const NUMERICS_CHECK_FACTOR: f64 = 0.01;
 /// Share of the error above the floor `f` that going from NRMSE `b` to `c` explains.
 pub fn share(b: f64, c: f64, f: f64) -> f64 {
     ((b * b - c * c) / (b * b - f * f).max(1e-300)).min(1.0)

@@ -4,7 +4,8 @@
 use crate::before_after::{self, After};
 use crate::candidate::{FitSetup, Progress};
 use crate::comparison::{self, CompareOptions, Comparison};
-use crate::diagnose::{diagnose, Diagnosis};
+use crate::criteria::{DIAGNOSIS_RTOL, NUMERICS_CHECK_FACTOR};
+use crate::diagnose::{diagnose, Diagnosis, Numerics};
 use crate::model::{force_simulator, thread_pool};
 use crate::units::Column;
 
@@ -12,7 +13,7 @@ use crate::units::Column;
 pub struct Diagnosed {
     pub comparison: Comparison,
     pub diagnosis: Diagnosis,
-    /// The model with the named effects, when the verdict is `effect`.
+    /// The model with the named effects, when the verdict is `effect` or `partial`.
     pub after: Option<After>,
 }
 
@@ -23,6 +24,12 @@ pub fn diagnose_measurement(
     threads: usize,
     progress: &Progress<'_>,
 ) -> Result<Diagnosed, String> {
+    // the model at the diagnosis's tolerance, unless the user set one
+    let mut opts = opts.clone();
+    if !opts.sets.iter().any(|(name, _)| name == "rtol") {
+        opts.sets.push(("rtol".into(), DIAGNOSIS_RTOL.to_string()));
+    }
+    let opts = &opts;
     let c = comparison::compare(opts)?;
     let split = comparison::split_index(&c.measurement, opts.split)?;
     let measured = c.measurement.get(Column::FDamper).ok_or("the measurement has no F_damper column")?.to_vec();
@@ -36,7 +43,12 @@ pub fn diagnose_measurement(
     }
     let pool = thread_pool(threads)?;
     let fit = FitSetup { simulate: &simulate, measured: &measured, split, pool: &pool, progress };
-    let d = diagnose(&fit, &candidates, &baseline, &c.prediction.f_damper)?;
+    let mut check = baseline;
+    check.rtol = baseline.rtol * NUMERICS_CHECK_FACTOR;
+    let base_check = simulate(&check, measured.len())?;
+    let numerics =
+        Numerics { base: &c.prediction.f_damper, base_check: &base_check, rtol: baseline.rtol, rtol_check: check.rtol };
+    let d = diagnose(&fit, &candidates, &baseline, &numerics)?;
     drop(simulate);
     let after = match d.effects.as_slice() {
         [] => None,

@@ -1,4 +1,4 @@
-//! Fitting an effect's one or two parameters: bounded Nelder–Mead on a transformed scale, and the
+//! Fitting an effect's parameters: bounded Nelder–Mead on a transformed scale, and the
 //! parameter uncertainty from the curvature of the sum of squared residuals.
 //!
 //! ```text
@@ -137,17 +137,12 @@ pub fn standard_errors(
         }
     }
     let sigma2 = s0 / (n_residuals.saturating_sub(p).max(1)) as f64;
-    let inverse = match p {
-        1 => (hess[0][0] > 0.0).then(|| vec![vec![1.0 / hess[0][0]]]),
-        2 => {
-            let det = hess[0][0] * hess[1][1] - hess[0][1] * hess[1][0];
-            (det > 0.0 && hess[0][0] > 0.0)
-                .then(|| vec![vec![hess[1][1] / det, -hess[0][1] / det], vec![-hess[1][0] / det, hess[0][0] / det]])
+    // positive definite, or the data do not determine every parameter
+    match nalgebra::DMatrix::from_fn(p, p, |i, j| hess[i][j]).cholesky() {
+        Some(c) => {
+            let inv = c.inverse();
+            (0..p).map(|i| Some((2.0 * sigma2 * inv[(i, i)]).sqrt())).collect()
         }
-        _ => None,
-    };
-    match inverse {
-        Some(inv) => (0..p).map(|i| Some((2.0 * sigma2 * inv[i][i]).sqrt())).collect(),
         None => vec![None; p],
     }
 }

@@ -11,13 +11,14 @@
 //! concurrently.
 
 use crate::dsp::lowpass;
-use crate::model::{Backend, Drive, Model, Prediction};
+use crate::model::{Backend, Drive, Model, Prediction, INPUT_SUBSTEPS};
 use crate::parameters::{get_parameter, parameter_names, Value};
 use fmi::fmi2::import::Fmi2Import;
 use fmi::fmi2::instance::{CoSimulation, Common, InstanceCS};
 use fmi::fmi2::schema::{Causality, ScalarVariableElement};
 use fmi::fmi2::Fmi2Error;
 use fmi::traits::FmiImport;
+use semi_active_damper::damper::Inputs;
 use semi_active_damper::model_description::MODEL_IDENTIFIER;
 use semi_active_damper::physics::params::Parameters;
 use semi_active_damper::variables::default_parameters;
@@ -185,16 +186,19 @@ impl Backend for FmuModel {
         // sample grid is placed relative to the clock).
         let mut now = t[0];
         for k in 1..n {
-            let h = t[k] - t[k - 1];
-            fmu.do_step(now, h, true).map_err(|e| {
-                format!(
-                    "the FMU {} failed between t = {} s and {} s: fmi2DoStep: {e}",
-                    self.path.display(),
-                    t[k - 1],
-                    t[k]
-                )
-            })?;
-            now += h;
+            let h = (t[k] - t[k - 1]) / INPUT_SUBSTEPS as f64;
+            for j in 0..INPUT_SUBSTEPS {
+                self.set(&mut fmu, drive, drive.substep_inputs(k - 1, j), k - 1)?;
+                fmu.do_step(now, h, true).map_err(|e| {
+                    format!(
+                        "the FMU {} failed between t = {} s and {} s: fmi2DoStep: {e}",
+                        self.path.display(),
+                        t[k - 1],
+                        t[k]
+                    )
+                })?;
+                now += h;
+            }
             self.set_inputs(&mut fmu, drive, k)?;
             self.read_outputs(&mut fmu, t[k], all, &mut out)?;
         }
@@ -237,7 +241,11 @@ impl FmuModel {
     }
 
     fn set_inputs(&self, fmu: &mut InstanceCS, drive: &Drive, k: usize) -> Result<(), String> {
-        let i = drive.inputs(k);
+        self.set(fmu, drive, drive.inputs(k), k)
+    }
+
+    /// Sets `i` (inputs at or after sample `k`, which the error names).
+    fn set(&self, fmu: &mut InstanceCS, drive: &Drive, i: Inputs, k: usize) -> Result<(), String> {
         let values = [i.v_damper, i.force_demand, i.x_spool_demand];
         fmu.set_real(&self.inputs, &values).map(|_| ()).map_err(|e| {
             format!(

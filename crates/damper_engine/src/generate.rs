@@ -1,9 +1,10 @@
 //! What `damper generate` makes: measurement-like CSV from the model with effects hidden in it,
 //! and the truth in a separate JSON file that `compare` and `diagnose` never read.
 //!
-//! The truth model is driven over the measurement's own sample grid with the inputs held over
-//! each interval, exactly as `compare` drives its model, so that a model equal to the truth leaves
-//! only the measurement chain in the residual. The measurement chain, in this order:
+//! The truth model is driven over the measurement's own sample grid exactly as `compare` drives
+//! its model (the velocity interpolated between samples, the demands held: `crate::model`), so
+//! that a model equal to the truth leaves only the measurement chain in the residual. (For data
+//! made independently of these numerics, see `python/damper_tools/independent.py`.) The measurement chain, in this order:
 //!
 //! 1. load cell: first-order low-pass at `lowpass_hz` (default 400 Hz) on the sampled force, exact
 //!    for a force varying linearly between samples (`dsp::lowpass`);
@@ -509,14 +510,14 @@ fn road_gd0(road: &str) -> Result<f64, String> {
 
 /// HiL-style run: the quarter truck (Table 1, clipped MSD) on a random ISO 8608 road, coupled to
 /// the truth damper at every sample (Jacobi: each side sees the other's output of the same
-/// sample). Returns (measured velocity, demand, damper outputs).
+/// sample). Returns (measured velocity, true velocity, demand).
 fn hil_run(
     o: &GenerateOptions,
     p: &Parameters,
     t: &[f64],
     rng: &mut Rng,
     noise_rng: &mut Rng,
-) -> Result<(Vec<f64>, Vec<f64>, Prediction), String> {
+) -> Result<(Vec<f64>, Vec<f64>, Vec<f64>), String> {
     use quarter_truck::truck::{Inputs as TruckInputs, Params as TruckParams};
     let gd0 = road_gd0(&o.road)?;
     let n_waves = 300;
@@ -538,8 +539,7 @@ fn hil_run(
     let truck = TruckParams::default();
     let mut y = [truck.z_body_start, truck.v_body_start, truck.z_axle_start, truck.v_axle_start];
     let n = t.len();
-    let (mut v, mut demand) = (Vec::with_capacity(n), Vec::with_capacity(n));
-    let mut out = Prediction::default();
+    let (mut v, mut v_true, mut demand) = (Vec::with_capacity(n), Vec::with_capacity(n), Vec::with_capacity(n));
     let mut damper: Option<Damper> = None;
     let mut z_now = z_road(t[0]);
     for k in 0..n {
@@ -558,15 +558,8 @@ fn hil_run(
             }
         };
         let od = d.outputs();
-        out.f_damper.push(od.load_cell);
-        out.x_spool.push(od.y[semi_active_damper::physics::plant::idx::X_SPOOL]);
-        out.x_spool_ref.push(od.x_spool_ref);
-        out.i_sol.push(od.y[semi_active_damper::physics::plant::idx::I_COIL]);
-        out.p_ext.push(od.y[semi_active_damper::physics::plant::idx::P_A]);
-        out.p_comp.push(od.y[semi_active_damper::physics::plant::idx::P_B]);
-        out.x_damper.push(od.y[semi_active_damper::physics::plant::idx::X_DAMPER]);
-        out.f_demand_clipped.push(od.force_demand_clipped);
         v.push(v_measured);
+        v_true.push(v_rel);
         demand.push(f_dem);
         if k + 1 < n {
             let h = t[k + 1] - t[k];
@@ -576,7 +569,7 @@ fn hil_run(
             z_now = z_next;
         }
     }
-    Ok((v, demand, out))
+    Ok((v, v_true, demand))
 }
 
 fn measure(x: &[f64], s: Sensor, rng: &mut Rng) -> Vec<f64> {
@@ -650,7 +643,13 @@ pub fn generate(o: &GenerateOptions) -> Result<Generated, String> {
             (column, v_measured, d, pred)
         }
         InputStyle::Hil => {
-            let (v_measured, d, pred) = hil_run(o, &params, &t, &mut input_rng, &mut noise_rng)?;
+            // the closed loop makes the motion and the demand; the truth's force is then the
+            // damper's under that motion as sampled, stepped as the rig inputs are (the velocity
+            // interpolated between samples), as the motion of a real truck is continuous
+            let (v_measured, v_true, d) = hil_run(o, &params, &t, &mut input_rng, &mut noise_rng)?;
+            let drive_truth = if o.errors_in_variables { v_true } else { v_measured.clone() };
+            let pred =
+                Model::new(params).run(&Drive { time: t.clone(), v_damper: drive_truth, demand: demand_of(&d) })?;
             ((Column::VDamper, v_measured.clone()), v_measured, d, pred)
         }
     };

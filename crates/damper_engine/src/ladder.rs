@@ -9,10 +9,16 @@
 //! turn with the others in place (an early effect's fit absorbed some of the later ones' error),
 //! up to [`POLISH_PASSES`] times while the error falls.
 //!
-//! The kept effects are the answer only when they reach the noise floor or the first of them is
-//! named on its own (the verdict of [`crate::diagnose`]).
+//! Two refinements: an effect kept that has secondary parameters (the polytropic exponent, the
+//! mount's cubic stiffness) is refitted with them once it is kept; and when the best candidate of
+//! a round fits only with implausible parameters (it absorbs the error of two effects that add
+//! up), it is fitted jointly with each of the next [`PAIR_PARTNERS`] candidates, and the best
+//! plausible pair is kept if it explains more than the best single effect.
+//!
+//! The kept effects are judged by [`crate::verdict`].
 
-use crate::candidate::{Candidate, FitSetup};
+use crate::candidate::{Candidate, FitSetup, JointFit};
+use crate::criteria::share;
 use crate::criteria::{FLOOR_FACTOR, MIN_EXPLAINED};
 use crate::parameters::{set_effect, set_real};
 use semi_active_damper::effects::EffectInfo;
@@ -20,6 +26,8 @@ use semi_active_damper::physics::params::Parameters;
 
 /// Most rounds of refitting the kept effects with the others in place.
 pub const POLISH_PASSES: usize = 2;
+/// Candidates after an implausible best that are each fitted jointly with it.
+pub const PAIR_PARTNERS: usize = 3;
 
 /// A rung of the ladder: the model after adding one more effect.
 #[derive(Clone, Debug)]
@@ -91,6 +99,91 @@ pub fn with_effect(
     Ok(q)
 }
 
+/// The candidates of the effects not yet kept, fitted on top of the ladder's model.
+fn next_round(
+    fit: &FitSetup<'_>,
+    specs: &[&'static EffectInfo],
+    ladder: &Ladder,
+    nrmse_floor: f64,
+) -> Result<Vec<Candidate>, String> {
+    let rest: Vec<&'static EffectInfo> = specs.iter().copied().filter(|s| !ladder.effects.contains(&s.key)).collect();
+    if rest.is_empty() {
+        return Ok(Vec::new());
+    }
+    fit.all(&rest, &ladder.params, (ladder.nrmse_validation, nrmse_floor))
+}
+
+/// Refits the just-kept effect `spec` with its secondary parameters; kept when it lowers the
+/// validation error with plausible values.
+fn refine(fit: &FitSetup<'_>, spec: &'static EffectInfo, ladder: &mut Ladder, nrmse_floor: f64) -> Result<(), String> {
+    if spec.secondary.is_empty() {
+        return Ok(());
+    }
+    let all: Vec<_> = spec.fitted.iter().chain(spec.secondary).copied().collect();
+    let errors = (ladder.nrmse_validation, nrmse_floor);
+    let c = fit.joint(&ladder.params, &[spec.key], &all)?.candidate(spec, "refitted", errors);
+    let kept = c.plausible && c.nrmse_validation < ladder.nrmse_validation;
+    ladder.push(&c, true, kept)
+}
+
+/// Two effects fitted together.
+struct Pair {
+    specs: [&'static EffectInfo; 2],
+    fit: JointFit,
+}
+
+impl Pair {
+    fn explained(&self, (b, f): (f64, f64)) -> f64 {
+        share(b, self.fit.nrmse_validation, f)
+    }
+
+    /// One rung per effect, each with its own parameters and the pair's error.
+    fn candidates(&self, errors: (f64, f64)) -> Vec<Candidate> {
+        let n0 = self.specs[0].fitted.len();
+        self.specs
+            .iter()
+            .enumerate()
+            .map(|(i, spec)| {
+                let mut part = self.fit.clone();
+                part.params = if i == 0 { part.params[..n0].to_vec() } else { part.params[n0..].to_vec() };
+                part.candidate(spec, "switched on with the other", errors)
+            })
+            .collect()
+    }
+}
+
+/// When the best candidate of `round` fits only with implausible parameters, it fitted jointly
+/// with each of the next [`PAIR_PARTNERS`]: the best plausible pair, if any.
+fn best_pair(fit: &FitSetup<'_>, round: &[Candidate], params: &Parameters) -> Result<Option<Pair>, String> {
+    use rayon::prelude::*;
+    let Some(top) = round.first().filter(|c| !c.plausible && !c.flags.iter().any(|f| f.contains("nothing moved")))
+    else {
+        return Ok(None);
+    };
+    let find = |key: &str| crate::candidate::catalog().find(|s| s.key == key).ok_or("an effect outside the catalog");
+    let first = find(top.effect)?;
+    let partners: Vec<&'static EffectInfo> =
+        round.iter().skip(1).take(PAIR_PARTNERS).map(|c| find(c.effect)).collect::<Result<_, _>>()?;
+    let fits: Vec<Result<Pair, String>> = fit.pool.install(|| {
+        partners
+            .par_iter()
+            .map(|&second| {
+                let all: Vec<_> = first.fitted.iter().chain(second.fitted).copied().collect();
+                let f = fit.joint(params, &[first.key, second.key], &all)?;
+                Ok(Pair { specs: [first, second], fit: f })
+            })
+            .collect()
+    });
+    let mut best: Option<Pair> = None;
+    for p in fits {
+        let p = p?;
+        if p.fit.flags.is_empty() && best.as_ref().is_none_or(|b| p.fit.nrmse_validation < b.fit.nrmse_validation) {
+            best = Some(p);
+        }
+    }
+    Ok(best)
+}
+
 /// Climbs the ladder from the diagnosis's `ranked` candidates (best first) over `specs`.
 pub fn climb(
     fit: &FitSetup<'_>,
@@ -110,20 +203,38 @@ pub fn climb(
     let mut ladder =
         Ladder { rungs: vec![base], effects: Vec::new(), params: *baseline, nrmse_validation: nrmse_baseline };
     let mut round: Vec<Candidate> = ranked.to_vec();
+    let spec_of = |key: &str| specs.iter().copied().find(|s| s.key == key).ok_or("a kept effect outside the catalog");
     while ladder.nrmse_validation > FLOOR_FACTOR * nrmse_floor {
         let Some(best) = round.iter().find(|c| c.plausible).or(round.first()) else { break };
         let least = if ladder.effects.is_empty() { 0.5 * MIN_EXPLAINED } else { MIN_EXPLAINED };
+        let errors = (ladder.nrmse_validation, nrmse_floor);
+        if let Some(pair) = best_pair(fit, &round, &ladder.params)? {
+            if pair.explained(errors) >= least && pair.fit.nrmse_validation < best.nrmse_validation {
+                for c in pair.candidates(errors) {
+                    ladder.push(&c, false, true)?;
+                }
+                ladder.params = pair.fit.model;
+                ladder.nrmse_validation = pair.fit.nrmse_validation;
+                round = next_round(fit, specs, &ladder, nrmse_floor)?;
+                if round.is_empty() {
+                    break;
+                }
+                continue;
+            }
+        }
         let kept = best.plausible && best.explained >= least;
         ladder.push(best, false, kept)?;
         if !kept {
             break;
         }
-        let rest: Vec<&'static EffectInfo> =
-            specs.iter().copied().filter(|s| !ladder.effects.contains(&s.key)).collect();
-        if rest.is_empty() || ladder.nrmse_validation <= FLOOR_FACTOR * nrmse_floor {
+        refine(fit, spec_of(best.effect)?, &mut ladder, nrmse_floor)?;
+        if ladder.nrmse_validation <= FLOOR_FACTOR * nrmse_floor {
             break;
         }
-        round = fit.all(&rest, &ladder.params, (ladder.nrmse_validation, nrmse_floor))?;
+        round = next_round(fit, specs, &ladder, nrmse_floor)?;
+        if round.is_empty() {
+            break;
+        }
     }
     for _ in 0..POLISH_PASSES {
         if ladder.effects.len() < 2 || ladder.nrmse_validation <= FLOOR_FACTOR * nrmse_floor {

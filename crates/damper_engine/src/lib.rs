@@ -32,3 +32,4 @@ pub mod parameters;
 pub mod rng;
 pub mod summary;
 pub mod units;
+pub mod verdict;

@@ -1,10 +1,13 @@
 //! The damper model driven by a measurement's inputs, in-process ([`InProcess`]) or through a
 //! packaged FMU (`crate::fmu_model`), both behind the trait [`Backend`].
 //!
-//! The model starts at rest at the first sample and is stepped from sample to sample: the
-//! communication step is the sample interval and the inputs are held over it (the FMU's
-//! convention). The outputs at a sample are taken after the inputs of that sample are set, as an
-//! FMI master does. [`Model::run`] is a pure function of the parameters and the inputs, and
+//! The model starts at rest at the first sample and is stepped from sample to sample. A measured
+//! velocity is a sample of a continuous motion, so between two samples it is interpolated: each
+//! sample interval is stepped in [`INPUT_SUBSTEPS`] communication steps, the velocity held over
+//! each at its linear interpolation at the step's midpoint (a velocity held over the whole
+//! interval would lead the motion by half a sample: 7–9× the noise floor on records of a
+//! continuously moving damper). Demands are digital and held. The outputs at a sample are taken
+//! after the inputs of that sample are set, as an FMI master does. [`Model::run`] is a pure function of the parameters and the inputs, and
 //! [`Model`] is plain data, so fits may call it from several threads ([`run_parallel`]).
 
 use crate::dsp::lowpass;
@@ -14,6 +17,9 @@ use semi_active_damper::damper::{Damper, Inputs};
 use semi_active_damper::physics::params::Parameters;
 use semi_active_damper::physics::plant::idx;
 use std::path::Path;
+
+/// Communication steps per sample interval (see the module's docs).
+pub const INPUT_SUBSTEPS: usize = 2;
 
 /// What the controller is given.
 #[derive(Clone, Debug)]
@@ -66,6 +72,14 @@ impl Drive {
             Demand::SpoolPosition(x) => (0.0, x[k]),
         };
         Inputs { v_damper: self.v_damper[k], force_demand, x_spool_demand }
+    }
+
+    /// The inputs held over communication step `j` of the interval from sample `k` to `k + 1`:
+    /// the velocity interpolated at the step's midpoint, the demands of sample `k`.
+    pub(crate) fn substep_inputs(&self, k: usize, j: usize) -> Inputs {
+        let frac = (j as f64 + 0.5) / INPUT_SUBSTEPS as f64;
+        let v = self.v_damper[k] + frac * (self.v_damper[k + 1] - self.v_damper[k]);
+        Inputs { v_damper: v, ..self.inputs(k) }
     }
 }
 
@@ -148,8 +162,11 @@ impl Model {
         };
         push(&d, &mut out);
         for k in 1..n {
-            d.do_step(t[k] - t[k - 1])
-                .map_err(|e| format!("the model failed between t = {} s and {} s: {e}", t[k - 1], t[k]))?;
+            let h = (t[k] - t[k - 1]) / INPUT_SUBSTEPS as f64;
+            for j in 0..INPUT_SUBSTEPS {
+                d.inputs = drive.substep_inputs(k - 1, j);
+                d.do_step(h).map_err(|e| format!("the model failed between t = {} s and {} s: {e}", t[k - 1], t[k]))?;
+            }
             d.inputs = drive.inputs(k);
             push(&d, &mut out);
         }

@@ -221,7 +221,7 @@ impl EffectExt for Effect {
         self.fitted[0].name
     }
     fn parameter_names(&self) -> Vec<&'static str> {
-        self.fitted.iter().map(|f| f.name).chain(self.other.iter().copied()).collect()
+        self.fitted.iter().chain(self.secondary).map(|f| f.name).chain(self.other.iter().copied()).collect()
     }
 }
 

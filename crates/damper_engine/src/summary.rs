@@ -93,7 +93,7 @@ pub struct Summary {
     pub model_run_s: f64,
     /// Notes on the data and the settings.
     pub warnings: Vec<String>,
-    /// Diagnose: `effect`, `none` or `unexplained`; compare: null.
+    /// Diagnose: `effect`, `partial`, `none`, `does_not_fit` or `unexplained`; compare: null.
     pub verdict: Option<String>,
     /// Diagnose: the best plausible candidate, if any; compare: null.
     pub best_effect: Option<String>,
@@ -368,13 +368,45 @@ pub struct Diagnosis {
     /// The model with the named effects against the baseline; absent when none is named.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub after: Option<After>,
-    /// Validation NRMSE of the noise floor (1).
+    /// Validation NRMSE of the floor the verdict judges by, √(noise² + numerics²) (1).
     #[serde(deserialize_with = "nan_if_null")]
     pub nrmse_noise_floor: f64,
+    /// The floor's parts and how they were estimated.
+    pub floor: Floor,
     /// Why the verdict.
     pub explanation: String,
     /// The validation NRMSE as effects are added one at a time, baseline first.
     pub ladder: Vec<Rung>,
+}
+
+/// The floor of the validation NRMSE: sensor noise and the model's numerical error.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Floor {
+    /// The sensor noise's share, σ_noise / std(F_damper) (1).
+    #[serde(deserialize_with = "nan_if_null")]
+    pub nrmse_noise: f64,
+    /// The model's numerical error: the baseline at `rtol` against the same run at `rtol_check` (1).
+    #[serde(deserialize_with = "nan_if_null")]
+    pub nrmse_numerics: f64,
+    /// The noise estimate used (N).
+    #[serde(deserialize_with = "nan_if_null")]
+    pub noise_sigma: f64,
+    /// Its two robust parts (N): median over windows of the mean-square second difference, and
+    /// from the median absolute second difference.
+    #[serde(deserialize_with = "nan_if_null")]
+    pub noise_sigma_window: f64,
+    #[serde(deserialize_with = "nan_if_null")]
+    pub noise_sigma_mad: f64,
+    /// The plain second-difference estimate over all samples (N): what a model error would
+    /// inflate.
+    #[serde(deserialize_with = "nan_if_null")]
+    pub noise_sigma_all: f64,
+    /// How the noise is estimated.
+    pub noise_method: String,
+    /// Relative tolerance of the model's runs (1).
+    pub rtol: f64,
+    /// Relative tolerance of the numerical check (1).
+    pub rtol_check: f64,
 }
 
 /// A rung of the ladder.
