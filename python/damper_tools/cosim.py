@@ -25,7 +25,7 @@ currentCommunicationPoint, and setupExperiment gets stopTime = start + n h.
 """
 
 import argparse
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -55,6 +55,10 @@ class Car:
     v_road: np.ndarray
     truck_parameters: dict[str, Value] = field(default_factory=dict)
     damper_parameters: dict[str, Value] = field(default_factory=lambda: dict(HIL_DAMPER_PARAMETERS))
+    # What the damper is given at step k from the truck's (v_damper, F_demand): by default the truck's
+    # values; a measurement chain (sensor noise on the velocity, a demand held at a logger's rate)
+    # replaces them, e.g. damper_tools.independent.
+    damper_inputs: Callable[[int, float, float], tuple[float, float]] | None = None
 
     @property
     def has_damper(self) -> bool:
@@ -110,7 +114,10 @@ def simulate(cars: Sequence[Car], step: float, n_steps: int, truck_fmu: str | Pa
                 force = rec_d[j][k, i_f] if dampers[j] else 0.0
                 trucks[j].set(z_road=car.z_road[k], v_road=car.v_road[k], F_damper=force)
                 if dampers[j]:
-                    dampers[j].set(v_damper=rec_t[j][k, i_v], F_demand=rec_t[j][k, i_fd])
+                    v_in, f_in = rec_t[j][k, i_v], rec_t[j][k, i_fd]
+                    if car.damper_inputs is not None:
+                        v_in, f_in = car.damper_inputs(k, v_in, f_in)
+                    dampers[j].set(v_damper=v_in, F_demand=f_in)
             for j in range(len(cars)):
                 trucks[j].step(step, t)
                 if dampers[j]:

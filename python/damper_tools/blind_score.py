@@ -1,0 +1,193 @@
+"""Blind score of `damper diagnose` on records it did not make (damper_tools.independent, .foreign).
+
+    .venv/bin/python scripts/blind_score.py --quick            # 7 cases, about 1-2 min on 2 cores
+    .venv/bin/python scripts/blind_score.py --jobs 1 --out out/blind
+
+Builds a case set (every catalog effect alone on rig and HiL inputs at several seeds, pairs of
+effects, clean records, foreign dampers), writes each record and its truth, runs
+`damper diagnose REC --out DIR --load-cell-lowpass 400 [--tare-load-cell]` on it (the truth is never
+passed), reads DIR/summary.json and scores:
+
+- single effect: the verdict is `effect` and the effect is in `effects`;
+- pair: both effects are in `effects` (verdict `effect`);
+- clean: the verdict is `none` (nothing named; `partial`, `unexplained`, `does_not_fit` fail);
+- foreign: fails only when the verdict is `effect` while the validation NRMSE after the named
+  effects is above 2x the noise floor (an effect "explained" that does not explain the record).
+
+Verdicts the program may add later (`partial`, `does_not_fit`) count as not `effect`. Writes
+OUT/blind_score.md (the table) and OUT/blind_score.json (every case: truth, verdict, effects,
+NRMSE baseline / after / floor, times).
+"""
+
+import argparse
+import json
+import platform
+import subprocess
+import time
+from concurrent.futures import ThreadPoolExecutor
+from dataclasses import asdict
+from datetime import date
+from pathlib import Path
+
+from damper_tools import REPO
+from damper_tools import independent as ind
+
+DAMPER = REPO / "target" / "release" / "damper"
+PAIRS = (("seal_friction", "check_valve_cracking"), ("piston_leakage", "check_valve_cracking"),
+         ("seal_friction", "amplifier_delay"))
+FOREIGN_FACTOR = 2.0  # a foreign damper's named effect must bring the NRMSE within this times the floor
+
+
+def category(case: ind.Case) -> str:
+    if case.kind.startswith("foreign"):
+        return "foreign"
+    return {0: "clean", 1: "single", 2: "pair"}[min(len(case.effects), 2)]
+
+
+def cases(quick: bool = False, seeds: int = 3, clean_seeds: int = 20, foreign_seeds: int = 4,
+          motion: str = "continuous") -> list[ind.Case]:
+    """The case set. Sample rates cycle through 500, 1000 and 2000 Hz, formats through ms/mm/s/kN and SI."""
+    def case(kind, seed, effects=(), k=0):
+        rate = ind.RATES[(seed + k) % len(ind.RATES)]
+        fmt = "ms" if (seed + k) % 2 else "si"
+        return ind.Case(kind, seed, tuple(effects), rate, fmt=fmt, motion=motion)
+
+    if quick:
+        return [case("rig", 1), case("hil", 1), case("rig", 1, ("seal_friction",)),
+                case("hil", 2, ("amplifier_delay",)), case("rig", 2, PAIRS[1]),
+                case("foreign_mr", 1), case("foreign_passive", 1)]
+    cat = ind.catalog()
+    out = []
+    for k, key in enumerate(cat):
+        for seed in range(1, seeds + 1):
+            out += [case("rig", seed, (key,), k), case("hil", seed, (key,), k)]
+    for pair in PAIRS:
+        out += [case("rig", seed, pair) for seed in range(1, seeds + 1)]
+    for seed in range(1, clean_seeds + 1):
+        out += [case("rig", seed), case("hil", seed)]
+    for seed in range(1, foreign_seeds + 1):
+        out += [case("foreign_mr", seed), case("foreign_passive", seed)]
+    return out
+
+
+def diagnose(damper: Path, record: Path, out: Path, tared: bool, threads: int) -> tuple[dict | None, str, float]:
+    command = [str(damper), "--threads", str(threads), "-q", "diagnose", str(record), "--out", str(out),
+               "--load-cell-lowpass", "400"] + (["--tare-load-cell"] if tared else [])
+    start = time.perf_counter()
+    proc = subprocess.run(command, capture_output=True, text=True)
+    seconds = time.perf_counter() - start
+    summary_path = out / "summary.json"
+    if proc.returncode != 0 or not summary_path.is_file():
+        return None, (proc.stderr or proc.stdout).strip()[-500:], seconds
+    return json.loads(summary_path.read_text(encoding="utf-8")), "", seconds
+
+
+def score(case: ind.Case, summary: dict | None) -> tuple[bool, str]:
+    """(passed, why) for one case from its summary.json."""
+    if summary is None:
+        return False, "diagnose failed"
+    verdict = summary.get("verdict")
+    named = summary.get("effects") or []
+    cat = category(case)
+    if cat in ("single", "pair"):
+        missing = [e for e in case.effects if e not in named]
+        ok = verdict == "effect" and not missing
+        return ok, "" if ok else (f"verdict {verdict}" if verdict != "effect" else f"missed {', '.join(missing)}")
+    if cat == "clean":
+        ok = verdict == "none" and not named
+        return ok, "" if ok else f"verdict {verdict}" + (f" ({', '.join(named)})" if named else "")
+    after, floor = summary.get("nrmse_after_ladder"), summary.get("nrmse_noise_floor")
+    explained_badly = verdict == "effect" and after is not None and floor and after > FOREIGN_FACTOR * floor
+    return not explained_badly, f"effect named with NRMSE {after / floor:.1f}x the floor" if explained_badly else ""
+
+
+def run_case(case: ind.Case, out: Path, damper: Path, threads: int, damper_fmu: Path, truck_fmu: Path) -> dict:
+    record, truth_path = out / "records" / f"{case.name}.csv", out / "truth" / f"{case.name}.json"
+    start = time.perf_counter()
+    truth = ind.make(case, record, truth_path, damper_fmu, truck_fmu)
+    gen_s = time.perf_counter() - start
+    summary, error, diag_s = diagnose(damper, record, out / "diagnose" / case.name, case.tared, threads)
+    passed, why = score(case, summary)
+    row = {"case": case.name, "category": category(case), "kind": case.kind, "seed": case.seed,
+           "rate_hz": case.rate, "format": case.fmt, "motion": case.motion, "hidden": list(case.effects),
+           "hidden_values": {k: v["value"] for k, v in truth["hidden_effects"].items()},
+           "truth": str(truth_path.relative_to(out)), "passed": passed, "why": why, "error": error,
+           "generate_s": round(gen_s, 2), "diagnose_s": round(diag_s, 2)}
+    if summary is not None:
+        row.update(verdict=summary.get("verdict"), effects=summary.get("effects") or [],
+                   nrmse_baseline=summary.get("nrmse_baseline"), nrmse_after=summary.get("nrmse_after_ladder"),
+                   nrmse_floor=summary.get("nrmse_noise_floor"))
+    return row
+
+
+def _num(x: float | None) -> str:
+    return "–" if x is None else f"{x:.4f}"
+
+
+def table(rows: list[dict]) -> str:
+    lines = ["| case | truth | verdict | effects named | NRMSE baseline | after | floor | pass | diagnose [s] |",
+             "|---|---|---|---|---|---|---|---|---|"]
+    for r in rows:
+        truth = ", ".join(f"{k}={v:.3g}" for k, v in r["hidden_values"].items()) or (
+            r["kind"] if r["category"] == "foreign" else "nothing hidden")
+        named = ", ".join(r.get("effects", [])) or "–"
+        lines.append(f"| {r['case']} | {truth} | {r.get('verdict', 'error')} | {named} "
+                     f"| {_num(r.get('nrmse_baseline'))} | {_num(r.get('nrmse_after'))} | {_num(r.get('nrmse_floor'))} "
+                     f"| {'yes' if r['passed'] else 'NO ' + r['why']} | {r['diagnose_s']:.1f} |")
+    lines += ["", "| category | passed |", "|---|---|"]
+    for cat in ("single", "pair", "clean", "foreign"):
+        sel = [r for r in rows if r["category"] == cat]
+        if sel:
+            lines.append(f"| {cat} | {sum(r['passed'] for r in sel)} of {len(sel)} |")
+    return "\n".join(lines) + "\n"
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--damper", type=Path, default=DAMPER,
+                        help="the damper program (default target/release/damper)")
+    parser.add_argument("--damper-fmu", type=Path, default=ind.DAMPER_FMU)
+    parser.add_argument("--truck-fmu", type=Path, default=ind.TRUCK_FMU)
+    parser.add_argument("--out", type=Path, default=REPO / "out" / "blind")
+    parser.add_argument("--quick", action="store_true", help="7 cases: clean rig and HiL, one effect on each, "
+                        "an overlapping pair, both foreign dampers")
+    parser.add_argument("--seeds", type=int, default=3, help="seeds per single effect and pair")
+    parser.add_argument("--clean-seeds", type=int, default=20)
+    parser.add_argument("--foreign-seeds", type=int, default=4)
+    parser.add_argument("--motion", choices=ind.MOTIONS, default="continuous",
+                        help="how the truth moves between samples (see damper_tools.independent)")
+    parser.add_argument("--only", choices=("single", "pair", "clean", "foreign"), default=None)
+    parser.add_argument("--jobs", type=int, default=1, help="cases at once (each diagnose uses --threads)")
+    parser.add_argument("--threads", type=int, default=2, help="threads of each diagnose")
+    args = parser.parse_args(argv)
+
+    todo = cases(args.quick, args.seeds, args.clean_seeds, args.foreign_seeds, args.motion)
+    if args.only:
+        todo = [c for c in todo if category(c) == args.only]
+    args.out.mkdir(parents=True, exist_ok=True)
+    start = time.perf_counter()
+    with ThreadPoolExecutor(max_workers=max(1, args.jobs)) as pool:
+        futures = [pool.submit(run_case, c, args.out, args.damper, args.threads, args.damper_fmu, args.truck_fmu)
+                   for c in todo]
+        rows = []
+        for f in futures:
+            rows.append(f.result())
+            r = rows[-1]
+            print(f"{r['case']:55s} {r.get('verdict', 'error'):12s} {','.join(r.get('effects', [])) or '-':40s} "
+                  f"{'pass' if r['passed'] else 'FAIL ' + r['why']}", flush=True)
+    wall = time.perf_counter() - start
+    md = table(rows)
+    head = (f"Blind score, {date.today().isoformat()}, {platform.node()} ({platform.machine()}), "
+            f"{len(rows)} cases, motion {args.motion}, jobs {args.jobs} x threads {args.threads}, "
+            f"wall time {wall:.0f} s\n\n")
+    (args.out / "blind_score.md").write_text(head + md, encoding="utf-8")
+    (args.out / "blind_score.json").write_text(json.dumps(
+        {"date": date.today().isoformat(), "wall_s": round(wall, 1), "args": {k: str(v) for k, v in vars(args).items()},
+         "cases": rows, "case_specs": [asdict(c) for c in todo]}, indent=1) + "\n", encoding="utf-8")
+    print("\n" + head + md)
+    print(f"wrote {args.out / 'blind_score.md'} and {args.out / 'blind_score.json'}")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

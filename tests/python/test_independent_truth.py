@@ -1,0 +1,141 @@
+"""Records the diagnosis did not make (damper_tools.independent, damper_tools.foreign), read by the
+`damper` program as a user would: same seed, same bytes; the continuous load-cell filter against the
+sampled one of `damper generate`; a record in ms, mm/s and kN reads as its SI twin; `damper diagnose`
+names no effect on clean records, names a hidden one, and does not "explain" a foreign damper.
+
+The whole blind score (many seeds, every effect, pairs) is scripts/blind_score.py; these are short
+records (2-4 s at 500 Hz), about a minute on 2 cores.
+"""
+
+import json
+import subprocess
+
+import numpy as np
+import pytest
+
+from damper_tools import REPO, blind_score
+from damper_tools import independent as ind
+
+DAMPER = REPO / "target" / "release" / "damper"
+
+
+@pytest.fixture(scope="module")
+def damper():
+    if not DAMPER.is_file():
+        pytest.skip(f"{DAMPER} is missing: cargo build --release -p damper_cli")
+    return DAMPER
+
+
+def make(case, directory, fmu, truck_fmu, keep=None):
+    record, truth = directory / f"{case.name}.csv", directory / f"{case.name}.truth.json"
+    ind.make(case, record, truth, fmu, truck_fmu, keep)
+    return record, json.loads(truth.read_text())
+
+
+def run(damper, command, record, out, *options):
+    subprocess.run([str(damper), "-q", "--threads", "2", command, str(record), "--out", str(out),
+                    "--load-cell-lowpass", "400", *options], check=True)
+    return json.loads((out / "summary.json").read_text())
+
+
+def diagnose(damper, case, work_dir, fmu, truck_fmu):
+    record, _ = make(case, work_dir, fmu, truck_fmu)
+    return run(damper, "diagnose", record, work_dir / f"d_{case.name}", *(["--tare-load-cell"] if case.tared else []))
+
+
+def test_the_catalog_is_read_from_the_effect_files(fmu):
+    cat = ind.catalog(damper_fmu=fmu)
+    assert len(cat) == len(list((REPO / "src" / "effects").glob("*.rs"))) - 1  # mod.rs is not an effect
+    assert cat["seal_friction"].parameter == "F_coulomb" and not cat["seal_friction"].default_on
+    assert cat["amplifier_delay"].hidden_range == (0.004, 0.005) and cat["amplifier_delay"].default_on
+
+
+@pytest.mark.parametrize("kind", ["rig", "hil", "foreign_passive"])
+def test_the_same_seed_gives_the_same_bytes(kind, work_dir, fmu, truck_fmu):
+    effects = ("seal_friction",) if kind == "rig" else ()
+    first = ind.Case(kind, 11, effects, 1000.0, 1.5)
+    a_csv, _ = make(first, work_dir / "a", fmu, truck_fmu)
+    b_csv, _ = make(ind.Case(kind, 11, effects, 1000.0, 1.5), work_dir / "b", fmu, truck_fmu)
+    assert a_csv.read_bytes() == b_csv.read_bytes()
+    assert a_csv.with_suffix(".truth.json").read_bytes() == b_csv.with_suffix(".truth.json").read_bytes()
+    c_csv, _ = make(ind.Case(kind, 12, effects, 1000.0, 1.5), work_dir / "c", fmu, truck_fmu)
+    assert c_csv.read_bytes() != a_csv.read_bytes()
+
+
+def test_the_continuous_load_cell_filter_differs_from_a_sampled_first_order_hold(work_dir, fmu, truck_fmu):
+    """`damper generate` filters the force sampled at the record's rate, exact for a force linear
+    between samples; the records here filter the 0.1 ms force. The difference is a small fraction of
+    the load cell's noise (20 N) and grows as the rate falls."""
+    sigma = ind.SENSORS["F_damper"][0]
+    rms = {}
+    for rate in (500.0, 1000.0, 2000.0):
+        keep = {}
+        make(ind.Case("rig", 3, (), rate, 4.0), work_dir, fmu, truck_fmu, keep)
+        diff = ind.foh_filter_difference(keep["force_fine"], rate)
+        rms[rate] = float(np.sqrt(np.mean(diff ** 2)))
+        largest = float(np.max(np.abs(diff)))
+        print(f"{rate:6.0f} Hz: continuous - sampled FOH filter: RMS {rms[rate]:.2f} N = "
+              f"{rms[rate] / sigma:.3f} sigma, largest {largest:.1f} N = {largest / sigma:.2f} sigma")
+    assert 0 < rms[2000.0] < rms[1000.0] < rms[500.0]
+    assert rms[1000.0] < sigma
+
+
+def test_a_record_in_ms_mm_per_s_and_kN_reads_as_its_si_twin(damper, work_dir, fmu, truck_fmu):
+    si_csv, _ = make(ind.Case("rig", 4, (), 500.0, 2.0, "si"), work_dir, fmu, truck_fmu)
+    ms_case = ind.Case("rig", 4, (), 500.0, 2.0, "ms", name="rig_ms")
+    ms_csv, _ = make(ms_case, work_dir, fmu, truck_fmu)
+    assert ms_csv.read_text().splitlines()[1] == "time [ms],v_damper [mm/s],F_demand [kN],F_damper [kN]"
+    si = np.loadtxt(si_csv, delimiter=",", skiprows=2)
+    ms = np.loadtxt(ms_csv, delimiter=",", skiprows=2) * [1e-3, 1e-3, 1e3, 1e3]
+    np.testing.assert_allclose(ms, si, rtol=1e-12, atol=1e-9)
+    a = run(damper, "compare", si_csv, work_dir / "c_si")
+    b = run(damper, "compare", ms_csv, work_dir / "c_ms")
+    assert a["samples"] == b["samples"] == 1001
+    assert a["sample_interval_s"] == pytest.approx(b["sample_interval_s"], rel=1e-12)
+    assert a["nrmse_baseline"] == pytest.approx(b["nrmse_baseline"], rel=1e-9)
+
+
+NEAR_FLOOR = pytest.mark.xfail(reason="the near-floor rule names mount_compliance on a clean independent record "
+                                      "at the floor (after = baseline), docs/blind-score.md", strict=False)
+
+
+@pytest.mark.parametrize("kind,seed,rate", [("rig", 1, 1000.0),
+                                            pytest.param("rig", 2, 1000.0, marks=NEAR_FLOOR),
+                                            pytest.param("hil", 1, 1000.0, marks=NEAR_FLOOR),
+                                            pytest.param("rig", 2, 500.0, marks=NEAR_FLOOR)])
+def test_a_clean_record_gets_no_effect_verdict(kind, seed, rate, damper, work_dir, fmu, truck_fmu):
+    # motion sample_hold: see the xfail tests below for continuous motion
+    case = ind.Case(kind, seed, (), rate, 3.0 if kind == "rig" else 4.0, motion="sample_hold")
+    summary = diagnose(damper, case, work_dir, fmu, truck_fmu)
+    assert summary["verdict"] != "effect", summary.get("effects")
+
+
+def test_hidden_seal_friction_is_named(damper, work_dir, fmu, truck_fmu):
+    # The truth moves with the velocity of each sample held (motion sample_hold): on continuous motion
+    # the diagnosis's model leads by half a sample and the verdict is unexplained (the xfail below).
+    case = ind.Case("rig", 1, ("seal_friction",), 500.0, 3.0, motion="sample_hold")
+    summary = diagnose(damper, case, work_dir, fmu, truck_fmu)
+    assert blind_score.score(case, summary) == (True, "")
+    assert summary["verdict"] == "effect" and "seal_friction" in summary["effects"]
+
+
+@pytest.mark.parametrize("kind", ["foreign_mr", "foreign_passive"])
+def test_a_foreign_damper_is_not_explained_by_a_catalog_effect(kind, damper, work_dir, fmu, truck_fmu):
+    case = ind.Case(kind, 1, (), 500.0, 3.0)
+    summary = diagnose(damper, case, work_dir, fmu, truck_fmu)
+    passed, why = blind_score.score(case, summary)
+    assert passed, why
+    assert summary["nrmse_baseline"] > 5 * summary["nrmse_noise_floor"]  # the model is far from this damper
+
+
+HALF_SAMPLE = ("the model is driven with each sample's velocity held over the interval, so on continuous motion it "
+               "leads by half a sample (-0.34 ms at 1 kHz): unexplained on rig records, a false viscous_friction on "
+               "HiL at 500 Hz (docs/blind-score.md)")
+
+
+@pytest.mark.xfail(reason=HALF_SAMPLE, strict=False)
+@pytest.mark.parametrize("kind,rate", [("rig", 1000.0), ("hil", 500.0)])
+def test_a_clean_record_of_continuous_motion_is_at_the_noise_floor(kind, rate, damper, work_dir, fmu, truck_fmu):
+    case = ind.Case(kind, 1, (), rate, 3.0 if kind == "rig" else 4.0)
+    summary = diagnose(damper, case, work_dir, fmu, truck_fmu)
+    assert summary["verdict"] == "none", (summary["verdict"], summary["effects"])
