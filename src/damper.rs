@@ -10,7 +10,7 @@
 use crate::control::{Controller, Demands, Measurements};
 use crate::physics::params::{Derived, Parameters};
 use crate::physics::plant::{idx, rest_current, Plant, PlantOutputs, State};
-use crate::solver::{rodas3_step, SolverError};
+use crate::solver::{rodas3_step, rodas3_step_timed, OdeSystem, SolverError};
 
 /// Typical magnitude of each state, for the error weights: p_A, p_B (Pa), V_g (m³), x_s (m),
 /// v_s (m/s), i (A), x (m).
@@ -18,11 +18,15 @@ const STATE_SCALE: [f64; 7] = [1e6, 1e6, 1e-4, 1e-3, 0.1, 1.0, 1e-3];
 /// Most integration steps in one controller sample before the step is given up.
 const MAX_STEPS_PER_SAMPLE: u32 = 5000;
 
-/// Inputs from the master, held over a communication step.
+/// Inputs from the master, held over a communication step (the velocity along a ramp of slope
+/// `a_damper`).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Inputs {
-    /// Damper extension velocity (m/s).
+    /// Damper extension velocity (m/s) at the start of the communication step.
     pub v_damper: f64,
+    /// Damper extension acceleration (m/s²): the velocity moves along v_damper + a_damper·(t − t_c)
+    /// over the step from t_c, as a sampled continuous motion does between its samples; 0 holds it.
+    pub a_damper: f64,
     /// Demanded force (N), tension positive.
     pub force_demand: f64,
     /// Spool position demand (m) (control_mode 1).
@@ -131,10 +135,11 @@ impl Damper {
 
     /// Advances from the present time by `h` (s) > 0. On failure the state is left as it was.
     pub fn do_step(&mut self, h: f64) -> Result<StepStats, SolverError> {
-        let saved = self.state;
+        let (saved, inputs) = (self.state, self.inputs);
         let result = self.advance(h);
         if result.is_err() {
             self.state = saved;
+            self.inputs = inputs;
         }
         result
     }
@@ -142,8 +147,10 @@ impl Damper {
     fn advance(&mut self, h: f64) -> Result<StepStats, SolverError> {
         let ts = self.params.t_sample;
         let tol = 1e-6 * ts;
-        let t_end = self.state.time + h;
-        let mut t = self.state.time;
+        let t_start = self.state.time;
+        let t_end = t_start + h;
+        let v_start = self.inputs.v_damper;
+        let mut t = t_start;
         let mut stats = StepStats::default();
         loop {
             let t_sample = self.state.start_time + self.state.next_sample as f64 * ts;
@@ -157,12 +164,30 @@ impl Damper {
             let span = if (t_next - t - ts).abs() <= tol { ts } else { t_next - t };
             stats.substeps += self.integrate(span)?;
             t = t_next;
+            // the velocity at the new time: on the ramp from the step's start
+            self.inputs.v_damper = v_start + self.inputs.a_damper * (t - t_start);
             if t >= t_end - tol {
                 break;
             }
         }
+        self.inputs.v_damper = v_start + self.inputs.a_damper * h;
         self.state.time = t_end;
         Ok(stats)
+    }
+
+    /// One Rodas3 step of `step` (s) from the present state, with the velocity on its ramp.
+    fn rodas3(&self, step: f64, from: f64) -> Result<(State, State), SolverError> {
+        let a = self.inputs.a_damper;
+        if a == 0.0 {
+            return rodas3_step(&self.plant(), &self.state.y, step);
+        }
+        let v0 = self.inputs.v_damper + a * from;
+        let at = |v: f64| Plant { v_damper: v, ..self.plant() };
+        let (sys, sys_end) = (at(v0), at(v0 + a * step));
+        // ∂f/∂t = ∂f/∂v·a; the plant is affine in v but for the friction and leakage effects
+        let dv = 1e-6 * v0.abs().max(1e-2);
+        let f_t = (at(v0 + dv).rhs(&self.state.y) - sys.rhs(&self.state.y)) * (a / dv);
+        rodas3_step_timed(&sys, &sys_end, Some(&f_t), &self.state.y, step)
     }
 
     /// Integrates over `span` (s) with step-size control; returns the number of steps taken.
@@ -173,7 +198,7 @@ impl Damper {
         while done < span {
             let last = h >= (span - done) * (1.0 - 1e-9);
             let step = if last { span - done } else { h };
-            let (y, error) = rodas3_step(&self.plant(), &self.state.y, step)?;
+            let (y, error) = self.rodas3(step, done)?;
             let norm = (0..7)
                 .map(|i| {
                     let w = p.rtol * (STATE_SCALE[i] + self.state.y[i].abs().max(y[i].abs()));

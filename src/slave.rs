@@ -134,7 +134,10 @@ impl Model for Slave {
     fn do_step(&mut self, h: f64) -> Result<(), SolverError> {
         let damper = self.damper.as_mut().expect("do_step after initialisation");
         damper.inputs = self.inputs;
-        damper.do_step(h).map(|_| ())
+        damper.do_step(h)?;
+        // the velocity input moved along its ramp (a_damper): it is the velocity at the new time
+        self.inputs.v_damper = damper.inputs.v_damper;
+        Ok(())
     }
 
     fn state(&self) -> SlaveState {

@@ -43,8 +43,8 @@ pub fn default_inputs() -> Inputs {
 pub fn real_parameter(p: &mut Parameters, v: RealVar) -> Option<&mut f64> {
     use RealVar::*;
     Some(match v {
-        VDamper | FDemand | XSpoolDemand | FDamper | XSpool | ISol | PExt | PComp | PReservoir | QValve | XSpoolRef
-        | XDamper | FDemandClipped | FFlow | DeltaMount => return None,
+        VDamper | ADamper | FDemand | XSpoolDemand | FDamper | XSpool | ISol | PExt | PComp | PReservoir | QValve
+        | XSpoolRef | XDamper | FDemandClipped | FFlow | DeltaMount => return None,
         Rho => &mut p.rho,
         BetaOil => &mut p.beta_oil,
         AirFraction => &mut p.air_fraction,
@@ -141,6 +141,7 @@ pub fn boolean_parameter(p: &mut Parameters, v: BooleanVar) -> Option<&mut bool>
 pub fn real_input(inputs: &mut Inputs, v: RealVar) -> Option<&mut f64> {
     match v {
         RealVar::VDamper => Some(&mut inputs.v_damper),
+        RealVar::ADamper => Some(&mut inputs.a_damper),
         RealVar::FDemand => Some(&mut inputs.force_demand),
         RealVar::XSpoolDemand => Some(&mut inputs.x_spool_demand),
         _ if v.causality() == Causality::Input => unreachable!("input {} is not mapped", v.name()),

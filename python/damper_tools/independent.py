@@ -311,6 +311,9 @@ def rig_truth_fmu(case: Case, rig: RigInputs, noise_v: np.ndarray, params: dict,
     # sensor noise of the sample it belongs to (unquantised: the controller's converter is finer).
     motion = v_true[:-1] if case.motion == "continuous" else np.repeat(v_true[:-1:m], m)
     v_drive = motion + np.repeat(noise_v[:n_samples - 1], m)
+    # continuous: the velocity moves along the true motion's chord over each fine step (the FMU's
+    # a_damper input), not held (a hold would lag the motion by half a fine step, 0.05 ms)
+    a_drive = np.diff(v_true) / FINE_STEP if case.motion == "continuous" else np.zeros(n_fine)
     f_drive = np.repeat(demand[:-1], m)
     slave = Slave(FmuUnit.load(damper_fmu), f"truth_{case.name}")
     force = np.empty(n_fine + 1)
@@ -318,7 +321,12 @@ def rig_truth_fmu(case: Case, rig: RigInputs, noise_v: np.ndarray, params: dict,
         slave.initialize(0.0, t_fine[-1], **params)
         force[0] = slave.get(["F_damper"])[0]
         for j in range(n_fine):
-            slave.step(FINE_STEP, t_fine[j], v_damper=float(v_drive[j]), F_demand=float(f_drive[j]))
+            slave.step(FINE_STEP, t_fine[j], v_damper=float(v_drive[j]), a_damper=float(a_drive[j]),
+                       F_demand=float(f_drive[j]))
+            # the force at t_{j+1} with the velocity of t_{j+1}: F_damper depends on v_damper
+            # directly, and the velocity of the step just taken is 0.1 ms old
+            if j + 1 < n_fine:
+                slave.set(v_damper=float(v_drive[j + 1]), F_demand=float(f_drive[j + 1]))
             force[j + 1] = slave.get(["F_damper"])[0]
     finally:
         slave.free()

@@ -2,7 +2,7 @@
 //! vectors (no heap allocation, fixed operation sequence, hence bitwise deterministic).
 mod rodas3;
 
-pub use rodas3::rodas3_step;
+pub use rodas3::{rodas3_step, rodas3_step_timed};
 
 use nalgebra::{SMatrix, SVector};
 

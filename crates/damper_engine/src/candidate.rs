@@ -262,7 +262,8 @@ mod tests {
                 assert!(s.plausible.0 >= s.search.0 && s.plausible.1 <= s.search.1, "{}", s.name);
             }
             for s in e.secondary {
-                set_real(&mut p, s.name, get_real(&p, s.name).unwrap()).unwrap();
+                let v = get_real(&p, s.name).unwrap();
+                set_real(&mut p, s.name, v).unwrap();
             }
         }
     }

@@ -11,7 +11,7 @@
 //! concurrently.
 
 use crate::dsp::lowpass;
-use crate::model::{Backend, Drive, Model, Prediction, INPUT_SUBSTEPS};
+use crate::model::{Backend, Drive, Model, Prediction};
 use crate::parameters::{get_parameter, parameter_names, Value};
 use fmi::fmi2::import::Fmi2Import;
 use fmi::fmi2::instance::{CoSimulation, Common, InstanceCS};
@@ -25,7 +25,7 @@ use semi_active_damper::variables::default_parameters;
 use std::path::{Path, PathBuf};
 
 /// The FMU's inputs, in the order [`FmuModel::set_inputs`] sets them.
-const INPUTS: [&str; 3] = ["v_damper", "F_demand", "x_spool_demand"];
+const INPUTS: [&str; 4] = ["v_damper", "a_damper", "F_demand", "x_spool_demand"];
 /// The outputs read, in the order of [`Prediction`]'s fields.
 const OUTPUTS: [&str; 8] =
     ["F_damper", "x_spool", "x_spool_ref", "i_sol", "p_ext", "p_comp", "x_damper", "F_demand_clipped"];
@@ -50,7 +50,7 @@ pub struct FmuModel {
     path: PathBuf,
     import: Fmi2Import,
     parameters: Vec<FmuParameter>,
-    inputs: [u32; 3],
+    inputs: [u32; 4],
     outputs: [u32; 8],
 }
 
@@ -141,7 +141,7 @@ impl FmuModel {
                 .map(|v| v.value_reference)
                 .ok_or_else(|| format!("{at}: the FMU has no Real {causality} {name} (is it the damper FMU?)"))
         };
-        let mut inputs = [0; 3];
+        let mut inputs = [0; 4];
         for (slot, name) in inputs.iter_mut().zip(INPUTS) {
             *slot = vr(name, Causality::Input)?;
         }
@@ -186,19 +186,17 @@ impl Backend for FmuModel {
         // sample grid is placed relative to the clock).
         let mut now = t[0];
         for k in 1..n {
-            let h = (t[k] - t[k - 1]) / INPUT_SUBSTEPS as f64;
-            for j in 0..INPUT_SUBSTEPS {
-                self.set(&mut fmu, drive, drive.substep_inputs(k - 1, j), k - 1)?;
-                fmu.do_step(now, h, true).map_err(|e| {
-                    format!(
-                        "the FMU {} failed between t = {} s and {} s: fmi2DoStep: {e}",
-                        self.path.display(),
-                        t[k - 1],
-                        t[k]
-                    )
-                })?;
-                now += h;
-            }
+            self.set(&mut fmu, drive, drive.interval_inputs(k - 1), k - 1)?;
+            let h = t[k] - t[k - 1];
+            fmu.do_step(now, h, true).map_err(|e| {
+                format!(
+                    "the FMU {} failed between t = {} s and {} s: fmi2DoStep: {e}",
+                    self.path.display(),
+                    t[k - 1],
+                    t[k]
+                )
+            })?;
+            now += h;
             self.set_inputs(&mut fmu, drive, k)?;
             self.read_outputs(&mut fmu, t[k], all, &mut out)?;
         }

@@ -1,13 +1,15 @@
 //! The damper model driven by a measurement's inputs, in-process ([`InProcess`]) or through a
 //! packaged FMU (`crate::fmu_model`), both behind the trait [`Backend`].
 //!
-//! The model starts at rest at the first sample and is stepped from sample to sample. A measured
-//! velocity is a sample of a continuous motion, so between two samples it is interpolated: each
-//! sample interval is stepped in [`INPUT_SUBSTEPS`] communication steps, the velocity held over
-//! each at its linear interpolation at the step's midpoint (a velocity held over the whole
-//! interval would lead the motion by half a sample: 7–9× the noise floor on records of a
-//! continuously moving damper). Demands are digital and held. The outputs at a sample are taken
-//! after the inputs of that sample are set, as an FMI master does. [`Model::run`] is a pure function of the parameters and the inputs, and
+//! The model starts at rest at the first sample and is stepped from sample to sample: the
+//! communication step is the sample interval. A measured velocity is a sample of a continuous
+//! motion, so between two samples the model's velocity follows the straight line between them
+//! (the FMU's input `a_damper`, the slope); demands are digital and held. A velocity held over
+//! the interval leads the motion by half a sample: on a clean record of a continuously moving
+//! damper (1 kHz, the truth at 0.1 ms steps) the validation NRMSE was 0.023 held, 0.016 with two
+//! held half-steps, 0.0058 with four, against a noise floor of 0.0022. The outputs at a sample
+//! are taken after the inputs of that sample are set, as an FMI master does.
+//! [`Model::run`] is a pure function of the parameters and the inputs, and
 //! [`Model`] is plain data, so fits may call it from several threads ([`run_parallel`]).
 
 use crate::dsp::lowpass;
@@ -17,9 +19,6 @@ use semi_active_damper::damper::{Damper, Inputs};
 use semi_active_damper::physics::params::Parameters;
 use semi_active_damper::physics::plant::idx;
 use std::path::Path;
-
-/// Communication steps per sample interval (see the module's docs).
-pub const INPUT_SUBSTEPS: usize = 2;
 
 /// What the controller is given.
 #[derive(Clone, Debug)]
@@ -65,21 +64,20 @@ impl Drive {
         }
     }
 
-    /// The inputs of sample `k` (the FMU runner sets the same values).
+    /// The inputs of sample `k` (the FMU runner sets the same values), the velocity held.
     pub(crate) fn inputs(&self, k: usize) -> Inputs {
         let (force_demand, x_spool_demand) = match &self.demand {
             Demand::Force(f) => (f[k], 0.0),
             Demand::SpoolPosition(x) => (0.0, x[k]),
         };
-        Inputs { v_damper: self.v_damper[k], force_demand, x_spool_demand }
+        Inputs { v_damper: self.v_damper[k], a_damper: 0.0, force_demand, x_spool_demand }
     }
 
-    /// The inputs held over communication step `j` of the interval from sample `k` to `k + 1`:
-    /// the velocity interpolated at the step's midpoint, the demands of sample `k`.
-    pub(crate) fn substep_inputs(&self, k: usize, j: usize) -> Inputs {
-        let frac = (j as f64 + 0.5) / INPUT_SUBSTEPS as f64;
-        let v = self.v_damper[k] + frac * (self.v_damper[k + 1] - self.v_damper[k]);
-        Inputs { v_damper: v, ..self.inputs(k) }
+    /// The inputs over the interval from sample `k` to `k + 1`: the velocity on the straight line
+    /// to the next sample.
+    pub(crate) fn interval_inputs(&self, k: usize) -> Inputs {
+        let a_damper = (self.v_damper[k + 1] - self.v_damper[k]) / (self.time[k + 1] - self.time[k]);
+        Inputs { a_damper, ..self.inputs(k) }
     }
 }
 
@@ -162,11 +160,9 @@ impl Model {
         };
         push(&d, &mut out);
         for k in 1..n {
-            let h = (t[k] - t[k - 1]) / INPUT_SUBSTEPS as f64;
-            for j in 0..INPUT_SUBSTEPS {
-                d.inputs = drive.substep_inputs(k - 1, j);
-                d.do_step(h).map_err(|e| format!("the model failed between t = {} s and {} s: {e}", t[k - 1], t[k]))?;
-            }
+            d.inputs = drive.interval_inputs(k - 1);
+            d.do_step(t[k] - t[k - 1])
+                .map_err(|e| format!("the model failed between t = {} s and {} s: {e}", t[k - 1], t[k]))?;
             d.inputs = drive.inputs(k);
             push(&d, &mut out);
         }
