@@ -85,11 +85,8 @@ impl CalibrateOptions {
     /// The names to fit, checked: Real parameters of the model, each once.
     pub fn names(&self) -> Result<Vec<&'static str>, String> {
         let mut names: Vec<&'static str> = Vec::new();
-        let given: Vec<&str> = if self.fit.is_empty() {
-            DEFAULT_FIT.to_vec()
-        } else {
-            self.fit.iter().map(String::as_str).collect()
-        };
+        let given: Vec<&str> =
+            if self.fit.is_empty() { DEFAULT_FIT.to_vec() } else { self.fit.iter().map(String::as_str).collect() };
         let extra = if self.fit_controller { CONTROLLER_GAINS.as_slice() } else { &[] };
         for n in given.iter().chain(extra) {
             let name = match lookup(n).map_err(|e| format!("--fit {n}: {e}"))? {
@@ -249,7 +246,10 @@ fn forces(records: &[Record], names: &[&'static str], x: &[f64]) -> Result<Vec<V
                 set_real(&mut model.params, n, v)?;
             }
             model.params.validate()?;
-            Ok(r.backend.run_first(&model, &r.drive, r.drive.len(), false).map_err(|e| format!("{}: {e}", r.path))?.f_damper)
+            Ok(r.backend
+                .run_first(&model, &r.drive, r.drive.len(), false)
+                .map_err(|e| format!("{}: {e}", r.path))?
+                .f_damper)
         })
         .collect()
 }
@@ -397,7 +397,8 @@ pub fn calibrate(o: &CalibrateOptions, progress: &(dyn Fn(&Round) + Sync)) -> Re
         })
         .collect();
     let skip = ["control_mode", "tare_load_cell", "rtol"];
-    let given = changed_parameters(&base).into_iter().filter(|(n, _)| !names.contains(n) && !skip.contains(n)).collect();
+    let given =
+        changed_parameters(&base).into_iter().filter(|(n, _)| !names.contains(n) && !skip.contains(n)).collect();
     Ok(Calibration {
         parameters,
         records: record_fits,

@@ -14,11 +14,13 @@
 //!   [`diagnosed`] runs it all on a measurement;
 //! - [`summary`]: the typed `summary.json` and the JSON writing shared with the truth file;
 //! - [`calibrate`]: nominal parameters fitted on calibration records ([`lm`]: bounded
-//!   Levenberg–Marquardt with covariance), written as an SSP parameter set ([`ssv`]);
+//!   Levenberg–Marquardt with covariance), written as an SSP parameter set ([`ssv`]) and
+//!   `calibration.json` ([`calibration_file`]);
 //! - [`generate`]: measurement-like data with hidden effects ([`rng`]), and their truth.
 pub mod analysis;
 pub mod before_after;
 pub mod calibrate;
+pub mod calibration_file;
 pub mod candidate;
 pub mod comparison;
 pub mod criteria;

@@ -5,6 +5,8 @@
 //! minimise   S(θ) = Σ rᵢ(θ)²            θ in the box [lo, hi]
 //! step       (JᵀJ + λ·diag(JᵀJ)) δ = −Jᵀr  on the internal scale u (ln θ or θ), then projected
 //!            onto the box; λ shrinks (÷3) after a step that lowers S, grows (×4) otherwise
+//! converged  a step with λ ≤ 0.01 (nearly Gauss–Newton) lowers S by less than `tolerance`·S, or
+//!            no step lowers S (a heavily damped step that gains little is no sign of a minimum)
 //! Jacobian   forward differences, one column per parameter, the columns run in parallel on the
 //!            caller's thread pool (each a pure function of its inputs: the result does not depend
 //!            on the thread count)
@@ -80,7 +82,7 @@ pub struct Options {
 
 impl Default for Options {
     fn default() -> Options {
-        Options { max_iterations: 30, step: 1e-2, tolerance: 1e-5 }
+        Options { max_iterations: 40, step: 3e-3, tolerance: 1e-5 }
     }
 }
 
@@ -199,12 +201,12 @@ pub fn solve(
                 Some(r_new) if sum_sq(&r_new) < cost => {
                     let new_cost = sum_sq(&r_new);
                     let gain = (cost - new_cost) / cost.max(1e-300);
+                    converged = gain < opts.tolerance && lambda <= 1e-2;
                     u = trial;
                     r = r_new;
                     cost = new_cost;
                     lambda = (lambda / 3.0).max(1e-9);
                     accepted = true;
-                    converged = gain < opts.tolerance;
                     break;
                 }
                 _ => lambda *= 4.0,
@@ -224,9 +226,9 @@ pub fn solve(
     let jp = DMatrix::from_fn(m, n, |row, col| j[(row, col)] / scales[col].slope(x[col]));
     let sigma2 = cost / (m - n) as f64;
     let (covariance, singular, condition) = covariance(&(jp.transpose() * &jp), sigma2);
-    let correlation = covariance.as_ref().map(|c| {
-        DMatrix::from_fn(n, n, |i, k| c[(i, k)] / (c[(i, i)] * c[(k, k)]).sqrt().max(1e-300))
-    });
+    let correlation = covariance
+        .as_ref()
+        .map(|c| DMatrix::from_fn(n, n, |i, k| c[(i, k)] / (c[(i, i)] * c[(k, k)]).sqrt().max(1e-300)));
     Ok(Solution {
         x,
         cost,
@@ -316,7 +318,11 @@ mod tests {
     /// y = a·exp(−b·t) + c with a little deterministic "noise".
     fn data() -> (Vec<f64>, Vec<f64>) {
         let t: Vec<f64> = (0..200).map(|i| i as f64 * 0.05).collect();
-        let y = t.iter().enumerate().map(|(i, t)| 3.0 * (-0.7 * t).exp() + 0.5 + 0.01 * ((i * 7919) % 13) as f64 / 13.0 - 0.005).collect();
+        let y = t
+            .iter()
+            .enumerate()
+            .map(|(i, t)| 3.0 * (-0.7 * t).exp() + 0.5 + 0.01 * ((i * 7919) % 13) as f64 / 13.0 - 0.005)
+            .collect();
         (t, y)
     }
 
@@ -332,7 +338,10 @@ mod tests {
             Scale { lo: -5.0, hi: 5.0, log: false },
         ];
         let one = solve(&f, &[1.0, 2.0, 0.0], &scales, &pool(1), Options::default()).unwrap();
-        assert!((one.x[0] - 3.0).abs() < 0.01 && (one.x[1] - 0.7).abs() < 0.01 && (one.x[2] - 0.5).abs() < 0.01, "{one:?}");
+        assert!(
+            (one.x[0] - 3.0).abs() < 0.01 && (one.x[1] - 0.7).abs() < 0.01 && (one.x[2] - 0.5).abs() < 0.01,
+            "{one:?}"
+        );
         assert!(one.converged && one.std_error(0).unwrap() < 0.01, "{one:?}");
         let (j, c) = one.strongest_correlation(1).unwrap();
         assert!(j != 1 && c.abs() <= 1.0);
@@ -364,8 +373,11 @@ mod tests {
     fn covariance_of_a_straight_line_by_hand() {
         // y = p0 + p1·t: cov = σ² (XᵀX)⁻¹ exactly (linear model, exact differences)
         let t: Vec<f64> = (0..50).map(|i| i as f64).collect();
-        let y: Vec<f64> = t.iter().enumerate().map(|(i, t)| 1.0 + 0.5 * t + if i % 2 == 0 { 0.1 } else { -0.1 }).collect();
-        let f = |x: &[f64]| -> Result<Vec<f64>, String> { Ok(t.iter().zip(&y).map(|(t, y)| x[0] + x[1] * t - y).collect()) };
+        let y: Vec<f64> =
+            t.iter().enumerate().map(|(i, t)| 1.0 + 0.5 * t + if i % 2 == 0 { 0.1 } else { -0.1 }).collect();
+        let f = |x: &[f64]| -> Result<Vec<f64>, String> {
+            Ok(t.iter().zip(&y).map(|(t, y)| x[0] + x[1] * t - y).collect())
+        };
         let scales = [Scale { lo: -10.0, hi: 10.0, log: false }; 2];
         let s = solve(&f, &[0.0, 0.0], &scales, &pool(1), Options::default()).unwrap();
         let x = DMatrix::from_fn(50, 2, |i, k| if k == 0 { 1.0 } else { t[i] });

@@ -46,15 +46,15 @@ pub struct Entry {
 #[derive(Clone, Debug)]
 pub struct Written {
     pub name: String,
-    pub value: f64,
-    /// The model's unit of the parameter ("1": dimensionless).
+    pub value: Value,
+    /// The model's unit of a Real parameter ("1": dimensionless; empty for Integer and Boolean).
     pub unit: String,
     /// Standard uncertainty (same unit); None: not known (held, not fitted).
     pub uncertainty: Option<f64>,
-    /// "fitted" or "held: <why>".
+    /// "fitted", "held: <why>" or "given".
     pub status: String,
-    /// The value the calibration started from.
-    pub start: f64,
+    /// The value the calibration started from (Real parameters it fitted or held).
+    pub start: Option<f64>,
 }
 
 fn line_at(text: &str, offset: usize) -> usize {
@@ -121,8 +121,8 @@ pub fn parse(path: &str, text: &str) -> Result<Vec<Entry>, String> {
                 ));
             }
         } else if local == "Parameter" && stack.last().map(String::as_str) == Some("Parameters") {
-            let name = attr(e, "name", &here(", ssv:Parameter"))?
-                .ok_or_else(|| here(", ssv:Parameter: no name attribute"))?;
+            let name =
+                attr(e, "name", &here(", ssv:Parameter"))?.ok_or_else(|| here(", ssv:Parameter: no name attribute"))?;
             if let Some(prev) = entries.iter().find(|x| x.name == name) {
                 return Err(format!("{}, parameter {name}: given twice (first at line {})", here(""), prev.line));
             }
@@ -145,11 +145,13 @@ pub fn parse(path: &str, text: &str) -> Result<Vec<Entry>, String> {
             if *seen {
                 return Err(format!("{at}: a second value (the first at line {pline})"));
             }
-            let text_value =
-                attr(e, "value", &at)?.ok_or_else(|| format!("{at}, ssv:{kind}: no value attribute"))?;
+            let text_value = attr(e, "value", &at)?.ok_or_else(|| format!("{at}, ssv:{kind}: no value attribute"))?;
             let value = match kind {
                 "Real" => Value::Real(
-                    text_value.trim().parse().map_err(|_| format!("{at}, ssv:Real value=\"{text_value}\": not a number"))?,
+                    text_value
+                        .trim()
+                        .parse()
+                        .map_err(|_| format!("{at}, ssv:Real value=\"{text_value}\": not a number"))?,
                 ),
                 "Integer" => Value::Integer(
                     text_value
@@ -196,14 +198,20 @@ pub fn apply(p: &mut Parameters, path: &Path) -> Result<Vec<Entry>, String> {
         let param = lookup(&e.name).map_err(|err| format!("{at}: {err}"))?;
         let type_ok = matches!(
             (param, e.value),
-            (Param::Real(_), Value::Real(_)) | (Param::Integer(_), Value::Integer(_)) | (Param::Boolean(_), Value::Boolean(_))
+            (Param::Real(_), Value::Real(_))
+                | (Param::Integer(_), Value::Integer(_))
+                | (Param::Boolean(_), Value::Boolean(_))
         );
         // an integer value for a Real parameter is read as that number, as importers do
         let text = match (param, e.value) {
             (Param::Real(_), Value::Integer(i)) => i.to_string(),
             _ if type_ok => e.value.to_string(),
             (param, value) => {
-                return Err(format!("{at}: the file gives {} {value}, the model's parameter is {}", kind(value), param_kind(param)))
+                return Err(format!(
+                    "{at}: the file gives {} {value}, the model's parameter is {}",
+                    kind(value),
+                    param_kind(param)
+                ))
             }
         };
         if let (Param::Real(v), Some(unit)) = (param, &e.unit) {
@@ -245,12 +253,7 @@ fn base_unit(unit: &str) -> Vec<(String, String)> {
                 return e
                     .attributes()
                     .flatten()
-                    .map(|a| {
-                        (
-                            a.key.as_ref().to_string(),
-                            a.value.as_ref().to_string(),
-                        )
-                    })
+                    .map(|a| (a.key.as_ref().to_string(), a.value.as_ref().to_string()))
                     .collect();
             }
             Ok(Event::End(e)) if e.local_name().as_ref() == "Unit" => {
@@ -281,66 +284,82 @@ pub fn to_string(name: &str, note: &str, params: &[Written]) -> String {
     root.push_attribute(("version", "1.0"));
     root.push_attribute(("name", name));
     root.push_attribute(("description", note));
-    let mut units: Vec<&str> = params.iter().map(|p| p.unit.as_str()).collect();
+    let mut units: Vec<&str> = params.iter().map(|p| p.unit.as_str()).filter(|u| !u.is_empty()).collect();
     units.sort();
     units.dedup();
-    let r = w.create_element("ssv:ParameterSet").with_attributes(root.attributes().flatten()).write_inner_content(|w| {
-        w.create_element("ssv:Parameters").write_inner_content(|w| {
-            for p in params {
-                let description = match p.uncertainty {
-                    Some(u) => format!("{}: {} ± {} {} (standard uncertainty)", p.status, number(p.value), number(u), p.unit),
-                    None => format!("{}: {} {}", p.status, number(p.value), p.unit),
-                };
-                w.create_element("ssv:Parameter")
-                    .with_attribute(("name", p.name.as_str()))
-                    .with_attribute(("description", description.as_str()))
-                    .write_inner_content(|w| {
-                        w.create_element("ssv:Real")
-                            .with_attribute(("value", number(p.value).as_str()))
-                            .with_attribute(("unit", p.unit.as_str()))
-                            .write_empty()?;
-                        w.create_element("ssc:Annotations").write_inner_content(|w| {
-                            w.create_element("ssc:Annotation")
-                                .with_attribute(("type", CALIBRATION_NAMESPACE))
-                                .write_inner_content(|w| {
-                                    let mut c = w
-                                        .create_element("cal:Calibration")
-                                        .with_attribute(("status", p.status.as_str()))
-                                        .with_attribute(("start", number(p.start).as_str()));
-                                    if let Some(u) = p.uncertainty {
-                                        c = c.with_attribute(("standardUncertainty", number(u).as_str()));
-                                        if p.value != 0.0 {
-                                            c = c.with_attribute((
-                                                "relativeUncertainty",
-                                                number(u / p.value.abs()).as_str(),
-                                            ));
+    let r =
+        w.create_element("ssv:ParameterSet").with_attributes(root.attributes().flatten()).write_inner_content(|w| {
+            w.create_element("ssv:Parameters").write_inner_content(|w| {
+                for p in params {
+                    let description = match p.uncertainty {
+                        Some(u) => {
+                            format!("{}: {} ± {} {} (standard uncertainty)", p.status, p.value, number(u), p.unit)
+                        }
+                        None => format!("{}: {} {}", p.status, p.value, p.unit).trim_end().to_string(),
+                    };
+                    w.create_element("ssv:Parameter")
+                        .with_attribute(("name", p.name.as_str()))
+                        .with_attribute(("description", description.as_str()))
+                        .write_inner_content(|w| {
+                            match p.value {
+                                Value::Real(x) => w
+                                    .create_element("ssv:Real")
+                                    .with_attribute(("value", number(x).as_str()))
+                                    .with_attribute(("unit", p.unit.as_str()))
+                                    .write_empty()?,
+                                Value::Integer(i) => w
+                                    .create_element("ssv:Integer")
+                                    .with_attribute(("value", i.to_string().as_str()))
+                                    .write_empty()?,
+                                Value::Boolean(b) => w
+                                    .create_element("ssv:Boolean")
+                                    .with_attribute(("value", if b { "true" } else { "false" }))
+                                    .write_empty()?,
+                            };
+                            w.create_element("ssc:Annotations").write_inner_content(|w| {
+                                w.create_element("ssc:Annotation")
+                                    .with_attribute(("type", CALIBRATION_NAMESPACE))
+                                    .write_inner_content(|w| {
+                                        let mut c = w
+                                            .create_element("cal:Calibration")
+                                            .with_attribute(("status", p.status.as_str()));
+                                        if let Some(s) = p.start {
+                                            c = c.with_attribute(("start", number(s).as_str()));
                                         }
-                                    }
-                                    c.write_empty()?;
-                                    Ok(())
-                                })?;
+                                        if let (Some(u), Value::Real(x)) = (p.uncertainty, p.value) {
+                                            c = c.with_attribute(("standardUncertainty", number(u).as_str()));
+                                            if x != 0.0 {
+                                                c = c.with_attribute((
+                                                    "relativeUncertainty",
+                                                    number(u / x.abs()).as_str(),
+                                                ));
+                                            }
+                                        }
+                                        c.write_empty()?;
+                                        Ok(())
+                                    })?;
+                                Ok(())
+                            })?;
                             Ok(())
                         })?;
+                }
+                Ok(())
+            })?;
+            w.create_element("ssv:Units").write_inner_content(|w| {
+                for u in &units {
+                    let base = base_unit(u);
+                    let unit = w.create_element("ssc:Unit").with_attribute(("name", *u));
+                    unit.write_inner_content(|w| {
+                        w.create_element("ssc:BaseUnit")
+                            .with_attributes(base.iter().map(|(k, v)| (k.as_str(), v.as_str())))
+                            .write_empty()?;
                         Ok(())
                     })?;
-            }
+                }
+                Ok(())
+            })?;
             Ok(())
-        })?;
-        w.create_element("ssv:Units").write_inner_content(|w| {
-            for u in &units {
-                let base = base_unit(u);
-                let unit = w.create_element("ssc:Unit").with_attribute(("name", *u));
-                unit.write_inner_content(|w| {
-                    w.create_element("ssc:BaseUnit")
-                        .with_attributes(base.iter().map(|(k, v)| (k.as_str(), v.as_str())))
-                        .write_empty()?;
-                    Ok(())
-                })?;
-            }
-            Ok(())
-        })?;
-        Ok(())
-    });
+        });
     io(r.map(|_| ()));
     io(w.write_event(Event::Text(BytesText::new("\n"))));
     String::from_utf8(w.into_inner()).expect("UTF-8")
@@ -355,19 +374,27 @@ mod tests {
         vec![
             Written {
                 name: "r_port".into(),
-                value: 3.1e-3,
+                value: Value::Real(3.1e-3),
                 unit: "m".into(),
                 uncertainty: Some(2e-5),
                 status: "fitted".into(),
-                start: 3e-3,
-                },
+                start: Some(3e-3),
+            },
             Written {
                 name: "air_fraction".into(),
-                value: 0.03,
+                value: Value::Real(0.03),
                 unit: "1".into(),
                 uncertainty: None,
                 status: "held: not identifiable".into(),
-                start: 0.025,
+                start: Some(0.025),
+            },
+            Written {
+                name: "n_ports".into(),
+                value: Value::Integer(3),
+                unit: String::new(),
+                uncertainty: None,
+                status: "given".into(),
+                start: None,
             },
         ]
     }
@@ -377,7 +404,8 @@ mod tests {
         let text = to_string("damper", "calibrated", &written());
         assert!(text.contains(SSV_NAMESPACE) && text.contains("<ssc:BaseUnit m=\"1\"/>"), "{text}");
         let entries = parse("x.ssv", &text).unwrap();
-        assert_eq!(entries.len(), 2);
+        assert_eq!(entries.len(), 3);
+        assert_eq!(entries[2].value, Value::Integer(3));
         assert_eq!(entries[0].value, Value::Real(3.1e-3));
         assert_eq!(entries[0].unit.as_deref(), Some("m"));
         assert_eq!(entries[1].name, "air_fraction");
@@ -387,7 +415,7 @@ mod tests {
         std::fs::write(&f, &text).unwrap();
         let mut p = default_parameters();
         apply(&mut p, &f).unwrap();
-        assert_eq!((p.r_port, p.air_fraction), (3.1e-3, 0.03));
+        assert_eq!((p.r_port, p.air_fraction, p.n_ports), (3.1e-3, 0.03, 3));
         std::fs::remove_dir_all(&dir).unwrap();
     }
 
@@ -402,7 +430,9 @@ mod tests {
         assert!(err.starts_with("b.ssv, line 5, parameter r_port, ssv:Real value=\"abc\""), "{err}");
         let err = parse("r.ssv", "<a/>").unwrap_err();
         assert!(err.contains("r.ssv, line 1") && err.contains("not an ssv:ParameterSet"), "{err}");
-        let err = parse("x.ssv", &format!("{head}<ssv:Parameter name=\"r_port\"><ssv:Real value=\"1\"></ssv:Parameter>")).unwrap_err();
+        let err =
+            parse("x.ssv", &format!("{head}<ssv:Parameter name=\"r_port\"><ssv:Real value=\"1\"></ssv:Parameter>"))
+                .unwrap_err();
         assert!(err.contains("x.ssv, line 4: not well-formed"), "{err}");
     }
 }
