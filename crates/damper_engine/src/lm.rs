@@ -149,7 +149,7 @@ pub fn solve(
         return Err(format!("{n} parameters but {} scales", scales.len()));
     }
     for s in scales {
-        if !(s.lo < s.hi) || (s.log && s.lo <= 0.0) {
+        if s.lo.partial_cmp(&s.hi) != Some(std::cmp::Ordering::Less) || (s.log && s.lo <= 0.0) {
             return Err(format!("bad search box [{}, {}] (log {})", s.lo, s.hi, s.log));
         }
     }
@@ -246,7 +246,7 @@ pub fn solve(
 
 /// ∂r/∂u by forward differences (backward at the upper bound), columns in parallel.
 fn jacobian(
-    eval: &(dyn Fn(&[f64]) -> Result<Vec<f64>, String> + Sync),
+    eval: &Residuals<'_>,
     u: &[f64],
     r: &[f64],
     scales: &[Scale],

@@ -127,8 +127,9 @@ pub fn parse(path: &str, text: &str) -> Result<Vec<Entry>, String> {
                 return Err(format!("{}, parameter {name}: given twice (first at line {})", here(""), prev.line));
             }
             current = Some((name, line, false));
-        } else if stack.last().map(String::as_str) == Some("Parameter") && current.is_some() {
-            let (name, pline, seen) = current.as_mut().expect("checked");
+        } else if let (Some("Parameter"), Some((name, pline, seen))) =
+            (stack.last().map(String::as_str), current.as_mut())
+        {
             let at = format!("{path}, line {line}, parameter {name}");
             let kind = match local.as_str() {
                 "Real" | "Integer" | "Boolean" => local.as_str(),
@@ -256,11 +257,7 @@ fn base_unit(unit: &str) -> Vec<(String, String)> {
                     .map(|a| (a.key.as_ref().to_string(), a.value.as_ref().to_string()))
                     .collect();
             }
-            Ok(Event::End(e)) if e.local_name().as_ref() == "Unit" => {
-                if inside {
-                    return Vec::new();
-                }
-            }
+            Ok(Event::End(e)) if inside && e.local_name().as_ref() == "Unit" => return Vec::new(),
             Ok(Event::Eof) | Err(_) => return Vec::new(),
             _ => {}
         }
