@@ -1,10 +1,12 @@
-//! The command line: `damper diagnose`, `damper compare`, `damper generate`, `damper effects`
+//! The command line: `damper calibrate`, `damper diagnose`, `damper compare`, `damper generate`,
+//! `damper effects`
 //! (clap's derive API; every value is checked while parsing, with the parse functions the
 //! commands use).
 
-use crate::{compare, diagnose_cmd};
+use crate::{calibrate_cmd, compare, diagnose_cmd};
 use clap::error::{ContextKind, ContextValue, ErrorKind};
 use clap::{Args, CommandFactory, Parser, Subcommand, ValueEnum};
+use damper_engine::calibrate::{calibrate, CalibrateOptions, Round, DEFAULT_FIT};
 use damper_engine::candidate::Candidate;
 use damper_engine::comparison::CompareOptions;
 use damper_engine::diagnosed::diagnose_measurement;
@@ -20,6 +22,8 @@ use std::time::Instant;
 
 const EXAMPLES: &str = "\
 Examples:
+  damper calibrate step.csv sweep.csv --out out/cal --load-cell-lowpass 400
+  damper diagnose road.csv --out out/road --params out/cal/parameters.ssv --load-cell-lowpass 400
   damper diagnose data/measurements/rig_valve_test.csv --out out/diagnose --load-cell-lowpass 400
   damper compare data/measurements/rig_valve_test.csv --out out/compare --with seal_friction=150
   damper generate --out g.csv --truth g.json --effect seal_friction --seed 7
@@ -58,6 +62,24 @@ Examples:
   damper compare rig.csv --out out/friction --with seal_friction=150 --set air_fraction=0.02"
 );
 
+const CALIBRATE_HELP: &str = concat!(
+    "Fitted by default: r_port, x_lap, Cd_valve, V_hose, air_fraction, k1_mount, p_cv_crack, V_gas0,
+p_reservoir0, K_sol, tau_coil (--fit NAME replaces the list; --fit-controller adds Kp_F, Ki_F,
+Kp_x, Ki_x, Kd_x). A parameter the records cannot pin (relative standard uncertainty above
+--max-relative-uncertainty, |correlation| above 0.95 with another, or a singular JᵀJ) is held at
+its start value and the fit is redone without it; the table says which and why. The model runs at
+rtol 1e-4 unless --set rtol=VALUE.
+
+",
+    columns!(),
+    "
+
+Examples:
+  damper calibrate step.csv sweep.csv --out out/cal --load-cell-lowpass 400
+  damper calibrate rig.csv --out out/cal2 --params out/cal/parameters.ssv --fit air_fraction --fit k1_mount
+  damper diagnose road.csv --out out/road --params out/cal/parameters.ssv --load-cell-lowpass 400"
+);
+
 const GENERATE_HELP: &str = "\
 Examples:
   damper generate --out g.csv --truth g.json --seed 7 --duration 3
@@ -82,7 +104,8 @@ struct Cli {
 // command's description).
 #[derive(Args, Debug)]
 struct Global {
-    /// Threads that fit diagnose's candidates in parallel [default: the machine's parallelism]
+    /// Threads that fit diagnose's candidates, or calibrate's finite differences, in parallel
+    /// [default: the machine's parallelism]
     #[arg(long, global = true, value_name = "N", value_parser = threads_arg, allow_negative_numbers = true, help_heading = "Global options")]
     threads: Option<usize>,
     /// Print nothing but errors (the report and the summary are still written)
@@ -95,6 +118,14 @@ struct Global {
 
 #[derive(Subcommand, Debug)]
 enum Command {
+    /// Fit the nominal parameters on calibration records; write an SSP parameter set
+    ///
+    /// Fits the parameters a user cannot know (valve geometry, oil volumes and air, mount,
+    /// reservoir gas, solenoid) on one or more records, their force residuals stacked (bounded
+    /// Levenberg–Marquardt), reports which the data pin and how well, and writes DIR/parameters.ssv
+    /// (SSP 1.0 parameter values, for --params and SSP importers) and DIR/calibration.json.
+    #[command(after_help = CALIBRATE_HELP)]
+    Calibrate(CalibrateArgs),
     /// Compare, then name the missing physical effect
     ///
     /// Compares (as `damper compare`), then names the missing effect: each catalog effect is
@@ -147,6 +178,10 @@ struct CompareArgs {
     /// Set a model parameter by its FMU name; repeatable, applied last
     #[arg(long, value_name = "NAME=VALUE", value_parser = set_arg, help_heading = "Model")]
     set: Vec<(String, String)>,
+    /// Apply an SSP parameter set (e.g. damper calibrate's parameters.ssv) to the defaults, before
+    /// --with, --without and --set
+    #[arg(long, value_name = "FILE.ssv", help_heading = "Model")]
+    params: Option<PathBuf>,
     /// Run the model through this packaged FMU instead of in-process
     ///
     /// python3 scripts/package_fmu.py makes target/fmu/SemiActiveDamper.fmu. Same numbers; its
@@ -183,6 +218,7 @@ impl CompareArgs {
         o.without = self.without;
         o.maps = self.map;
         o.sets = self.set;
+        o.params_file = self.params;
         o.split = self.split;
         o.tare_load_cell = self.tare_load_cell;
         o.load_cell_lowpass_hz = self.load_cell_lowpass;
@@ -198,6 +234,71 @@ fn map_long_help() -> String {
         "CSV column SOURCE is the variable NAME, in UNIT; repeatable, e.g. --map vel=v_damper:mm/s\n\nUnits: {}.",
         unit_list()
     )
+}
+
+#[derive(Args, Debug)]
+struct CalibrateArgs {
+    /// The calibration records (step and sweep rig tests; see the columns below)
+    #[arg(value_name = "RECORD.csv", required = true)]
+    records: Vec<PathBuf>,
+    /// Directory for parameters.ssv and calibration.json
+    #[arg(long, value_name = "DIR")]
+    out: PathBuf,
+    /// Fit this Real parameter (FMU name); repeatable, replaces the default list
+    #[arg(long, value_name = "NAME", value_parser = fit_arg, help_heading = "Calibration")]
+    fit: Vec<String>,
+    /// Also fit the controller's gains Kp_F, Ki_F, Kp_x, Ki_x, Kd_x
+    #[arg(long, help_heading = "Calibration")]
+    fit_controller: bool,
+    /// Largest relative standard uncertainty of a parameter called identified
+    #[arg(long, value_name = "FRACTION", default_value_t = damper_engine::calibrate::MAX_RELATIVE_UNCERTAINTY, value_parser = positive_arg, allow_negative_numbers = true, help_heading = "Calibration")]
+    max_relative_uncertainty: f64,
+
+    /// Start from this SSP parameter set (applied to the defaults, before --with, --without, --set)
+    #[arg(long, value_name = "FILE.ssv", help_heading = "Model")]
+    params: Option<PathBuf>,
+    /// Switch an effect on (VALUE sets its first parameter); repeatable
+    #[arg(long, value_name = "EFFECT[=VALUE]", value_parser = effect_arg, help_heading = "Model")]
+    with: Vec<String>,
+    /// Switch an effect off; repeatable
+    #[arg(long, value_name = "EFFECT", value_parser = effect_arg, help_heading = "Model")]
+    without: Vec<String>,
+    /// Set a model parameter by its FMU name; repeatable, applied last
+    #[arg(long, value_name = "NAME=VALUE", value_parser = set_arg, help_heading = "Model")]
+    set: Vec<(String, String)>,
+
+    /// CSV column SOURCE is the variable NAME, in UNIT; repeatable
+    #[arg(long, value_name = "SOURCE=NAME[:UNIT]", value_parser = map_arg, long_help = map_long_help(), help_heading = "Measurement")]
+    map: Vec<Mapping>,
+    /// Bridge gaps of up to N missing samples by linear interpolation
+    #[arg(long, value_name = "N", default_value_t = DEFAULT_MAX_GAP, help_heading = "Measurement")]
+    max_gap: usize,
+    /// The measured force has its rest offset removed
+    #[arg(long, help_heading = "Measurement")]
+    tare_load_cell: bool,
+    /// First-order low-pass of the load cell, applied to the model's force [default: none]
+    #[arg(long, value_parser = number_arg, value_name = "HZ", allow_negative_numbers = true, help_heading = "Measurement")]
+    load_cell_lowpass: Option<f64>,
+}
+
+impl CalibrateArgs {
+    fn options(self, threads: usize) -> (CalibrateOptions, PathBuf) {
+        let mut o = CalibrateOptions::new(self.records);
+        o.fit = self.fit;
+        o.fit_controller = self.fit_controller;
+        o.max_relative_uncertainty = self.max_relative_uncertainty;
+        o.threads = threads;
+        let c = &mut o.compare;
+        c.params_file = self.params;
+        c.with = self.with;
+        c.without = self.without;
+        c.sets = self.set;
+        c.maps = self.map;
+        c.max_gap = self.max_gap;
+        c.tare_load_cell = self.tare_load_cell;
+        c.load_cell_lowpass_hz = self.load_cell_lowpass;
+        (o, self.out)
+    }
 }
 
 #[derive(Args, Debug)]
@@ -218,6 +319,9 @@ struct GenerateArgs {
     /// Move any parameter, e.g. --set air_fraction=0.04; repeatable
     #[arg(long, value_name = "NAME=VALUE", value_parser = set_arg, help_heading = "Truth model")]
     set: Vec<(String, String)>,
+    /// Apply an SSP parameter set to the truth's defaults, before --effect and --set
+    #[arg(long, value_name = "FILE.ssv", help_heading = "Truth model")]
+    params: Option<PathBuf>,
     /// Random seed
     #[arg(long, value_name = "N", default_value_t = 1, value_parser = seed_arg, allow_negative_numbers = true, help_heading = "Truth model")]
     seed: u64,
@@ -296,6 +400,7 @@ impl GenerateArgs {
         let mut o = GenerateOptions::new(self.out, self.truth);
         o.effects = self.effect;
         o.sets = self.set;
+        o.params_file = self.params;
         o.seed = self.seed;
         o.input = match self.input {
             Input::Rig => InputStyle::Rig,
@@ -345,6 +450,22 @@ fn effect_arg(text: &str) -> Result<String, String> {
     Ok(text.to_string())
 }
 
+/// A Real parameter of the model.
+fn fit_arg(text: &str) -> Result<String, String> {
+    let mut o = CalibrateOptions::new(Vec::new());
+    o.fit = vec![text.to_string()];
+    o.names().map_err(|e| unprefixed(e, "--fit", text))?;
+    Ok(text.to_string())
+}
+
+fn positive_arg(text: &str) -> Result<f64, String> {
+    match text.parse::<f64>() {
+        Ok(x) if x > 0.0 && x.is_finite() => Ok(x),
+        Ok(_) => Err("must be a positive number".into()),
+        Err(_) => Err("not a number".into()),
+    }
+}
+
 fn set_arg(text: &str) -> Result<(String, String), String> {
     parse_assignment(text, "--set").map_err(|e| unprefixed(e, "--set", text))
 }
@@ -389,6 +510,7 @@ pub fn main(args: impl IntoIterator<Item = std::ffi::OsString>) -> i32 {
     };
     let g = &cli.global;
     let result = match cli.command {
+        Command::Calibrate(a) => run_calibrate(a, g),
         Command::Diagnose(a) => run_diagnose(a, g),
         Command::Compare(a) => run_compare(a, g),
         Command::Generate(a) => run_generate(a, g),
@@ -449,6 +571,29 @@ fn run_compare(a: CompareArgs, g: &Global) -> Result<(), String> {
         eprintln!("time: {:.2} s in all, {:.2} s of it the model run", t0.elapsed().as_secs_f64(), c.run_seconds);
     }
     Ok(())
+}
+
+fn run_calibrate(a: CalibrateArgs, g: &Global) -> Result<(), String> {
+    let threads = g.threads.unwrap_or_else(damper_engine::model::default_threads);
+    let (o, out) = a.options(threads);
+    let progress = |r: &Round| {
+        if g.verbose {
+            eprintln!(
+                "  fit of {} parameters: {} iterations, {} model runs, RMS residual {:.1} N{}",
+                r.fitted.len(),
+                r.iterations,
+                r.model_runs,
+                r.rms_residual,
+                r.held.as_ref().map_or(String::new(), |(n, why)| format!("; holding {n}: {why}"))
+            );
+        }
+    };
+    if g.verbose {
+        let names = if o.fit.is_empty() { DEFAULT_FIT.join(", ") } else { o.fit.join(", ") };
+        eprintln!("damper calibrate: fitting {names} on {threads} threads");
+    }
+    let c = calibrate(&o, &progress)?;
+    calibrate_cmd::write(&c, &o, &out, g.quiet)
 }
 
 fn run_diagnose(a: DiagnoseArgs, g: &Global) -> Result<(), String> {

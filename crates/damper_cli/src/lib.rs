@@ -3,12 +3,14 @@
 //! `damper_engine`.
 //!
 //! - [`cli`]: the command line;
+//! - [`calibrate_cmd`]: `damper calibrate`'s table and files (parameters.ssv, calibration.json);
 //! - [`compare`]: `damper compare`'s files and terminal summary, with [`report`] (the HTML report,
 //!   its plots drawn by [`svg`]) and [`describe`] (one-line descriptions both share);
 //! - [`diagnose_cmd`]: `damper diagnose`'s report section, terminal summary and files, with
 //!   [`before_after_report`] (the model before and after the named effects);
 //! - [`json_summary`]: `summary.json` from a comparison or a diagnosis.
 pub mod before_after_report;
+pub mod calibrate_cmd;
 pub mod cli;
 pub mod compare;
 pub mod describe;

@@ -24,6 +24,9 @@ pub struct CompareOptions {
     pub with: Vec<String>,
     pub without: Vec<String>,
     pub maps: Vec<Mapping>,
+    /// `--params FILE.ssv`: an SSP parameter set applied to the defaults before `--with`,
+    /// `--without` and `--set`.
+    pub params_file: Option<PathBuf>,
     /// `--set NAME=VALUE`, applied last.
     pub sets: Vec<(String, String)>,
     /// Share of the samples in the train part.
@@ -48,6 +51,7 @@ impl CompareOptions {
             with: Vec::new(),
             without: Vec::new(),
             maps: Vec::new(),
+            params_file: None,
             sets: Vec::new(),
             split: 0.7,
             tare_load_cell: false,
@@ -71,12 +75,15 @@ pub struct ModelSetup {
     pub changed: Vec<(&'static str, Value)>,
 }
 
-/// Builds the model for a drive: defaults, control mode from the drive, tare, `--with`,
-/// `--without`, then `--set`; the FMU of `--fmu` imported and checked against the parameters.
+/// Builds the model for a drive: defaults, control mode from the drive, tare, `--params`,
+/// `--with`, `--without`, then `--set`; the FMU of `--fmu` imported and checked against the parameters.
 pub fn build_model(opts: &CompareOptions, drive: &Drive) -> Result<ModelSetup, String> {
     let mut p = default_parameters();
     p.control_mode = drive.control_mode();
     p.tare_load_cell = opts.tare_load_cell;
+    if let Some(file) = &opts.params_file {
+        crate::ssv::apply(&mut p, file)?;
+    }
     for w in &opts.with {
         let (key, value) = match w.split_once('=') {
             Some((k, v)) => (k.trim(), Some(v.trim())),

@@ -148,6 +148,9 @@ pub struct GenerateOptions {
     /// `KEY`, `KEY=VALUE` or `KEY=off`.
     pub effects: Vec<String>,
     pub sets: Vec<(String, String)>,
+    /// `--params FILE.ssv`: an SSP parameter set applied to the defaults before the effects and
+    /// `--set`.
+    pub params_file: Option<PathBuf>,
     pub seed: u64,
     pub input: InputStyle,
     pub duration: f64,
@@ -178,6 +181,7 @@ impl GenerateOptions {
             truth: truth.into(),
             effects: Vec::new(),
             sets: Vec::new(),
+            params_file: None,
             seed: 1,
             input: InputStyle::Rig,
             duration: 10.0,
@@ -346,6 +350,9 @@ fn truth_parameters(o: &GenerateOptions, rng: &mut Rng) -> Result<(Parameters, V
     let mut p = default_parameters();
     p.control_mode = i32::from(o.spool_control);
     p.tare_load_cell = o.tare_load_cell.unwrap_or(o.input == InputStyle::Hil);
+    if let Some(file) = &o.params_file {
+        crate::ssv::apply(&mut p, file)?;
+    }
     let mut records = Vec::new();
     for text in &o.effects {
         let (key, value) = match text.split_once('=') {

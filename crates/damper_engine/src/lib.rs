@@ -13,9 +13,14 @@
 //!   (the effects added in turn) and [`before_after`] (the model with the named effects);
 //!   [`diagnosed`] runs it all on a measurement;
 //! - [`summary`]: the typed `summary.json` and the JSON writing shared with the truth file;
+//! - [`calibrate`]: nominal parameters fitted on calibration records ([`lm`]: bounded
+//!   Levenberg–Marquardt with covariance), written as an SSP parameter set ([`ssv`]) and
+//!   `calibration.json` ([`calibration_file`]);
 //! - [`generate`]: measurement-like data with hidden effects ([`rng`]), and their truth.
 pub mod analysis;
 pub mod before_after;
+pub mod calibrate;
+pub mod calibration_file;
 pub mod candidate;
 pub mod comparison;
 pub mod criteria;
@@ -26,10 +31,12 @@ pub mod fit;
 pub mod fmu_model;
 pub mod generate;
 pub mod ladder;
+pub mod lm;
 pub mod measurement;
 pub mod model;
 pub mod parameters;
 pub mod rng;
+pub mod ssv;
 pub mod summary;
 pub mod units;
 pub mod verdict;

@@ -1,0 +1,412 @@
+//! Calibration: the nominal parameters a user cannot know (valve geometry, oil volumes and air,
+//! mount stiffness, gas pre-charge, solenoid) fitted on one or more calibration records, their
+//! force residuals stacked, by bounded Levenberg–Marquardt ([`crate::lm`]); and which of them the
+//! data can pin.
+//!
+//! ```text
+//! minimise  Σ_records Σ_k (F_model,k(θ) − F_measured,k)²     (N²)
+//! θ         each parameter on a log scale in [start/3, 3·start] ∩ the model's range
+//! pinned    relative standard uncertainty ≤ 25 %, |correlation| ≤ 0.95 with every other fitted
+//!           parameter, JᵀJ not singular; otherwise the worst offender is held at its start value
+//!           and the fit is redone without it, until every fitted parameter is pinned
+//! ```
+//! The model runs at `rtol` = 1e-4 (unless `--set rtol=…`): at the default 1e-3 the numerical error
+//! is about 0.3 sensor-noise standard deviations, and it would also blur the finite differences.
+
+use crate::comparison::{build_model, CompareOptions};
+use crate::dsp::{noise_sigma, nrmse, std};
+use crate::lm::{self, Scale, Solution};
+use crate::measurement::Measurement;
+use crate::model::{thread_pool, Backend, Drive, Model};
+use crate::parameters::{changed_parameters, get_real, lookup, set_real, Param, Value};
+use crate::units::Column;
+use semi_active_damper::physics::params::Parameters;
+use std::path::PathBuf;
+use std::sync::Arc;
+use std::time::Instant;
+
+/// The parameters fitted by default: those force records identify (each moves the force of a rig
+/// record by more than the sensor noise when moved by 20 %).
+pub const DEFAULT_FIT: [&str; 11] = [
+    "r_port",
+    "x_lap",
+    "Cd_valve",
+    "V_hose",
+    "air_fraction",
+    "k1_mount",
+    "p_cv_crack",
+    "V_gas0",
+    "p_reservoir0",
+    "K_sol",
+    "tau_coil",
+];
+
+/// The controller's gains, added by `--fit-controller` (they are the user's own settings, known
+/// unless the controller is a black box).
+pub const CONTROLLER_GAINS: [&str; 5] = ["Kp_F", "Ki_F", "Kp_x", "Ki_x", "Kd_x"];
+
+/// Largest relative standard uncertainty of a parameter called identified.
+pub const MAX_RELATIVE_UNCERTAINTY: f64 = 0.25;
+/// Largest |correlation| of a parameter with another fitted one.
+pub const MAX_CORRELATION: f64 = 0.95;
+/// `rtol` of the model during calibration unless `--set rtol=…`.
+pub const CALIBRATION_RTOL: f64 = 1e-4;
+
+/// What `damper calibrate` does.
+#[derive(Clone, Debug)]
+pub struct CalibrateOptions {
+    /// The calibration records.
+    pub records: Vec<PathBuf>,
+    /// The model and reading options shared by every record (its `measurement` is ignored).
+    pub compare: CompareOptions,
+    /// Parameters to fit (`--fit`); empty: [`DEFAULT_FIT`].
+    pub fit: Vec<String>,
+    /// Add [`CONTROLLER_GAINS`].
+    pub fit_controller: bool,
+    pub max_relative_uncertainty: f64,
+    pub max_correlation: f64,
+    /// Threads for the Jacobian's columns (the result does not depend on it).
+    pub threads: usize,
+}
+
+impl CalibrateOptions {
+    pub fn new(records: Vec<PathBuf>) -> CalibrateOptions {
+        CalibrateOptions {
+            records,
+            compare: CompareOptions::new(""),
+            fit: Vec::new(),
+            fit_controller: false,
+            max_relative_uncertainty: MAX_RELATIVE_UNCERTAINTY,
+            max_correlation: MAX_CORRELATION,
+            threads: crate::model::default_threads(),
+        }
+    }
+
+    /// The names to fit, checked: Real parameters of the model, each once.
+    pub fn names(&self) -> Result<Vec<&'static str>, String> {
+        let mut names: Vec<&'static str> = Vec::new();
+        let given: Vec<&str> =
+            if self.fit.is_empty() { DEFAULT_FIT.to_vec() } else { self.fit.iter().map(String::as_str).collect() };
+        let extra = if self.fit_controller { CONTROLLER_GAINS.as_slice() } else { &[] };
+        for n in given.iter().chain(extra) {
+            let name = match lookup(n).map_err(|e| format!("--fit {n}: {e}"))? {
+                Param::Real(v) => v.name(),
+                _ => return Err(format!("--fit {n}: only Real parameters can be fitted")),
+            };
+            if !names.contains(&name) {
+                names.push(name);
+            }
+        }
+        Ok(names)
+    }
+}
+
+/// Whether a parameter was fitted.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Status {
+    Fitted,
+    /// Held at its start value; why.
+    Held(String),
+}
+
+/// One parameter of the calibration.
+#[derive(Clone, Debug)]
+pub struct Calibrated {
+    pub name: &'static str,
+    /// Its unit in the model ("1": dimensionless).
+    pub unit: &'static str,
+    pub start: f64,
+    pub value: f64,
+    /// Standard uncertainty (unit of the parameter); None when held.
+    pub std_error: Option<f64>,
+    /// Its strongest correlation with another fitted parameter.
+    pub correlation: Option<(&'static str, f64)>,
+    /// The search box.
+    pub scale: Scale,
+    pub status: Status,
+}
+
+impl Calibrated {
+    /// Standard uncertainty over |value|.
+    pub fn relative(&self) -> Option<f64> {
+        self.std_error.map(|s| s / self.value.abs().max(1e-300))
+    }
+
+    /// The fitted value lies on its search box's edge.
+    pub fn at_bound(&self) -> bool {
+        self.status == Status::Fitted && self.scale.at_bound(self.value)
+    }
+}
+
+/// A record's force error before and after.
+#[derive(Clone, Debug)]
+pub struct RecordFit {
+    pub path: String,
+    pub samples: usize,
+    pub nrmse_before: f64,
+    pub nrmse_after: f64,
+    /// White-noise floor of the residual (NRMSE), from its second differences.
+    pub noise_floor: f64,
+}
+
+/// One fit of the rounds.
+#[derive(Clone, Debug)]
+pub struct Round {
+    pub fitted: Vec<&'static str>,
+    pub iterations: usize,
+    pub model_runs: usize,
+    pub converged: bool,
+    /// RMS force residual (N).
+    pub rms_residual: f64,
+    /// The parameter held after this round and why, if any.
+    pub held: Option<(&'static str, String)>,
+}
+
+/// A finished calibration.
+#[derive(Clone, Debug)]
+pub struct Calibration {
+    pub parameters: Vec<Calibrated>,
+    pub records: Vec<RecordFit>,
+    pub rounds: Vec<Round>,
+    /// Parameters of `--params` and `--set` not fitted (written to the parameter set too).
+    pub given: Vec<(&'static str, Value)>,
+    /// rtol of the model runs.
+    pub rtol: f64,
+    pub model_runs: usize,
+    pub seconds: f64,
+    pub threads: usize,
+}
+
+struct Record {
+    path: String,
+    measured: Vec<f64>,
+    drive: Drive,
+    model: Model,
+    backend: Arc<dyn Backend>,
+}
+
+fn read_records(o: &CalibrateOptions) -> Result<Vec<Record>, String> {
+    if o.records.is_empty() {
+        return Err("no calibration record given".into());
+    }
+    let user_rtol = o.compare.sets.iter().any(|(n, _)| n == "rtol");
+    o.records
+        .iter()
+        .map(|path| {
+            let mut c = o.compare.clone();
+            c.measurement = path.clone();
+            let m = Measurement::read(path, &c.maps, c.max_gap)?;
+            let measured = m.get(Column::FDamper).ok_or_else(|| format!("{}: no F_damper column", m.path))?.to_vec();
+            let drive = Drive::from_measurement(&m);
+            let setup = build_model(&c, &drive)?;
+            let mut model = setup.model;
+            if !user_rtol {
+                model.params.rtol = model.params.rtol.min(CALIBRATION_RTOL);
+            }
+            Ok(Record { path: m.path.clone(), measured, drive, model, backend: setup.backend })
+        })
+        .collect()
+}
+
+/// The search box of a parameter around its start value.
+fn search_box(name: &str, start: f64, p: &Parameters) -> Result<Scale, String> {
+    let v = match lookup(name)? {
+        Param::Real(v) => v,
+        _ => return Err(format!("{name} is not a Real parameter")),
+    };
+    let (min, max) = (v.min().unwrap_or(f64::NEG_INFINITY), v.max().unwrap_or(f64::INFINITY));
+    // relations validate() checks, kept inside the box
+    let max = match name {
+        "p_cv_crack" => max.min(0.95 * p.p_cv_full),
+        "x_lap" => max.min(p.x_spool_max - 0.6e-3),
+        _ => max,
+    };
+    if start > 0.0 {
+        let (lo, hi) = ((start / 3.0).max(min), (start * 3.0).min(max));
+        if lo > 0.0 && lo < hi {
+            return Ok(Scale { lo, hi, log: true });
+        }
+    }
+    let span = if start != 0.0 { 2.0 * start.abs() } else { 1.0 };
+    let (lo, hi) = ((start - span).max(min), (start + span).min(max));
+    if lo < hi {
+        Ok(Scale { lo, hi, log: false })
+    } else {
+        Err(format!("{name} = {start}: no room to search within the model's range [{min}, {max}]"))
+    }
+}
+
+/// Runs every record with the parameters `names` = `x` on top of its own model.
+fn forces(records: &[Record], names: &[&'static str], x: &[f64]) -> Result<Vec<Vec<f64>>, String> {
+    records
+        .iter()
+        .map(|r| {
+            let mut model = r.model;
+            for (n, &v) in names.iter().zip(x) {
+                set_real(&mut model.params, n, v)?;
+            }
+            model.params.validate()?;
+            Ok(r.backend
+                .run_first(&model, &r.drive, r.drive.len(), false)
+                .map_err(|e| format!("{}: {e}", r.path))?
+                .f_damper)
+        })
+        .collect()
+}
+
+/// Why the fit cannot pin a parameter (the worst one), if any: (index, reason).
+fn worst(s: &Solution, names: &[&'static str], o: &CalibrateOptions) -> Option<(usize, String)> {
+    if s.covariance.is_none() {
+        let i = *s.singular.first().unwrap_or(&0);
+        let with: Vec<&str> = s.singular.iter().skip(1).map(|&k| names[k]).collect();
+        return Some((
+            i,
+            if with.is_empty() {
+                format!("JᵀJ singular (condition {:.1e}): the records do not move the force with it", s.condition)
+            } else {
+                format!("JᵀJ singular (condition {:.1e}): not separable from {}", s.condition, with.join(", "))
+            },
+        ));
+    }
+    let rel = |i: usize| s.std_error(i).unwrap_or(f64::INFINITY) / s.x[i].abs().max(1e-300);
+    let (i, r) = (0..names.len()).map(|i| (i, rel(i))).max_by(|a, b| a.1.total_cmp(&b.1))?;
+    if r > o.max_relative_uncertainty {
+        return Some((
+            i,
+            format!("relative uncertainty {:.0} % above {:.0} %", 100.0 * r, 100.0 * o.max_relative_uncertainty),
+        ));
+    }
+    let mut pairs: Vec<(usize, usize, f64)> = Vec::new();
+    for i in 0..names.len() {
+        if let Some((j, c)) = s.strongest_correlation(i) {
+            if c.abs() > o.max_correlation && i < j {
+                pairs.push((i, j, c));
+            }
+        }
+    }
+    let (i, j, c) = pairs.into_iter().max_by(|a, b| a.2.abs().total_cmp(&b.2.abs()))?;
+    let (drop, keep) = if rel(i) >= rel(j) { (i, j) } else { (j, i) };
+    Some((drop, format!("correlation {c:+.3} with {} (beyond ±{})", names[keep], o.max_correlation)))
+}
+
+/// Calibrates: fits, holds what the records cannot pin, refits; `progress` is told of each round.
+pub fn calibrate(o: &CalibrateOptions, progress: &(dyn Fn(&Round) + Sync)) -> Result<Calibration, String> {
+    let t0 = Instant::now();
+    let names = o.names()?;
+    let records = read_records(o)?;
+    let base = records[0].model.params;
+    let starts: Vec<f64> = names.iter().map(|n| get_real(&base, n)).collect::<Result<_, _>>()?;
+    let scales: Vec<Scale> =
+        names.iter().zip(&starts).map(|(n, &s)| search_box(n, s, &base)).collect::<Result<_, _>>()?;
+    let measured: Vec<f64> = records.iter().flat_map(|r| r.measured.iter().copied()).collect();
+    let pool = thread_pool(o.threads)?;
+    let before = forces(&records, &[], &[])?;
+
+    let mut x = starts.clone();
+    let mut held: Vec<Option<String>> = vec![None; names.len()];
+    let mut rounds: Vec<Round> = Vec::new();
+    let mut last: Option<(Vec<usize>, Solution)> = None;
+    let mut model_runs = 1;
+    while held.iter().any(Option::is_none) {
+        let active: Vec<usize> = (0..names.len()).filter(|&i| held[i].is_none()).collect();
+        let active_names: Vec<&'static str> = active.iter().map(|&i| names[i]).collect();
+        let fixed: Vec<(&'static str, f64)> =
+            (0..names.len()).filter(|i| held[*i].is_some()).map(|i| (names[i], starts[i])).collect();
+        let residuals = |y: &[f64]| -> Result<Vec<f64>, String> {
+            let mut all_names: Vec<&'static str> = fixed.iter().map(|f| f.0).collect();
+            let mut all_x: Vec<f64> = fixed.iter().map(|f| f.1).collect();
+            all_names.extend(&active_names);
+            all_x.extend(y);
+            let f = forces(&records, &all_names, &all_x)?;
+            Ok(f.iter().flatten().zip(&measured).map(|(m, y)| m - y).collect())
+        };
+        let x0: Vec<f64> = active.iter().map(|&i| x[i]).collect();
+        let sc: Vec<Scale> = active.iter().map(|&i| scales[i]).collect();
+        let s = lm::solve(&residuals, &x0, &sc, &pool, lm::Options::default())?;
+        model_runs += s.model_runs;
+        for (k, &i) in active.iter().enumerate() {
+            x[i] = s.x[k];
+        }
+        let bad = worst(&s, &active_names, o);
+        let mut round = Round {
+            fitted: active_names.clone(),
+            iterations: s.iterations,
+            model_runs: s.model_runs,
+            converged: s.converged,
+            rms_residual: (s.cost / s.residuals as f64).sqrt(),
+            held: None,
+        };
+        match bad {
+            Some((k, why)) => {
+                let i = active[k];
+                x[i] = starts[i];
+                held[i] = Some(why.clone());
+                round.held = Some((names[i], why));
+                progress(&round);
+                rounds.push(round);
+            }
+            None => {
+                progress(&round);
+                rounds.push(round);
+                last = Some((active, s));
+                break;
+            }
+        }
+    }
+    let parameters = names
+        .iter()
+        .enumerate()
+        .map(|(i, &name)| {
+            let unit = match lookup(name) {
+                Ok(Param::Real(v)) => v.unit(),
+                _ => "1",
+            };
+            let (std_error, correlation) = match &last {
+                Some((active, s)) if held[i].is_none() => {
+                    let k = active.iter().position(|&a| a == i).expect("active");
+                    (s.std_error(k), s.strongest_correlation(k).map(|(j, c)| (names[active[j]], c)))
+                }
+                _ => (None, None),
+            };
+            Calibrated {
+                name,
+                unit,
+                start: starts[i],
+                value: x[i],
+                std_error,
+                correlation,
+                scale: scales[i],
+                status: held[i].clone().map_or(Status::Fitted, Status::Held),
+            }
+        })
+        .collect();
+    let after = forces(&records, &names, &x)?;
+    model_runs += 1;
+    let record_fits = records
+        .iter()
+        .zip(before.iter().zip(&after))
+        .map(|(r, (b, a))| {
+            let residual: Vec<f64> = a.iter().zip(&r.measured).map(|(m, y)| m - y).collect();
+            RecordFit {
+                path: r.path.clone(),
+                samples: r.measured.len(),
+                nrmse_before: nrmse(&r.measured, b),
+                nrmse_after: nrmse(&r.measured, a),
+                noise_floor: noise_sigma(&residual) / std(&r.measured),
+            }
+        })
+        .collect();
+    let skip = ["control_mode", "tare_load_cell", "rtol"];
+    let given =
+        changed_parameters(&base).into_iter().filter(|(n, _)| !names.contains(n) && !skip.contains(n)).collect();
+    Ok(Calibration {
+        parameters,
+        records: record_fits,
+        rounds,
+        given,
+        rtol: base.rtol,
+        model_runs,
+        seconds: t0.elapsed().as_secs_f64(),
+        threads: o.threads,
+    })
+}
