@@ -57,8 +57,9 @@ class Car:
     damper_parameters: dict[str, Value] = field(default_factory=lambda: dict(HIL_DAMPER_PARAMETERS))
     # What the damper is given at step k from the truck's (v_damper, F_demand): by default the truck's
     # values; a measurement chain (sensor noise on the velocity, a demand held at a logger's rate)
-    # replaces them, e.g. damper_tools.independent.
-    damper_inputs: Callable[[int, float, float], tuple[float, float]] | None = None
+    # replaces them, e.g. damper_tools.independent. An optional third value is the damper's a_damper
+    # over the step (the velocity's ramp; 0 holds it).
+    damper_inputs: Callable[[int, float, float], tuple[float, ...]] | None = None
 
     @property
     def has_damper(self) -> bool:
@@ -115,9 +116,11 @@ def simulate(cars: Sequence[Car], step: float, n_steps: int, truck_fmu: str | Pa
                 trucks[j].set(z_road=car.z_road[k], v_road=car.v_road[k], F_damper=force)
                 if dampers[j]:
                     v_in, f_in = rec_t[j][k, i_v], rec_t[j][k, i_fd]
+                    a_in = 0.0
                     if car.damper_inputs is not None:
-                        v_in, f_in = car.damper_inputs(k, v_in, f_in)
-                    dampers[j].set(v_damper=v_in, F_demand=f_in)
+                        v_in, f_in, *ramp = car.damper_inputs(k, v_in, f_in)
+                        a_in = ramp[0] if ramp else 0.0
+                    dampers[j].set(v_damper=v_in, F_demand=f_in, a_damper=a_in)
             for j in range(len(cars)):
                 trucks[j].step(step, t)
                 if dampers[j]:

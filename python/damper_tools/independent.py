@@ -348,12 +348,16 @@ def hil_truth_fmu(case: Case, noise_v: np.ndarray, road_seed: int, params: dict,
     held = {"f": 0.0, "v": 0.0}
     hold_motion = case.motion == "sample_hold"
 
-    def damper_inputs(k: int, v: float, f_demand: float) -> tuple[float, float]:
+    def damper_inputs(k: int, v: float, f_demand: float) -> tuple[float, float, float]:
         i = k // m
         if k % m == 0:
             held["f"] = round(f_demand / DEMAND_QUANTUM) * DEMAND_QUANTUM
             held["v"] = v
-        return (held["v"] if hold_motion else v) + noise_v[i], held["f"]
+        # continuous: the velocity's ramp over the fine step, extrapolated from the last one (the
+        # loop's next velocity is not known yet); a hold would lag the motion by 0.05 ms
+        ramp = 0.0 if hold_motion or k == 0 else (v - held["v_prev"]) / FINE_STEP
+        held["v_prev"] = v
+        return (held["v"] if hold_motion else v) + noise_v[i], held["f"], ramp
 
     car = cosim.Car("hil", road.z_road, road.v_road, {"damper_mode": cosim.MODE_EXTERNAL}, params, damper_inputs)
     res = cosim.simulate([car], FINE_STEP, n_fine, truck_fmu=truck_fmu, damper_fmu=damper_fmu)[0]
