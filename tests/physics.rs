@@ -14,7 +14,7 @@ fn spool_controlled(x_spool: f64, v: f64, x0: f64) -> Damper {
     p.control_mode = 1;
     p.x_spool_start = x_spool;
     p.x_damper_start = x0;
-    Damper::new(p, Inputs { v_damper: v, force_demand: 0.0, x_spool_demand: x_spool }, 0.0).unwrap()
+    Damper::new(p, Inputs { a_damper: 0.0, v_damper: v, force_demand: 0.0, x_spool_demand: x_spool }, 0.0).unwrap()
 }
 
 fn run(d: &mut Damper, seconds: f64) {
@@ -117,9 +117,12 @@ fn passive_damper_never_delivers_energy() {
 fn force_step_t90(direction: f64) -> f64 {
     let mut p = default_parameters();
     p.x_damper_start = -direction * 0.045;
-    let mut d =
-        Damper::new(p, Inputs { v_damper: 0.15 * direction, force_demand: 2e3 * direction, x_spool_demand: 0.0 }, 0.0)
-            .unwrap();
+    let mut d = Damper::new(
+        p,
+        Inputs { a_damper: 0.0, v_damper: 0.15 * direction, force_demand: 2e3 * direction, x_spool_demand: 0.0 },
+        0.0,
+    )
+    .unwrap();
     run(&mut d, 0.3);
     let f0 = direction * d.outputs().plant.force;
     d.inputs.force_demand = 12e3 * direction;
@@ -190,7 +193,7 @@ fn tared_load_cell_reads_zero_at_rest_and_the_demand_in_motion() {
     let gas_force = rest.force;
     assert!((gas_force + rest.p_reservoir * p.derive().cylinder.a_rod).abs() < 1e-6, "raw force at rest {gas_force}");
     // extension at 0.15 m/s with a 5 kN demand: the tared reading settles at the demand
-    d.inputs = Inputs { v_damper: 0.15, force_demand: 5e3, x_spool_demand: 0.0 };
+    d.inputs = Inputs { a_damper: 0.0, v_damper: 0.15, force_demand: 5e3, x_spool_demand: 0.0 };
     run(&mut d, 0.4);
     let o = d.outputs();
     assert!((o.load_cell - 5e3).abs() < 0.03 * 5e3, "tared force {}", o.load_cell);
@@ -205,7 +208,9 @@ fn steady_extension(setup: impl FnOnce(&mut Parameters)) -> semi_active_damper::
     p.x_spool_start = 1.2e-3;
     p.x_damper_start = -0.05;
     setup(&mut p);
-    let mut d = Damper::new(p, Inputs { v_damper: 0.15, force_demand: 0.0, x_spool_demand: 1.2e-3 }, 0.0).unwrap();
+    let mut d =
+        Damper::new(p, Inputs { a_damper: 0.0, v_damper: 0.15, force_demand: 0.0, x_spool_demand: 1.2e-3 }, 0.0)
+            .unwrap();
     run(&mut d, 0.25);
     d.outputs()
 }
@@ -237,7 +242,9 @@ fn effect_switches_change_what_they_name() {
         let mut p = default_parameters();
         p.effect_compressibility = air;
         p.x_damper_start = -0.045;
-        let mut d = Damper::new(p, Inputs { v_damper: 0.15, force_demand: 2e3, x_spool_demand: 0.0 }, 0.0).unwrap();
+        let mut d =
+            Damper::new(p, Inputs { a_damper: 0.0, v_damper: 0.15, force_demand: 2e3, x_spool_demand: 0.0 }, 0.0)
+                .unwrap();
         run(&mut d, 0.3);
         let f0 = d.outputs().plant.force;
         d.inputs.force_demand = 12e3;
@@ -255,7 +262,9 @@ fn amplifier_delay_switch_removes_the_dead_time() {
         let mut p = default_parameters();
         p.control_mode = 1;
         p.effect_amplifier_delay = delay;
-        let mut d = Damper::new(p, Inputs { v_damper: 0.15, force_demand: 0.0, x_spool_demand: 2.5e-3 }, 0.0).unwrap();
+        let mut d =
+            Damper::new(p, Inputs { a_damper: 0.0, v_damper: 0.15, force_demand: 0.0, x_spool_demand: 2.5e-3 }, 0.0)
+                .unwrap();
         run(&mut d, 0.1);
         d.inputs.x_spool_demand = 1.5e-3;
         (1..=100).find(|_| {
@@ -266,4 +275,34 @@ fn amplifier_delay_switch_removes_the_dead_time() {
     // the time to move 2 % of the step, in half-millisecond samples, shrinks by exactly the 3 ms delay
     let (with, without) = (dead_time(true).unwrap(), dead_time(false).unwrap());
     assert_eq!(with - without, 6, "with delay {with}, without {without} samples");
+}
+
+#[test]
+fn a_velocity_ramp_moves_the_stroke_by_its_exact_integral_and_matches_fine_holds() {
+    // over one step of h the ramp v0 + a·t moves the stroke by v0·h + a·h²/2, and the velocity
+    // input reads v0 + a·h at the end
+    let (v0, a, h) = (0.05, 40.0, 2e-3);
+    let mut ramp = spool_controlled(1.5e-3, v0, 0.0);
+    ramp.inputs.a_damper = a;
+    let x0 = ramp.state.y[idx::X_DAMPER];
+    ramp.do_step(h).unwrap();
+    let moved = ramp.state.y[idx::X_DAMPER] - x0;
+    assert!((moved - (v0 * h + 0.5 * a * h * h)).abs() < 1e-12, "{moved}");
+    assert!((ramp.inputs.v_damper - (v0 + a * h)).abs() < 1e-15);
+    // the same motion as 200 held velocities (each at its step's midpoint): the force agrees to
+    // well below a newton, while one velocity held over the step misses by far more
+    let mut holds = spool_controlled(1.5e-3, v0, 0.0);
+    let n = 200;
+    for j in 0..n {
+        holds.inputs.v_damper = v0 + a * (j as f64 + 0.5) * h / n as f64;
+        holds.do_step(h / n as f64).unwrap();
+    }
+    holds.inputs.v_damper = v0 + a * h;
+    let mut held = spool_controlled(1.5e-3, v0, 0.0);
+    held.do_step(h).unwrap();
+    held.inputs.v_damper = v0 + a * h;
+    let force = |d: &Damper| d.outputs().load_cell;
+    let (f_ramp, f_holds, f_held) = (force(&ramp), force(&holds), force(&held));
+    assert!((f_ramp - f_holds).abs() < 0.5, "ramp {f_ramp} N, fine holds {f_holds} N");
+    assert!((f_held - f_holds).abs() > 20.0 * (f_ramp - f_holds).abs(), "held {f_held} N");
 }

@@ -170,6 +170,7 @@ pub struct Comparison {
 pub fn compare(opts: &CompareOptions) -> Result<Comparison, String> {
     let m = Measurement::read(&opts.measurement, &opts.maps, opts.max_gap)?;
     let split = split_index(&m, opts.split)?;
+    crate::record_checks::check(&m, split)?;
     let drive = Drive::from_measurement(&m);
     let setup = build_model(opts, &drive)?;
     let t0 = Instant::now();

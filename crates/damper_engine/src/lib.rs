@@ -35,6 +35,7 @@ pub mod lm;
 pub mod measurement;
 pub mod model;
 pub mod parameters;
+pub mod record_checks;
 pub mod rng;
 pub mod ssv;
 pub mod summary;
