@@ -242,17 +242,18 @@ impl FmuModel {
         self.set(fmu, drive, drive.inputs(k), k)
     }
 
-    /// Sets `i` (inputs at or after sample `k`, which the error names).
+    /// Sets `i`, the inputs at sample `k` (which the error names).
     fn set(&self, fmu: &mut InstanceCS, drive: &Drive, i: Inputs, k: usize) -> Result<(), String> {
-        let values = [i.v_damper, i.force_demand, i.x_spool_demand];
+        let values = [i.v_damper, i.a_damper, i.force_demand, i.x_spool_demand];
         fmu.set_real(&self.inputs, &values).map(|_| ()).map_err(|e| {
             format!(
-                "the FMU {} refused the inputs at t = {} s (v_damper {}, F_demand {}, x_spool_demand {}): {e}",
+                "the FMU {} refused the inputs at t = {} s (v_damper {}, a_damper {}, F_demand {}, x_spool_demand {}): {e}",
                 self.path.display(),
                 drive.time[k],
                 values[0],
                 values[1],
-                values[2]
+                values[2],
+                values[3]
             )
         })
     }

@@ -10,10 +10,11 @@
 //! Jacobian   forward differences, one column per parameter, the columns run in parallel on the
 //!            caller's thread pool (each a pure function of its inputs: the result does not depend
 //!            on the thread count)
-//! covariance cov(θ̂) = σ²·(J_θᵀ J_θ)⁻¹,  σ² = S(θ̂)/(m − n),  J_θ = ∂r/∂θ on the physical scale
+//! covariance cov(θ̂) = c·σ²·(J_θᵀ J_θ)⁻¹,  σ² = S(θ̂)/(m − n),  J_θ = ∂r/∂θ on the physical scale
 //! ```
-//! The covariance assumes independent residuals of equal variance; with coloured residuals it is
-//! optimistic. `JᵀJ` is called singular when its eigenvalues, after scaling it to unit diagonal,
+//! c ≥ 1 inflates the covariance for the residuals' correlation ([`colour_factor`]), so that
+//! residuals coloured by the model's remaining error do not make it optimistic (equal variance is
+//! still assumed). `JᵀJ` is called singular when its eigenvalues, after scaling it to unit diagonal,
 //! span more than [`MAX_CONDITION`]; the parameters that carry the smallest eigenvector are named.
 
 use nalgebra::{DMatrix, DVector};
@@ -97,7 +98,9 @@ pub struct Solution {
     pub residuals: usize,
     /// σ² = S/(m − n), the residual variance.
     pub sigma2: f64,
-    /// σ²·(JᵀJ)⁻¹ on the physical scale; None when JᵀJ is singular.
+    /// How much the residuals' correlation inflates the covariance (1: white), [`colour_factor`].
+    pub colour: f64,
+    /// c·σ²·(JᵀJ)⁻¹ on the physical scale, c = `colour`; None when JᵀJ is singular.
     pub covariance: Option<DMatrix<f64>>,
     /// The correlation matrix of `covariance`.
     pub correlation: Option<DMatrix<f64>>,
@@ -225,7 +228,8 @@ pub fn solve(
     // the physical scale: ∂r/∂θ = ∂r/∂u · du/dθ
     let jp = DMatrix::from_fn(m, n, |row, col| j[(row, col)] / scales[col].slope(x[col]));
     let sigma2 = cost / (m - n) as f64;
-    let (covariance, singular, condition) = covariance(&(jp.transpose() * &jp), sigma2);
+    let colour = colour_factor(&r);
+    let (covariance, singular, condition) = covariance(&(jp.transpose() * &jp), sigma2 * colour);
     let correlation = covariance
         .as_ref()
         .map(|c| DMatrix::from_fn(n, n, |i, k| c[(i, k)] / (c[(i, i)] * c[(k, k)]).sqrt().max(1e-300)));
@@ -234,6 +238,7 @@ pub fn solve(
         cost,
         residuals: m,
         sigma2,
+        colour,
         covariance,
         correlation,
         singular,
@@ -277,6 +282,32 @@ fn jacobian(
     Ok(DMatrix::from_fn(r.len(), n, |i, k| columns[k][i]))
 }
 
+/// The variance inflation of correlated residuals: 1 + 2 Σ ρ_k over the lags k = 1… while the
+/// autocorrelation ρ_k stays positive (at most [`MAX_COLOUR_LAGS`]); 1 for white residuals. The
+/// residuals of a fit carry the model's remaining error, which is smooth in time: N of them hold
+/// the information of N/(1 + 2 Σ ρ_k) independent ones, and a covariance from N is too small by
+/// that factor (a mean of an AR(1) series of coefficient φ has it exactly: (1 + φ)/(1 − φ)).
+pub fn colour_factor(r: &[f64]) -> f64 {
+    let n = r.len();
+    let mean = r.iter().sum::<f64>() / n.max(1) as f64;
+    let var = r.iter().map(|x| (x - mean).powi(2)).sum::<f64>();
+    if n < 3 || var <= 0.0 {
+        return 1.0;
+    }
+    let mut sum = 0.0;
+    for k in 1..MAX_COLOUR_LAGS.min(n - 1) {
+        let rho = r[k..].iter().zip(r).map(|(a, b)| (a - mean) * (b - mean)).sum::<f64>() / var;
+        if rho <= 0.0 {
+            break;
+        }
+        sum += rho;
+    }
+    1.0 + 2.0 * sum
+}
+
+/// Most lags summed by [`colour_factor`].
+pub const MAX_COLOUR_LAGS: usize = 500;
+
 /// σ²·A⁻¹ via the unit-diagonal scaling of A; None with the parameters of the null space when A
 /// is singular.
 fn covariance(a: &DMatrix<f64>, sigma2: f64) -> (Option<DMatrix<f64>>, Vec<usize>, f64) {
@@ -310,6 +341,22 @@ fn covariance(a: &DMatrix<f64>, sigma2: f64) -> (Option<DMatrix<f64>>, Vec<usize
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_colour_factor_of_white_and_of_ar1_residuals() {
+        let mut rng = crate::rng::Rng::new(5);
+        let white: Vec<f64> = (0..50_000).map(|_| rng.normal()).collect();
+        assert!((colour_factor(&white) - 1.0).abs() < 0.05, "{}", colour_factor(&white));
+        // AR(1), φ = 0.8: (1 + φ)/(1 − φ) = 9
+        let mut x = 0.0;
+        let ar: Vec<f64> = (0..50_000)
+            .map(|_| {
+                x = 0.8 * x + rng.normal();
+                x
+            })
+            .collect();
+        assert!((colour_factor(&ar) / 9.0 - 1.0).abs() < 0.15, "{}", colour_factor(&ar));
+    }
 
     fn pool(threads: usize) -> rayon::ThreadPool {
         rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap()

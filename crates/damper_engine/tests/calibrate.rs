@@ -15,15 +15,23 @@ use semi_active_damper::variables::default_parameters;
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 
-/// The damper "as built": six nominal parameters moved by 15–30 %.
-const MOVED: [(&str, f64); 6] = [
+/// The damper "as built": seven nominal parameters moved by 15–30 %.
+const MOVED: [(&str, f64); 7] = [
     ("air_fraction", 0.032),
     ("k1_mount", 4.0e7),
     ("p_reservoir0", 6.0e5),
     ("K_sol", 51.0),
     ("V_hose", 1.3e-5),
     ("p_cv_crack", 3.9e4),
+    ("tau_coil", 3.6e-4),
 ];
+/// The floor: moved parameters recovered within 3 reported standard uncertainties. (Measured: all
+/// seven within 2.2. With tau_coil left at its default, p_reservoir0 landed 6.7 uncertainties
+/// (0.06 %) from its truth and V_gas0 3.1, the same at rtol 1e-6: a reported uncertainty can be
+/// optimistic; docs/calibrate.md.)
+const WITHIN_UNCERTAINTY: usize = 6;
+/// Every moved parameter within this relative error, and its relative uncertainty below it.
+const RELATIVE: f64 = 0.01;
 
 /// The real damper: the moved parameters, and converged numerics (rtol 1e-6) so that the data
 /// carry no solver error of their own.
@@ -76,13 +84,18 @@ fn moved_parameters_are_recovered_within_their_uncertainty() {
         eprintln!("{}: NRMSE {:.4} → {:.4} (floor {:.4})", r.path, r.nrmse_before, r.nrmse_after, r.noise_floor);
     }
     eprintln!("{} model runs, {:.1} s", c.model_runs, c.seconds);
+    let mut within = 0;
     for (name, truth) in MOVED {
         let p = c.parameters.iter().find(|p| p.name == name).expect("fitted by default");
         assert_eq!(p.status, Status::Fitted, "{name}");
         let se = p.std_error.expect("identified");
-        assert!((p.value - truth).abs() <= 3.0 * se, "{name}: fitted {} ± {se}, truth {truth}", p.value);
-        assert!(p.relative().unwrap() < 0.1, "{name}: relative uncertainty {:?}", p.relative());
+        let what = format!("{name}: fitted {} ± {se}, truth {truth}", p.value);
+        eprintln!("{what}: {:.1} uncertainties off", (p.value - truth).abs() / se);
+        within += usize::from((p.value - truth).abs() <= 3.0 * se);
+        assert!((p.value / truth - 1.0).abs() < RELATIVE, "{what}");
+        assert!(p.relative().unwrap() < RELATIVE, "{name}: relative uncertainty {:?}", p.relative());
     }
+    assert!(within >= WITHIN_UNCERTAINTY, "{within} of {} within 3 uncertainties", MOVED.len());
     for r in &c.records {
         assert!(r.nrmse_after < 1.2 * r.noise_floor && r.nrmse_after < 0.2 * r.nrmse_before, "{r:?}");
     }
