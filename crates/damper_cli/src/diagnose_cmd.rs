@@ -6,9 +6,9 @@
 use crate::svg::esc;
 use crate::{before_after_report, compare, json_summary, report};
 use damper_engine::criteria::{DOES_NOT_FIT_NRMSE, EXPLAINED_FACTOR, MIN_EXPLAINED, MOVED_SIGMAS};
-use damper_engine::diagnose::Floor;
 use damper_engine::diagnosed::Diagnosed;
 use damper_engine::dsp::NoiseEstimate;
+use damper_engine::floor::Floor;
 use damper_engine::ladder::Rung;
 use damper_engine::summary::to_json;
 use std::path::Path;

@@ -7,31 +7,15 @@
 //! The floor the verdict judges by has two parts, both reported: the sensor noise, estimated from
 //! the residual so that the model's error cannot inflate it ([`noise_floor`]), and the model's own
 //! numerical error, measured on each record as the difference between the baseline run and the
-//! same run at a hundredth of its tolerance ([`Floor`]).
+//! same run at a hundredth of its tolerance ([`crate::floor`]).
 
 use crate::candidate::{Candidate, FitSetup};
-use crate::dsp::{noise_floor, nrmse, std, NoiseEstimate};
+use crate::dsp::nrmse;
+use crate::floor::{floor, Numerics};
 use crate::ladder::{climb, Ladder};
 use crate::verdict::{judge, Judged};
 use semi_active_damper::effects::EffectInfo;
 use semi_active_damper::physics::params::Parameters;
-
-/// The floor of the validation NRMSE below which nothing can be explained.
-#[derive(Clone, Copy, Debug)]
-pub struct Floor {
-    /// The sensor noise's share: σ_noise / std(measured) on the validation part.
-    pub nrmse_noise: f64,
-    /// The model's numerical error: RMS(F(rtol) − F(rtol·[`NUMERICS_CHECK_FACTOR`](crate::criteria::NUMERICS_CHECK_FACTOR)))
-    /// / std(measured) on the validation part.
-    pub nrmse_numerics: f64,
-    /// √(noise² + numerics²): what the verdict judges by.
-    pub nrmse: f64,
-    /// The noise estimate (N), three ways.
-    pub noise: NoiseEstimate,
-    /// The tolerance the model ran at, and the one of the check.
-    pub rtol: f64,
-    pub rtol_check: f64,
-}
 
 /// The outcome of a diagnosis.
 #[derive(Clone, Debug)]
@@ -42,7 +26,7 @@ pub struct Diagnosis {
     pub nrmse_baseline: f64,
     /// The floor the verdict judges by ([`Floor::nrmse`]).
     pub nrmse_noise_floor: f64,
-    pub floor: Floor,
+    pub floor: crate::floor::Floor,
     pub candidates: Vec<Candidate>,
     pub explanation: String,
     /// Step 4: the effects added one at a time.
@@ -50,32 +34,6 @@ pub struct Diagnosis {
     /// The answer: the effects the model lacks, in the ladder's order (verdict `effect`), or
     /// those that explain part of the error (verdict `partial`); else none.
     pub effects: Vec<&'static str>,
-}
-
-/// The force of the model at its tolerance and at the check's tighter one, over the measurement.
-pub struct Numerics<'a> {
-    pub base: &'a [f64],
-    pub base_check: &'a [f64],
-    pub rtol: f64,
-    pub rtol_check: f64,
-}
-
-/// The floor of a baseline residual `measured − numerics.base` on the validation part from `split`.
-pub fn floor(measured: &[f64], numerics: &Numerics<'_>, split: usize) -> Floor {
-    let residual: Vec<f64> = numerics.base[split..].iter().zip(&measured[split..]).map(|(m, y)| m - y).collect();
-    let noise = noise_floor(&residual);
-    let val_std = std(&measured[split..]);
-    let nrmse_noise = noise.sigma / val_std;
-    let diff: Vec<f64> = numerics.base[split..].iter().zip(&numerics.base_check[split..]).map(|(a, b)| a - b).collect();
-    let nrmse_numerics = crate::dsp::rms(&diff) / val_std;
-    Floor {
-        nrmse_noise,
-        nrmse_numerics,
-        nrmse: nrmse_noise.hypot(nrmse_numerics),
-        noise,
-        rtol: numerics.rtol,
-        rtol_check: numerics.rtol_check,
-    }
 }
 
 /// Runs the diagnosis over `specs` (usually the whole [`catalog`](crate::candidate::catalog)) with

@@ -5,7 +5,8 @@ use crate::before_after::{self, After};
 use crate::candidate::{FitSetup, Progress};
 use crate::comparison::{self, CompareOptions, Comparison};
 use crate::criteria::{DIAGNOSIS_RTOL, NUMERICS_CHECK_FACTOR};
-use crate::diagnose::{diagnose, Diagnosis, Numerics};
+use crate::diagnose::{diagnose, Diagnosis};
+use crate::floor::Numerics;
 use crate::model::{force_simulator, thread_pool};
 use crate::units::Column;
 

@@ -28,6 +28,7 @@ pub mod diagnose;
 pub mod diagnosed;
 pub mod dsp;
 pub mod fit;
+pub mod floor;
 pub mod fmu_model;
 pub mod generate;
 pub mod ladder;

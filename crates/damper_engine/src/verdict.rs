@@ -20,7 +20,7 @@ use crate::criteria::{
     share, DOES_NOT_FIT_FLOOR_FACTOR, DOES_NOT_FIT_NRMSE, EXPLAINED_FACTOR, FLOOR_FACTOR, MAX_RUNNER_UP_RATIO,
     MIN_EXPLAINED, MIN_GAIN, NUMERICS_MARGIN, PARTIAL_MIN_EXPLAINED,
 };
-use crate::diagnose::Floor;
+use crate::floor::Floor;
 use crate::ladder::Ladder;
 
 /// A verdict with its explanation and the ladder it ends with.

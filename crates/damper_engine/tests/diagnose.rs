@@ -1,7 +1,7 @@
 //! The diagnosis on data with a hidden effect: over seeds, each effect hidden at a random plausible
 //! value (by `damper generate`, absent from the model) ranks first, brings the residual to the noise
 //! floor, cuts the validation NRMSE by at least half wherever the baseline leaves room for that
-//! (baseline ≥ 2× the floor: a weak effect near the noise cannot halve it), and is fitted within
+//! (baseline ≥ 2 × 1.3× the floor: a weak effect near the noise cannot halve it), and is fitted within
 //! 20 % of the truth;
 //! data with nothing hidden get "none"; an effect outside the catalog (a slow drift of the load
 //! cell, as from temperature) gets "unexplained".
@@ -56,7 +56,9 @@ fn each_hidden_catalog_effect_is_named_and_fitted() {
             eprintln!("{what}");
             assert_eq!(d.verdict, "effect", "{what}");
             assert_eq!(d.best_effect, Some(effect), "{what}");
-            if d.nrmse_baseline >= 2.0 * d.nrmse_noise_floor {
+            // room to halve the NRMSE: the baseline at least twice what "at the floor" allows
+            // (a candidate at exactly the floor from a baseline of 2× it cuts exactly half)
+            if d.nrmse_baseline >= 2.0 * FLOOR_FACTOR * d.nrmse_noise_floor {
                 assert!(best.reduction >= MIN_CUT, "{what}");
             }
             assert!(best.nrmse_validation <= FLOOR_FACTOR * d.nrmse_noise_floor, "{what}");

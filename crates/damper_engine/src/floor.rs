@@ -1,0 +1,48 @@
+//! The floor of a diagnosis: the validation NRMSE below which nothing can be explained, made of
+//! the sensor noise (estimated robustly from the residual, [`noise_floor`]) and the model's own
+//! numerical error (measured on each record against a run at a hundredth of the tolerance).
+
+use crate::dsp::{noise_floor, std, NoiseEstimate};
+
+/// The floor of the validation NRMSE below which nothing can be explained.
+#[derive(Clone, Copy, Debug)]
+pub struct Floor {
+    /// The sensor noise's share: σ_noise / std(measured) on the validation part.
+    pub nrmse_noise: f64,
+    /// The model's numerical error: RMS(F(rtol) − F(rtol·[`NUMERICS_CHECK_FACTOR`](crate::criteria::NUMERICS_CHECK_FACTOR)))
+    /// / std(measured) on the validation part.
+    pub nrmse_numerics: f64,
+    /// √(noise² + numerics²): what the verdict judges by.
+    pub nrmse: f64,
+    /// The noise estimate (N), three ways.
+    pub noise: NoiseEstimate,
+    /// The tolerance the model ran at, and the one of the check.
+    pub rtol: f64,
+    pub rtol_check: f64,
+}
+
+/// The force of the model at its tolerance and at the check's tighter one, over the measurement.
+pub struct Numerics<'a> {
+    pub base: &'a [f64],
+    pub base_check: &'a [f64],
+    pub rtol: f64,
+    pub rtol_check: f64,
+}
+
+/// The floor of a baseline residual `measured − numerics.base` on the validation part from `split`.
+pub fn floor(measured: &[f64], numerics: &Numerics<'_>, split: usize) -> Floor {
+    let residual: Vec<f64> = numerics.base[split..].iter().zip(&measured[split..]).map(|(m, y)| m - y).collect();
+    let noise = noise_floor(&residual);
+    let val_std = std(&measured[split..]);
+    let nrmse_noise = noise.sigma / val_std;
+    let diff: Vec<f64> = numerics.base[split..].iter().zip(&numerics.base_check[split..]).map(|(a, b)| a - b).collect();
+    let nrmse_numerics = crate::dsp::rms(&diff) / val_std;
+    Floor {
+        nrmse_noise,
+        nrmse_numerics,
+        nrmse: nrmse_noise.hypot(nrmse_numerics),
+        noise,
+        rtol: numerics.rtol,
+        rtol_check: numerics.rtol_check,
+    }
+}
