@@ -2,7 +2,7 @@
 //! ladder of effects added in turn (step 4) and the model with the named effects.
 
 use crate::before_after::{self, After};
-use crate::candidate::{FitSetup, Progress};
+use crate::candidate::{FitSetup, Progress, MAX_FIT_SECONDS};
 use crate::comparison::{self, CompareOptions, Comparison};
 use crate::criteria::{DIAGNOSIS_RTOL, NUMERICS_CHECK_FACTOR};
 use crate::diagnose::{diagnose, Diagnosis};
@@ -43,7 +43,9 @@ pub fn diagnose_measurement(
         return Err("--skip leaves no candidate effect".into());
     }
     let pool = thread_pool(threads)?;
-    let fit = FitSetup { simulate: &simulate, measured: &measured, split, pool: &pool, progress };
+    let rate = (c.measurement.len() - 1) as f64 / (c.measurement.time[c.measurement.len() - 1] - c.measurement.time[0]);
+    let train = split.min((MAX_FIT_SECONDS * rate).round() as usize);
+    let fit = FitSetup { simulate: &simulate, measured: &measured, split, train, pool: &pool, progress };
     let mut check = baseline;
     check.rtol = baseline.rtol * NUMERICS_CHECK_FACTOR;
     let base_check = simulate(&check, measured.len())?;

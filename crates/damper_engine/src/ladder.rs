@@ -10,7 +10,7 @@
 //! up to [`POLISH_PASSES`] times while the error falls.
 //!
 //! Two refinements: an effect kept that has secondary parameters (the polytropic exponent, the
-//! mount's cubic stiffness) is refitted with them once it is kept; and when the best candidate of
+//! mount's cubic stiffness) is refitted with them once it is kept, if error is left above the floor; and when the best candidate of
 //! a round fits only with implausible parameters (it absorbs the error of two effects that add
 //! up), it is fitted jointly with each of the next [`PAIR_PARTNERS`] candidates, and the best
 //! plausible pair is kept if it explains more than the best single effect.
@@ -227,6 +227,10 @@ pub fn climb(
         if !kept {
             break;
         }
+        if ladder.nrmse_validation <= FLOOR_FACTOR * nrmse_floor {
+            break;
+        }
+        // the secondary parameters only where error is left for them
         refine(fit, spec_of(best.effect)?, &mut ladder, nrmse_floor)?;
         if ladder.nrmse_validation <= FLOOR_FACTOR * nrmse_floor {
             break;
