@@ -5,7 +5,7 @@
 //! [`crate::verdict`] judges the outcome.
 //!
 //! The floor the verdict judges by has two parts, both reported: the sensor noise, estimated from
-//! the residual so that the model's error cannot inflate it ([`noise_floor`]), and the model's own
+//! the residual so that the model's error cannot inflate it ([`crate::dsp::noise_floor`]), and the model's own
 //! numerical error, measured on each record as the difference between the baseline run and the
 //! same run at a hundredth of its tolerance ([`crate::floor`]).
 
@@ -24,7 +24,7 @@ pub struct Diagnosis {
     pub verdict: &'static str,
     pub best_effect: Option<&'static str>,
     pub nrmse_baseline: f64,
-    /// The floor the verdict judges by ([`Floor::nrmse`]).
+    /// The floor the verdict judges by ([`crate::floor::Floor::nrmse`]).
     pub nrmse_noise_floor: f64,
     pub floor: crate::floor::Floor,
     pub candidates: Vec<Candidate>,

@@ -515,16 +515,19 @@ fn road_gd0(road: &str) -> Result<f64, String> {
     })
 }
 
+/// What [`hil_run`] returns: the measured velocity, the true velocity and the demand.
+type HilRun = (Vec<f64>, Vec<f64>, Vec<f64>);
+
 /// HiL-style run: the quarter truck (Table 1, clipped MSD) on a random ISO 8608 road, coupled to
 /// the truth damper at every sample (Jacobi: each side sees the other's output of the same
-/// sample). Returns (measured velocity, true velocity, demand).
+/// sample).
 fn hil_run(
     o: &GenerateOptions,
     p: &Parameters,
     t: &[f64],
     rng: &mut Rng,
     noise_rng: &mut Rng,
-) -> Result<(Vec<f64>, Vec<f64>, Vec<f64>), String> {
+) -> Result<HilRun, String> {
     use quarter_truck::truck::{Inputs as TruckInputs, Params as TruckParams};
     let gd0 = road_gd0(&o.road)?;
     let n_waves = 300;

@@ -51,7 +51,7 @@ pub struct Written {
     pub unit: String,
     /// Standard uncertainty (same unit); None: not known (held, not fitted).
     pub uncertainty: Option<f64>,
-    /// "fitted", "held: <why>" or "given".
+    /// "fitted", "held: WHY" or "given".
     pub status: String,
     /// The value the calibration started from (Real parameters it fitted or held).
     pub start: Option<f64>,
