@@ -160,15 +160,13 @@ struct DiagnoseArgs {
 }
 
 // The options of compare, which diagnose shares.
+/// The model's options shared by compare, diagnose and calibrate.
 #[derive(Args, Debug)]
-struct CompareArgs {
-    /// The measurement CSV (see the columns below)
-    #[arg(value_name = "MEASUREMENT.csv")]
-    measurement: PathBuf,
-    /// Directory for report.html and summary.json
-    #[arg(long, value_name = "DIR")]
-    out: PathBuf,
-
+struct ModelArgs {
+    /// Apply an SSP parameter set (e.g. damper calibrate's parameters.ssv) to the defaults, before
+    /// --with, --without and --set
+    #[arg(long, value_name = "FILE.ssv", help_heading = "Model")]
+    params: Option<PathBuf>,
     /// Switch an effect on (VALUE sets its first parameter); repeatable
     #[arg(long, value_name = "EFFECT[=VALUE]", value_parser = effect_arg, help_heading = "Model")]
     with: Vec<String>,
@@ -178,17 +176,11 @@ struct CompareArgs {
     /// Set a model parameter by its FMU name; repeatable, applied last
     #[arg(long, value_name = "NAME=VALUE", value_parser = set_arg, help_heading = "Model")]
     set: Vec<(String, String)>,
-    /// Apply an SSP parameter set (e.g. damper calibrate's parameters.ssv) to the defaults, before
-    /// --with, --without and --set
-    #[arg(long, value_name = "FILE.ssv", help_heading = "Model")]
-    params: Option<PathBuf>,
-    /// Run the model through this packaged FMU instead of in-process
-    ///
-    /// python3 scripts/package_fmu.py makes target/fmu/SemiActiveDamper.fmu. Same numbers; its
-    /// parameters must match this program's.
-    #[arg(long, value_name = "PATH.fmu", help_heading = "Model")]
-    fmu: Option<PathBuf>,
+}
 
+/// How the measurement is read, shared by compare, diagnose and calibrate.
+#[derive(Args, Debug)]
+struct MeasurementArgs {
     /// CSV column SOURCE is the variable NAME, in UNIT; repeatable
     #[arg(long, value_name = "SOURCE=NAME[:UNIT]", value_parser = map_arg, long_help = map_long_help(), help_heading = "Measurement")]
     map: Vec<Mapping>,
@@ -196,9 +188,6 @@ struct CompareArgs {
     /// summary); a longer gap stops the run, naming its lines
     #[arg(long, value_name = "N", default_value_t = DEFAULT_MAX_GAP, help_heading = "Measurement")]
     max_gap: usize,
-    /// Train share, the rest validates
-    #[arg(long, value_parser = number_arg, value_name = "FRACTION", default_value_t = 0.7, allow_negative_numbers = true, help_heading = "Measurement")]
-    split: f64,
     /// The measured force has its rest offset removed
     ///
     /// The rest offset is the reservoir gas force, about -1 kN. Default: raw load cell, as the
@@ -210,20 +199,57 @@ struct CompareArgs {
     load_cell_lowpass: Option<f64>,
 }
 
+impl ModelArgs {
+    fn apply(self, o: &mut CompareOptions) {
+        o.params_file = self.params;
+        o.with = self.with;
+        o.without = self.without;
+        o.sets = self.set;
+    }
+}
+
+impl MeasurementArgs {
+    fn apply(self, o: &mut CompareOptions) {
+        o.maps = self.map;
+        o.max_gap = self.max_gap;
+        o.tare_load_cell = self.tare_load_cell;
+        o.load_cell_lowpass_hz = self.load_cell_lowpass;
+    }
+}
+
+#[derive(Args, Debug)]
+struct CompareArgs {
+    /// The measurement CSV (see the columns below)
+    #[arg(value_name = "MEASUREMENT.csv")]
+    measurement: PathBuf,
+    /// Directory for report.html and summary.json
+    #[arg(long, value_name = "DIR")]
+    out: PathBuf,
+
+    #[command(flatten)]
+    model: ModelArgs,
+    /// Run the model through this packaged FMU instead of in-process
+    ///
+    /// python3 scripts/package_fmu.py makes target/fmu/SemiActiveDamper.fmu. Same numbers; its
+    /// parameters must match this program's.
+    #[arg(long, value_name = "PATH.fmu", help_heading = "Model")]
+    fmu: Option<PathBuf>,
+
+    #[command(flatten)]
+    measurement_args: MeasurementArgs,
+    /// Train share, the rest validates
+    #[arg(long, value_parser = number_arg, value_name = "FRACTION", default_value_t = 0.7, allow_negative_numbers = true, help_heading = "Measurement")]
+    split: f64,
+}
+
 impl CompareArgs {
     /// The comparison's options, and the directory for its files.
     fn options(self) -> (CompareOptions, PathBuf) {
         let mut o = CompareOptions::new(self.measurement);
-        o.with = self.with;
-        o.without = self.without;
-        o.maps = self.map;
-        o.sets = self.set;
-        o.params_file = self.params;
+        self.model.apply(&mut o);
+        self.measurement_args.apply(&mut o);
         o.split = self.split;
-        o.tare_load_cell = self.tare_load_cell;
-        o.load_cell_lowpass_hz = self.load_cell_lowpass;
         o.fmu = self.fmu;
-        o.max_gap = self.max_gap;
         (o, self.out)
     }
 }
@@ -254,31 +280,10 @@ struct CalibrateArgs {
     #[arg(long, value_name = "FRACTION", default_value_t = damper_engine::calibrate::MAX_RELATIVE_UNCERTAINTY, value_parser = positive_arg, allow_negative_numbers = true, help_heading = "Calibration")]
     max_relative_uncertainty: f64,
 
-    /// Start from this SSP parameter set (applied to the defaults, before --with, --without, --set)
-    #[arg(long, value_name = "FILE.ssv", help_heading = "Model")]
-    params: Option<PathBuf>,
-    /// Switch an effect on (VALUE sets its first parameter); repeatable
-    #[arg(long, value_name = "EFFECT[=VALUE]", value_parser = effect_arg, help_heading = "Model")]
-    with: Vec<String>,
-    /// Switch an effect off; repeatable
-    #[arg(long, value_name = "EFFECT", value_parser = effect_arg, help_heading = "Model")]
-    without: Vec<String>,
-    /// Set a model parameter by its FMU name; repeatable, applied last
-    #[arg(long, value_name = "NAME=VALUE", value_parser = set_arg, help_heading = "Model")]
-    set: Vec<(String, String)>,
-
-    /// CSV column SOURCE is the variable NAME, in UNIT; repeatable
-    #[arg(long, value_name = "SOURCE=NAME[:UNIT]", value_parser = map_arg, long_help = map_long_help(), help_heading = "Measurement")]
-    map: Vec<Mapping>,
-    /// Bridge gaps of up to N missing samples by linear interpolation
-    #[arg(long, value_name = "N", default_value_t = DEFAULT_MAX_GAP, help_heading = "Measurement")]
-    max_gap: usize,
-    /// The measured force has its rest offset removed
-    #[arg(long, help_heading = "Measurement")]
-    tare_load_cell: bool,
-    /// First-order low-pass of the load cell, applied to the model's force [default: none]
-    #[arg(long, value_parser = number_arg, value_name = "HZ", allow_negative_numbers = true, help_heading = "Measurement")]
-    load_cell_lowpass: Option<f64>,
+    #[command(flatten)]
+    model: ModelArgs,
+    #[command(flatten)]
+    measurement_args: MeasurementArgs,
 }
 
 impl CalibrateArgs {
@@ -288,15 +293,8 @@ impl CalibrateArgs {
         o.fit_controller = self.fit_controller;
         o.max_relative_uncertainty = self.max_relative_uncertainty;
         o.threads = threads;
-        let c = &mut o.compare;
-        c.params_file = self.params;
-        c.with = self.with;
-        c.without = self.without;
-        c.sets = self.set;
-        c.maps = self.map;
-        c.max_gap = self.max_gap;
-        c.tare_load_cell = self.tare_load_cell;
-        c.load_cell_lowpass_hz = self.load_cell_lowpass;
+        self.model.apply(&mut o.compare);
+        self.measurement_args.apply(&mut o.compare);
         (o, self.out)
     }
 }

@@ -608,16 +608,7 @@ fn row(r: &Record) -> String {
 }
 
 fn median(mut x: Vec<f64>) -> f64 {
-    if x.is_empty() {
-        return f64::NAN;
-    }
-    x.sort_by(f64::total_cmp);
-    let n = x.len();
-    if n % 2 == 1 {
-        x[n / 2]
-    } else {
-        0.5 * (x[n / 2 - 1] + x[n / 2])
-    }
+    damper_engine::dsp::median(&mut x)
 }
 
 fn count(rs: &[&Record], f: impl Fn(&Record) -> bool) -> usize {
