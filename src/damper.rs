@@ -186,7 +186,7 @@ impl Damper {
         let (sys, sys_end) = (at(v0), at(v0 + a * step));
         // ∂f/∂t = ∂f/∂v·a; the plant is affine in v but for the friction and leakage effects
         let dv = 1e-6 * v0.abs().max(1e-2);
-        let f_t = (at(v0 + dv).rhs(&self.state.y) - sys.rhs(&self.state.y)) * (a / dv);
+        let f_t = |f0: &State| (at(v0 + dv).rhs(&self.state.y) - f0) * (a / dv);
         rodas3_step_timed(&sys, &sys_end, Some(&f_t), &self.state.y, step)
     }
 

@@ -32,12 +32,16 @@ where
     rodas3_step_timed(sys, sys, None, y, h)
 }
 
+/// The time derivative ∂f/∂t of a right-hand side, from f at the step's start.
+pub type TimeDerivative<'a, const N: usize> = &'a dyn Fn(&SVector<f64, N>) -> SVector<f64, N>;
+
 /// One step of a system whose right-hand side depends on time: `sys` is the system at the step's
-/// start, `sys_end` at its end, and `f_t` = ∂f/∂t over the step (None: autonomous).
+/// start, `sys_end` at its end, and `f_t` gives ∂f/∂t over the step from f(y) at the start, which
+/// the step computes anyway (None: autonomous).
 pub fn rodas3_step_timed<const N: usize, S: OdeSystem<N>>(
     sys: &S,
     sys_end: &S,
-    f_t: Option<&SVector<f64, N>>,
+    f_t: Option<TimeDerivative<'_, N>>,
     y: &SVector<f64, N>,
     h: f64,
 ) -> Result<(SVector<f64, N>, SVector<f64, N>), SolverError>
@@ -55,6 +59,7 @@ where
             Err(SolverError::Singular)
         }
     };
+    let f_t = f_t.map(|d| d(&f0));
     let time_term = |gamma_i: f64| f_t.map_or_else(SVector::<f64, N>::zeros, |ft| ft * (gamma_i * h));
     let k1 = solve(f0 + time_term(0.5))?;
     let k2 = solve(f0 + k1 * (4.0 / h) + time_term(1.5))?;
@@ -96,9 +101,10 @@ mod tests {
         let mut y = SVector::<f64, 1>::zeros();
         for k in 0..steps {
             let t = k as f64 * h;
-            let f_t = SVector::<f64, 1>::new(-t.sin());
+            let f_t = |_: &SVector<f64, 1>| SVector::<f64, 1>::new(-t.sin());
             let (s0, s1) = (Forced { t, lambda }, Forced { t: t + h, lambda });
-            y = rodas3_step_timed(&s0, &s1, with_f_t.then_some(&f_t), &y, h).unwrap().0;
+            let f_t: Option<TimeDerivative<'_, 1>> = if with_f_t { Some(&f_t) } else { None };
+            y = rodas3_step_timed(&s0, &s1, f_t, &y, h).unwrap().0;
         }
         let exact = (lambda * 1f64.cos() + 1f64.sin() - lambda * (-lambda).exp()) / (1.0 + lambda * lambda);
         (y[0] - exact).abs()
