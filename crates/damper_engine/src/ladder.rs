@@ -99,6 +99,11 @@ pub fn with_effect(
     Ok(q)
 }
 
+/// The effect of `key` among `specs` (the candidates' effects).
+fn spec_of(specs: &[&'static EffectInfo], key: &str) -> Result<&'static EffectInfo, String> {
+    specs.iter().copied().find(|s| s.key == key).ok_or_else(|| format!("{key} is not among the candidate effects"))
+}
+
 /// The candidates of the effects not yet kept, fitted on top of the ladder's model.
 fn next_round(
     fit: &FitSetup<'_>,
@@ -154,16 +159,20 @@ impl Pair {
 
 /// When the best candidate of `round` fits only with implausible parameters, it fitted jointly
 /// with each of the next [`PAIR_PARTNERS`]: the best plausible pair, if any.
-fn best_pair(fit: &FitSetup<'_>, round: &[Candidate], params: &Parameters) -> Result<Option<Pair>, String> {
+fn best_pair(
+    fit: &FitSetup<'_>,
+    specs: &[&'static EffectInfo],
+    round: &[Candidate],
+    params: &Parameters,
+) -> Result<Option<Pair>, String> {
     use rayon::prelude::*;
     let Some(top) = round.first().filter(|c| !c.plausible && !c.flags.iter().any(|f| f.contains("nothing moved")))
     else {
         return Ok(None);
     };
-    let find = |key: &str| crate::candidate::catalog().find(|s| s.key == key).ok_or("an effect outside the catalog");
-    let first = find(top.effect)?;
+    let first = spec_of(specs, top.effect)?;
     let partners: Vec<&'static EffectInfo> =
-        round.iter().skip(1).take(PAIR_PARTNERS).map(|c| find(c.effect)).collect::<Result<_, _>>()?;
+        round.iter().skip(1).take(PAIR_PARTNERS).map(|c| spec_of(specs, c.effect)).collect::<Result<_, _>>()?;
     let fits: Vec<Result<Pair, String>> = fit.pool.install(|| {
         partners
             .par_iter()
@@ -203,12 +212,11 @@ pub fn climb(
     let mut ladder =
         Ladder { rungs: vec![base], effects: Vec::new(), params: *baseline, nrmse_validation: nrmse_baseline };
     let mut round: Vec<Candidate> = ranked.to_vec();
-    let spec_of = |key: &str| specs.iter().copied().find(|s| s.key == key).ok_or("a kept effect outside the catalog");
     while ladder.nrmse_validation > FLOOR_FACTOR * nrmse_floor {
         let Some(best) = round.iter().find(|c| c.plausible).or(round.first()) else { break };
         let least = if ladder.effects.is_empty() { 0.5 * MIN_EXPLAINED } else { MIN_EXPLAINED };
         let errors = (ladder.nrmse_validation, nrmse_floor);
-        if let Some(pair) = best_pair(fit, &round, &ladder.params)? {
+        if let Some(pair) = best_pair(fit, specs, &round, &ladder.params)? {
             if pair.explained(errors) >= least && pair.fit.nrmse_validation < best.nrmse_validation {
                 for c in pair.candidates(errors) {
                     ladder.push(&c, false, true)?;
@@ -231,7 +239,7 @@ pub fn climb(
             break;
         }
         // the secondary parameters only where error is left for them
-        refine(fit, spec_of(best.effect)?, &mut ladder, nrmse_floor)?;
+        refine(fit, spec_of(specs, best.effect)?, &mut ladder, nrmse_floor)?;
         if ladder.nrmse_validation <= FLOOR_FACTOR * nrmse_floor {
             break;
         }
@@ -246,7 +254,7 @@ pub fn climb(
         }
         let start = ladder.nrmse_validation;
         for key in ladder.effects.clone() {
-            let spec = specs.iter().copied().find(|s| s.key == key).ok_or("a kept effect outside the catalog")?;
+            let spec = spec_of(specs, key)?;
             let c = fit.all(&[spec], &ladder.params, (ladder.nrmse_validation, nrmse_floor))?.remove(0);
             let kept = c.plausible && c.nrmse_validation < ladder.nrmse_validation;
             ladder.push(&c, true, kept)?;
