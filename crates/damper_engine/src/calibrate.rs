@@ -13,7 +13,7 @@
 //! The model runs at `rtol` = 1e-4 (unless `--set rtol=…`): at the default 1e-3 the numerical error
 //! is about 0.3 sensor-noise standard deviations, and it would also blur the finite differences.
 
-use crate::comparison::{build_model, CompareOptions};
+use crate::comparison::{build_model, CompareOptions, ANALYSIS_RTOL};
 use crate::dsp::{noise_sigma, nrmse, std};
 use crate::lm::{self, Scale, Solution};
 use crate::measurement::Measurement;
@@ -49,8 +49,6 @@ pub const CONTROLLER_GAINS: [&str; 5] = ["Kp_F", "Ki_F", "Kp_x", "Ki_x", "Kd_x"]
 pub const MAX_RELATIVE_UNCERTAINTY: f64 = 0.25;
 /// Largest |correlation| of a parameter with another fitted one.
 pub const MAX_CORRELATION: f64 = 0.95;
-/// `rtol` of the model during calibration unless `--set rtol=…`.
-pub const CALIBRATION_RTOL: f64 = 1e-4;
 
 /// What `damper calibrate` does.
 #[derive(Clone, Debug)]
@@ -189,21 +187,16 @@ fn read_records(o: &CalibrateOptions) -> Result<Vec<Record>, String> {
     if o.records.is_empty() {
         return Err("no calibration record given".into());
     }
-    let user_rtol = o.compare.sets.iter().any(|(n, _)| n == "rtol");
     o.records
         .iter()
         .map(|path| {
-            let mut c = o.compare.clone();
-            c.measurement = path.clone();
+            let c =
+                CompareOptions { measurement: path.clone(), rtol_at_most: Some(ANALYSIS_RTOL), ..o.compare.clone() };
             let m = Measurement::read(path, &c.maps, c.max_gap)?;
             let measured = m.get(Column::FDamper).ok_or_else(|| format!("{}: no F_damper column", m.path))?.to_vec();
             let drive = Drive::from_measurement(&m);
             let setup = build_model(&c, &drive)?;
-            let mut model = setup.model;
-            if !user_rtol {
-                model.params.rtol = model.params.rtol.min(CALIBRATION_RTOL);
-            }
-            Ok(Record { path: m.path.clone(), measured, drive, model, backend: setup.backend })
+            Ok(Record { path: m.path.clone(), measured, drive, model: setup.model, backend: setup.backend })
         })
         .collect()
 }

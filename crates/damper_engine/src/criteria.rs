@@ -33,10 +33,6 @@ pub const NUMERICS_MARGIN: f64 = 4.0;
 /// A refitted parameter that moved less than this many standard uncertainties from the model's
 /// value has not moved: the refit is not an effect.
 pub const MOVED_SIGMAS: f64 = 3.0;
-/// Relative tolerance the diagnosis runs the model at (the FMU's default, 1e-3, leaves a numerical
-/// error of about 0.3 load-cell noise sigmas at fast transients; 1e-4 about 0.07, at 1.5× the
-/// cost). A user's `--set rtol=…` wins.
-pub const DIAGNOSIS_RTOL: f64 = 1e-4;
 /// The model's numerical error is measured against the same run at this fraction of the rtol.
 pub const NUMERICS_CHECK_FACTOR: f64 = 0.01;
 /// Share of the error above the floor `f` that going from NRMSE `b` to `c` explains.

@@ -3,8 +3,8 @@
 
 use crate::before_after::{self, After};
 use crate::candidate::{FitSetup, Progress, MAX_FIT_SECONDS};
-use crate::comparison::{self, CompareOptions, Comparison};
-use crate::criteria::{DIAGNOSIS_RTOL, NUMERICS_CHECK_FACTOR};
+use crate::comparison::{self, CompareOptions, Comparison, ANALYSIS_RTOL};
+use crate::criteria::NUMERICS_CHECK_FACTOR;
 use crate::diagnose::{diagnose, Diagnosis};
 use crate::floor::Numerics;
 use crate::model::{force_simulator, thread_pool};
@@ -25,12 +25,7 @@ pub fn diagnose_measurement(
     threads: usize,
     progress: &Progress<'_>,
 ) -> Result<Diagnosed, String> {
-    // the model at the diagnosis's tolerance, unless the user set one
-    let mut opts = opts.clone();
-    if !opts.sets.iter().any(|(name, _)| name == "rtol") {
-        opts.sets.push(("rtol".into(), DIAGNOSIS_RTOL.to_string()));
-    }
-    let opts = &opts;
+    let opts = &CompareOptions { rtol_at_most: Some(ANALYSIS_RTOL), ..opts.clone() };
     let c = comparison::compare(opts)?;
     let split = comparison::split_index(&c.measurement, opts.split)?;
     let measured = c.measurement.get(Column::FDamper).ok_or("the measurement has no F_damper column")?.to_vec();
@@ -43,8 +38,7 @@ pub fn diagnose_measurement(
         return Err("--skip leaves no candidate effect".into());
     }
     let pool = thread_pool(threads)?;
-    let rate = (c.measurement.len() - 1) as f64 / (c.measurement.time[c.measurement.len() - 1] - c.measurement.time[0]);
-    let train = split.min((MAX_FIT_SECONDS * rate).round() as usize);
+    let train = split.min((MAX_FIT_SECONDS / c.measurement.median_interval()).round() as usize);
     let fit = FitSetup { simulate: &simulate, measured: &measured, split, train, pool: &pool, progress };
     let mut check = baseline;
     check.rtol = baseline.rtol * NUMERICS_CHECK_FACTOR;

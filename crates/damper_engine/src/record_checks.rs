@@ -21,7 +21,7 @@ pub fn check(m: &Measurement, split: usize) -> Result<(), String> {
     let line = |k: usize| m.lines.get(k).copied().unwrap_or(k + 1);
     let header =
         |c: Column| m.sources.iter().find(|s| s.column == c).map_or(c.name().to_string(), |s| s.header.clone());
-    let dt = (m.time[m.time.len() - 1] - m.time[0]) / (m.time.len() - 1).max(1) as f64;
+    let dt = m.median_interval();
     let rate = 1.0 / dt;
     if !(RATE_RANGE.0..=RATE_RANGE.1).contains(&rate) {
         let time = m.sources.iter().find(|s| s.column == Column::Time);
