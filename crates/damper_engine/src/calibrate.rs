@@ -15,7 +15,7 @@
 
 use crate::comparison::{build_model, CompareOptions, ANALYSIS_RTOL};
 use crate::dsp::{noise_sigma, nrmse, std};
-use crate::lm::{self, Scale, Solution};
+use crate::lm::{self, Bound, Solution};
 use crate::measurement::Measurement;
 use crate::model::{thread_pool, Backend, Drive, Model};
 use crate::parameters::{changed_parameters, get_real, lookup, set_real, Param, Value};
@@ -120,7 +120,7 @@ pub struct Calibrated {
     /// Its strongest correlation with another fitted parameter.
     pub correlation: Option<(&'static str, f64)>,
     /// The search box.
-    pub scale: Scale,
+    pub scale: Bound,
     pub status: Status,
 }
 
@@ -132,7 +132,7 @@ impl Calibrated {
 
     /// The fitted value lies on its search box's edge.
     pub fn at_bound(&self) -> bool {
-        self.status == Status::Fitted && self.scale.at_bound(self.value)
+        self.status == Status::Fitted && self.scale.near_bound(self.value, lm::AT_BOUND)
     }
 }
 
@@ -193,6 +193,8 @@ fn read_records(o: &CalibrateOptions) -> Result<Vec<Record>, String> {
             let c =
                 CompareOptions { measurement: path.clone(), rtol_at_most: Some(ANALYSIS_RTOL), ..o.compare.clone() };
             let m = Measurement::read(path, &c.maps, c.max_gap)?;
+            // calibration fits the whole record: no validation part of its own
+            crate::record_checks::check(&m, 0)?;
             let measured = m.get(Column::FDamper).ok_or_else(|| format!("{}: no F_damper column", m.path))?.to_vec();
             let drive = Drive::from_measurement(&m);
             let setup = build_model(&c, &drive)?;
@@ -202,7 +204,7 @@ fn read_records(o: &CalibrateOptions) -> Result<Vec<Record>, String> {
 }
 
 /// The search box of a parameter around its start value.
-fn search_box(name: &str, start: f64, p: &Parameters) -> Result<Scale, String> {
+fn search_box(name: &str, start: f64, p: &Parameters) -> Result<Bound, String> {
     let v = match lookup(name)? {
         Param::Real(v) => v,
         _ => return Err(format!("{name} is not a Real parameter")),
@@ -217,13 +219,13 @@ fn search_box(name: &str, start: f64, p: &Parameters) -> Result<Scale, String> {
     if start > 0.0 {
         let (lo, hi) = ((start / 3.0).max(min), (start * 3.0).min(max));
         if lo > 0.0 && lo < hi {
-            return Ok(Scale { lo, hi, log: true });
+            return Ok(Bound { lo, hi, log: true });
         }
     }
     let span = if start != 0.0 { 2.0 * start.abs() } else { 1.0 };
     let (lo, hi) = ((start - span).max(min), (start + span).min(max));
     if lo < hi {
-        Ok(Scale { lo, hi, log: false })
+        Ok(Bound { lo, hi, log: false })
     } else {
         Err(format!("{name} = {start}: no room to search within the model's range [{min}, {max}]"))
     }
@@ -289,7 +291,7 @@ pub fn calibrate(o: &CalibrateOptions, progress: &(dyn Fn(&Round) + Sync)) -> Re
     let records = read_records(o)?;
     let base = records[0].model.params;
     let starts: Vec<f64> = names.iter().map(|n| get_real(&base, n)).collect::<Result<_, _>>()?;
-    let scales: Vec<Scale> =
+    let scales: Vec<Bound> =
         names.iter().zip(&starts).map(|(n, &s)| search_box(n, s, &base)).collect::<Result<_, _>>()?;
     let measured: Vec<f64> = records.iter().flat_map(|r| r.measured.iter().copied()).collect();
     let pool = thread_pool(o.threads)?;
@@ -314,7 +316,7 @@ pub fn calibrate(o: &CalibrateOptions, progress: &(dyn Fn(&Round) + Sync)) -> Re
             Ok(f.iter().flatten().zip(&measured).map(|(m, y)| m - y).collect())
         };
         let x0: Vec<f64> = active.iter().map(|&i| x[i]).collect();
-        let sc: Vec<Scale> = active.iter().map(|&i| scales[i]).collect();
+        let sc: Vec<Bound> = active.iter().map(|&i| scales[i]).collect();
         let s = lm::solve(&residuals, &x0, &sc, &pool, lm::Options::default())?;
         model_runs += s.model_runs;
         for (k, &i) in active.iter().enumerate() {

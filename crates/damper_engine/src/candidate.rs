@@ -5,7 +5,7 @@
 
 use crate::criteria::{share, MOVED_SIGMAS};
 use crate::dsp::nrmse;
-use crate::fit::{minimize, standard_errors, Bound, Fit};
+use crate::fit::{minimize, standard_errors, Bound, Fit, AT_BOUND};
 use crate::parameters::{effect_on, get_real, set_effect, set_real};
 use semi_active_damper::effects::{EffectInfo, FittedParameter};
 use semi_active_damper::physics::params::Parameters;
@@ -191,7 +191,7 @@ pub fn fit_effects(
     let full = simulate(&model, measured.len())?;
     let mut flags = Vec::new();
     for (s, &x) in fitted.iter().zip(&fit.x) {
-        if bound(s).at_bound(x) {
+        if bound(s).near_bound(x, AT_BOUND) {
             flags.push(format!("{} = {x:.4e} at its search bound", s.name));
         } else if x < s.plausible.0 || x > s.plausible.1 {
             flags.push(format!(

@@ -255,23 +255,40 @@ pub fn chi2_95(dof: usize) -> f64 {
     k * (1.0 - h + 1.644_853_6 * h.sqrt()).powi(3)
 }
 
-/// First-order low-pass of cut-off `fc` (Hz) on a sampled signal, exact for an input that varies
-/// linearly between samples (first-order hold), starting in steady state at the first sample:
+/// First-order low-pass of cut-off `fc` (Hz), fed one sample at a time, exact for an input that
+/// varies linearly between samples (first-order hold), starting in steady state at the first input:
 /// y_k = α y_{k−1} + u_k − α u_{k−1} − τ r (1 − α),  α = exp(−h/τ),  r = (u_k − u_{k−1})/h.
+#[derive(Clone, Copy, Debug)]
+pub struct Lowpass {
+    /// Time constant τ = 1/(2π fc) (s).
+    tau: f64,
+    /// The last input (N or any unit) and output.
+    u: f64,
+    y: f64,
+}
+
+impl Lowpass {
+    pub fn new(fc: f64, u0: f64) -> Lowpass {
+        Lowpass { tau: 1.0 / (2.0 * PI * fc), u: u0, y: u0 }
+    }
+
+    /// The output after `h` seconds over which the input went linearly to `u`.
+    pub fn step(&mut self, h: f64, u: f64) -> f64 {
+        let a = (-h / self.tau).exp();
+        let r = (u - self.u) / h;
+        self.y = a * self.y + u - a * self.u - self.tau * r * (1.0 - a);
+        self.u = u;
+        self.y
+    }
+}
+
+/// [`Lowpass`] over a whole sampled signal `u(t)`.
 pub fn lowpass(t: &[f64], u: &[f64], fc: f64) -> Vec<f64> {
-    let tau = 1.0 / (2.0 * PI * fc);
+    let Some(&u0) = u.first() else { return Vec::new() };
+    let mut filter = Lowpass::new(fc, u0);
     let mut y = Vec::with_capacity(u.len());
-    if u.is_empty() {
-        return y;
-    }
-    y.push(u[0]);
-    for k in 1..u.len() {
-        let h = t[k] - t[k - 1];
-        let a = (-h / tau).exp();
-        let r = (u[k] - u[k - 1]) / h;
-        let prev = y[k - 1];
-        y.push(a * prev + u[k] - a * u[k - 1] - tau * r * (1.0 - a));
-    }
+    y.push(u0);
+    y.extend((1..u.len()).map(|k| filter.step(t[k] - t[k - 1], u[k])));
     y
 }
 

@@ -10,8 +10,8 @@
 //! loaded once per process; its instances share nothing), so fits on several threads run the FMU
 //! concurrently.
 
-use crate::dsp::lowpass;
-use crate::model::{Backend, Drive, Model, Prediction};
+use crate::dsp::Lowpass;
+use crate::model::{substeps, Backend, Drive, Model, Prediction};
 use crate::parameters::{get_parameter, parameter_names, Value};
 use fmi::fmi2::import::Fmi2Import;
 use fmi::fmi2::instance::{CoSimulation, Common, InstanceCS};
@@ -185,27 +185,36 @@ impl Backend for FmuModel {
         // clock is that sum, which can differ from t[k - 1] in the last bit (and the controller's
         // sample grid is placed relative to the clock).
         let mut now = t[0];
+        let mut filter = model.load_cell_lowpass_hz.map(|fc| Lowpass::new(fc, out.f_damper[0]));
         for k in 1..n {
-            self.set(&mut fmu, drive, drive.interval_inputs(k - 1), k - 1)?;
-            let h = t[k] - t[k - 1];
-            fmu.do_step(now, h, true).map_err(|e| {
-                format!(
-                    "the FMU {} failed between t = {} s and {} s: fmi2DoStep: {e}",
-                    self.path.display(),
-                    t[k - 1],
-                    t[k]
-                )
-            })?;
-            now += h;
+            let m = substeps(t[k] - t[k - 1], model.params.t_sample);
+            let h = (t[k] - t[k - 1]) / m as f64;
+            for j in 0..m {
+                self.set(&mut fmu, drive, drive.substep_inputs(k - 1, j, m), k - 1)?;
+                fmu.do_step(now, h, true).map_err(|e| {
+                    format!(
+                        "the FMU {} failed between t = {} s and {} s: fmi2DoStep: {e}",
+                        self.path.display(),
+                        t[k - 1],
+                        t[k]
+                    )
+                })?;
+                now += h;
+                if j + 1 < m {
+                    if let Some(f) = filter.as_mut() {
+                        f.step(h, self.load_cell(&mut fmu, now)?);
+                    }
+                }
+            }
             self.set_inputs(&mut fmu, drive, k)?;
             self.read_outputs(&mut fmu, t[k], all, &mut out)?;
+            if let (Some(f), Some(last)) = (filter.as_mut(), out.f_damper.last_mut()) {
+                *last = f.step(h, *last);
+            }
         }
         fmu.terminate().map_err(|e| format!("the FMU {}: fmi2Terminate: {e}", self.path.display()))?;
         // dropping the instance frees it (fmi2FreeInstance)
         drop(fmu);
-        if let Some(fc) = model.load_cell_lowpass_hz {
-            out.f_damper = lowpass(&t[..n], &out.f_damper, fc);
-        }
         Ok(out)
     }
 
@@ -256,6 +265,14 @@ impl FmuModel {
                 values[3]
             )
         })
+    }
+
+    /// The load-cell force at time `t` (s) between two samples.
+    fn load_cell(&self, fmu: &mut InstanceCS, t: f64) -> Result<f64, String> {
+        let mut y = [0.0];
+        fmu.get_real(&self.outputs[..1], &mut y)
+            .map_err(|e| format!("the FMU {} failed at t = {t} s: fmi2GetReal: {e}", self.path.display()))?;
+        Ok(y[0])
     }
 
     fn read_outputs(&self, fmu: &mut InstanceCS, t: f64, all: bool, out: &mut Prediction) -> Result<(), String> {

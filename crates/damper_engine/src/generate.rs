@@ -6,8 +6,8 @@
 //! that a model equal to the truth leaves only the measurement chain in the residual. (For data
 //! made independently of these numerics, see `python/damper_tools/independent.py`.) The measurement chain, in this order:
 //!
-//! 1. load cell: first-order low-pass at `lowpass_hz` (default 400 Hz) on the sampled force, exact
-//!    for a force varying linearly between samples (`dsp::lowpass`);
+//! 1. load cell: first-order low-pass at `lowpass_hz` (default 400 Hz) on the force at the
+//!    controller's rate, exact for a force varying linearly between those points (`crate::model`);
 //! 2. sensor noise: white, Gaussian, standard deviation per sensor (`Noise`), independent of
 //!    everything else (its own random stream);
 //! 3. quantisation: rounding to the sensor's resolution (`Noise`, a 16-bit converter over the
@@ -29,7 +29,7 @@
 //! 0.1 mm/s noise 5 of 10 (validation NRMSE up to 1.39× the sensor floor, event-like errors of
 //! 50–500 N after some reversals).
 
-use crate::dsp::{lowpass, std};
+use crate::dsp::std;
 use crate::model::{Demand, Drive, Model, Prediction};
 use crate::parameters::{
     changed_parameters, effect, get_parameter, get_real, set_effect, set_parameter, set_real, EffectExt,
@@ -649,7 +649,7 @@ pub fn generate(o: &GenerateOptions) -> Result<Generated, String> {
             };
             let drive_truth = if o.errors_in_variables { v_true } else { v_measured.clone() };
             let drive = Drive { time: t.clone(), v_damper: drive_truth, demand: demand_of(&d) };
-            let pred = Model::new(params).run(&drive)?;
+            let pred = Model { params, load_cell_lowpass_hz: o.lowpass_hz }.run(&drive)?;
             (column, v_measured, d, pred)
         }
         InputStyle::Hil => {
@@ -658,18 +658,14 @@ pub fn generate(o: &GenerateOptions) -> Result<Generated, String> {
             // interpolated between samples), as the motion of a real truck is continuous
             let (v_measured, v_true, d) = hil_run(o, &params, &t, &mut input_rng, &mut noise_rng)?;
             let drive_truth = if o.errors_in_variables { v_true } else { v_measured.clone() };
-            let pred =
-                Model::new(params).run(&Drive { time: t.clone(), v_damper: drive_truth, demand: demand_of(&d) })?;
+            let drive = Drive { time: t.clone(), v_damper: drive_truth, demand: demand_of(&d) };
+            let pred = Model { params, load_cell_lowpass_hz: o.lowpass_hz }.run(&drive)?;
             ((Column::VDamper, v_measured.clone()), v_measured, d, pred)
         }
     };
 
     // Measurement chain of the other sensors.
-    let f_filtered = match o.lowpass_hz {
-        Some(fc) => lowpass(&t, &clean.f_damper, fc),
-        None => clean.f_damper.clone(),
-    };
-    let f_meas = measure(&f_filtered, nz.f_damper, &mut noise_rng);
+    let f_meas = measure(&clean.f_damper, nz.f_damper, &mut noise_rng);
     let mut columns: Vec<(Column, Vec<f64>)> = vec![(Column::Time, t.clone()), velocity_column];
     columns.push((if o.spool_control { Column::XSpoolDemand } else { Column::FDemand }, demand.clone()));
     columns.push((Column::FDamper, f_meas.clone()));
@@ -695,7 +691,7 @@ pub fn generate(o: &GenerateOptions) -> Result<Generated, String> {
             noise_std: nz.f_damper.noise,
             quantum: nz.f_damper.quantum,
             lowpass_hz: o.lowpass_hz,
-            lowpass: "first-order, applied to the sampled force before noise and quantisation (exact for a force linear between samples)"
+            lowpass: "first-order, on the force at the controller's rate before noise and quantisation (exact for a force linear between those points)"
                 .into(),
         },
         x_damper: o.displacement.then(|| nz.x_damper.into()),

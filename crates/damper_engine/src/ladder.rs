@@ -13,13 +13,14 @@
 //! mount's cubic stiffness) is refitted with them once it is kept, if error is left above the floor; and when the best candidate of
 //! a round fits only with implausible parameters (it absorbs the error of two effects that add
 //! up), it is fitted jointly with each of the next [`PAIR_PARTNERS`] candidates, and the best
-//! plausible pair is kept if it explains more than the best single effect.
+//! plausible pair is kept if it explains more than the best single effect. A ladder that ends above
+//! twice the floor is climbed again from the best pair of the leading candidates ([`climb`]).
 //!
 //! The kept effects are judged by [`crate::verdict`].
 
 use crate::candidate::{Candidate, FitSetup, JointFit};
 use crate::criteria::share;
-use crate::criteria::{FLOOR_FACTOR, MIN_EXPLAINED};
+use crate::criteria::{EXPLAINED_FACTOR, FLOOR_FACTOR, MIN_EXPLAINED};
 use crate::parameters::{set_effect, set_real};
 use semi_active_damper::effects::EffectInfo;
 use semi_active_damper::physics::params::Parameters;
@@ -28,6 +29,8 @@ use semi_active_damper::physics::params::Parameters;
 pub const POLISH_PASSES: usize = 2;
 /// Candidates after an implausible best that are each fitted jointly with it.
 pub const PAIR_PARTNERS: usize = 3;
+/// The best candidates whose pairs are fitted jointly when the ladder stalls above the floor.
+pub const STALL_LEADERS: usize = 3;
 
 /// A rung of the ladder: the model after adding one more effect.
 #[derive(Clone, Debug)]
@@ -165,20 +168,30 @@ fn best_pair(
     round: &[Candidate],
     params: &Parameters,
 ) -> Result<Option<Pair>, String> {
-    use rayon::prelude::*;
     let Some(top) = round.first().filter(|c| !c.plausible && !c.flags.iter().any(|f| f.contains("nothing moved")))
     else {
         return Ok(None);
     };
-    let first = spec_of(specs, top.effect)?;
-    let partners: Vec<&'static EffectInfo> =
-        round.iter().skip(1).take(PAIR_PARTNERS).map(|c| spec_of(specs, c.effect)).collect::<Result<_, _>>()?;
+    let pairs: Vec<_> = round.iter().skip(1).take(PAIR_PARTNERS).map(|c| (top.effect, c.effect)).collect();
+    fit_pairs(fit, specs, &pairs, params)
+}
+
+/// Each pair of effects fitted jointly on top of `params`: the plausible one that leaves the least
+/// validation error, if any.
+fn fit_pairs(
+    fit: &FitSetup<'_>,
+    specs: &[&'static EffectInfo],
+    pairs: &[(&'static str, &'static str)],
+    params: &Parameters,
+) -> Result<Option<Pair>, String> {
+    use rayon::prelude::*;
     let fits: Vec<Result<Pair, String>> = fit.pool.install(|| {
-        partners
+        pairs
             .par_iter()
-            .map(|&second| {
+            .map(|&(a, b)| {
+                let (first, second) = (spec_of(specs, a)?, spec_of(specs, b)?);
                 let all: Vec<_> = first.fitted.iter().chain(second.fitted).copied().collect();
-                let f = fit.joint(params, &[first.key, second.key], &all)?;
+                let f = fit.joint(params, &[a, b], &all)?;
                 Ok(Pair { specs: [first, second], fit: f })
             })
             .collect()
@@ -193,7 +206,22 @@ fn best_pair(
     Ok(best)
 }
 
-/// Climbs the ladder from the diagnosis's `ranked` candidates (best first) over `specs`.
+/// `ladder` with the effects of `pair` kept.
+fn keep_pair(ladder: &mut Ladder, pair: Pair, errors: (f64, f64)) -> Result<(), String> {
+    for c in pair.candidates(errors) {
+        ladder.push(&c, false, true)?;
+    }
+    ladder.params = pair.fit.model;
+    ladder.nrmse_validation = pair.fit.nrmse_validation;
+    Ok(())
+}
+
+/// Climbs the ladder from the diagnosis's `ranked` candidates (best first) over `specs`. When it
+/// ends above [`EXPLAINED_FACTOR`] times the floor, the pairs of the [`STALL_LEADERS`] best
+/// candidates are fitted jointly on the baseline: two effects that add up can each, fitted alone,
+/// absorb the other's error with plausible parameters and leave a residual that no second effect
+/// explains (seal friction and check-valve cracking). A ladder climbed from the best pair replaces
+/// the first when it ends lower.
 pub fn climb(
     fit: &FitSetup<'_>,
     specs: &[&'static EffectInfo],
@@ -209,33 +237,49 @@ pub fn climb(
         explained: 0.0,
         kept: true,
     };
-    let mut ladder =
-        Ladder { rungs: vec![base], effects: Vec::new(), params: *baseline, nrmse_validation: nrmse_baseline };
-    let mut round: Vec<Candidate> = ranked.to_vec();
-    while ladder.nrmse_validation > FLOOR_FACTOR * nrmse_floor {
+    let start = Ladder { rungs: vec![base], effects: Vec::new(), params: *baseline, nrmse_validation: nrmse_baseline };
+    let ladder = rise(fit, specs, start.clone(), ranked.to_vec(), nrmse_floor)?;
+    if ladder.nrmse_validation <= EXPLAINED_FACTOR * nrmse_floor {
+        return Ok(ladder);
+    }
+    let leaders: Vec<&'static str> = ranked.iter().take(STALL_LEADERS).map(|c| c.effect).collect();
+    let pairs: Vec<_> =
+        leaders.iter().enumerate().flat_map(|(i, &a)| leaders[i + 1..].iter().map(move |&b| (a, b))).collect();
+    let Some(pair) = fit_pairs(fit, specs, &pairs, baseline)? else { return Ok(ladder) };
+    let errors = (nrmse_baseline, nrmse_floor);
+    if pair.fit.nrmse_validation >= ladder.nrmse_validation || pair.explained(errors) < MIN_EXPLAINED {
+        return Ok(ladder);
+    }
+    let mut alt = start;
+    keep_pair(&mut alt, pair, errors)?;
+    let round = next_round(fit, specs, &alt, nrmse_floor)?;
+    let alt = rise(fit, specs, alt, round, nrmse_floor)?;
+    Ok(if alt.nrmse_validation < ladder.nrmse_validation { alt } else { ladder })
+}
+
+/// Adds effects to `ladder` from `round` (the candidates fitted on top of it, best first) while
+/// error is left above the floor, then refits the kept ones with the others in place.
+fn rise(
+    fit: &FitSetup<'_>,
+    specs: &[&'static EffectInfo],
+    mut ladder: Ladder,
+    mut round: Vec<Candidate>,
+    nrmse_floor: f64,
+) -> Result<Ladder, String> {
+    while ladder.nrmse_validation > FLOOR_FACTOR * nrmse_floor && !round.is_empty() {
         let Some(best) = round.iter().find(|c| c.plausible).or(round.first()) else { break };
         let least = if ladder.effects.is_empty() { 0.5 * MIN_EXPLAINED } else { MIN_EXPLAINED };
         let errors = (ladder.nrmse_validation, nrmse_floor);
         if let Some(pair) = best_pair(fit, specs, &round, &ladder.params)? {
             if pair.explained(errors) >= least && pair.fit.nrmse_validation < best.nrmse_validation {
-                for c in pair.candidates(errors) {
-                    ladder.push(&c, false, true)?;
-                }
-                ladder.params = pair.fit.model;
-                ladder.nrmse_validation = pair.fit.nrmse_validation;
+                keep_pair(&mut ladder, pair, errors)?;
                 round = next_round(fit, specs, &ladder, nrmse_floor)?;
-                if round.is_empty() {
-                    break;
-                }
                 continue;
             }
         }
         let kept = best.plausible && best.explained >= least;
         ladder.push(best, false, kept)?;
-        if !kept {
-            break;
-        }
-        if ladder.nrmse_validation <= FLOOR_FACTOR * nrmse_floor {
+        if !kept || ladder.nrmse_validation <= FLOOR_FACTOR * nrmse_floor {
             break;
         }
         // the secondary parameters only where error is left for them
@@ -244,9 +288,6 @@ pub fn climb(
             break;
         }
         round = next_round(fit, specs, &ladder, nrmse_floor)?;
-        if round.is_empty() {
-            break;
-        }
     }
     for _ in 0..POLISH_PASSES {
         if ladder.effects.len() < 2 || ladder.nrmse_validation <= FLOOR_FACTOR * nrmse_floor {

@@ -19,6 +19,7 @@
 //! - [`generate`]: measurement-like data with hidden effects ([`rng`]), and their truth.
 pub mod analysis;
 pub mod before_after;
+pub mod bounds;
 pub mod calibrate;
 pub mod calibration_file;
 pub mod candidate;

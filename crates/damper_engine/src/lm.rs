@@ -23,51 +23,10 @@ use rayon::prelude::*;
 /// Largest condition number of the unit-diagonal JᵀJ still inverted.
 pub const MAX_CONDITION: f64 = 1e12;
 
-/// How a parameter is searched: its box, and whether on a logarithmic scale (needs lo > 0).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Scale {
-    pub lo: f64,
-    pub hi: f64,
-    pub log: bool,
-}
+pub use crate::bounds::Bound;
 
-impl Scale {
-    fn to_internal(self, x: f64) -> f64 {
-        if self.log {
-            x.ln()
-        } else {
-            x
-        }
-    }
-
-    fn to_physical(self, u: f64) -> f64 {
-        if self.log {
-            u.exp()
-        } else {
-            u
-        }
-    }
-
-    fn internal_box(self) -> (f64, f64) {
-        (self.to_internal(self.lo), self.to_internal(self.hi))
-    }
-
-    /// dθ/du at `x`.
-    fn slope(self, x: f64) -> f64 {
-        if self.log {
-            x
-        } else {
-            1.0
-        }
-    }
-
-    /// True when `x` lies within 0.1 % of the (internal) range of a bound.
-    pub fn at_bound(self, x: f64) -> bool {
-        let (lo, hi) = self.internal_box();
-        let u = self.to_internal(x);
-        (u - lo) < 1e-3 * (hi - lo) || (hi - u) < 1e-3 * (hi - lo)
-    }
-}
+/// A fitted value within this fraction of its box's (searched) range of a bound is at the bound.
+pub const AT_BOUND: f64 = 1e-3;
 
 /// Settings of [`solve`].
 #[derive(Clone, Copy, Debug)]
@@ -143,7 +102,7 @@ fn sum_sq(r: &[f64]) -> f64 {
 pub fn solve(
     f: &Residuals<'_>,
     x0: &[f64],
-    scales: &[Scale],
+    scales: &[Bound],
     pool: &rayon::ThreadPool,
     opts: Options,
 ) -> Result<Solution, String> {
@@ -254,7 +213,7 @@ fn jacobian(
     eval: &Residuals<'_>,
     u: &[f64],
     r: &[f64],
-    scales: &[Scale],
+    scales: &[Bound],
     pool: &rayon::ThreadPool,
     step: f64,
 ) -> Result<DMatrix<f64>, String> {
@@ -380,9 +339,9 @@ mod tests {
             Ok(t.iter().zip(&y).map(|(t, y)| x[0] * (-x[1] * t).exp() + x[2] - y).collect())
         };
         let scales = [
-            Scale { lo: 0.1, hi: 10.0, log: true },
-            Scale { lo: 0.01, hi: 10.0, log: true },
-            Scale { lo: -5.0, hi: 5.0, log: false },
+            Bound { lo: 0.1, hi: 10.0, log: true },
+            Bound { lo: 0.01, hi: 10.0, log: true },
+            Bound { lo: -5.0, hi: 5.0, log: false },
         ];
         let one = solve(&f, &[1.0, 2.0, 0.0], &scales, &pool(1), Options::default()).unwrap();
         assert!(
@@ -404,13 +363,16 @@ mod tests {
         let f = |x: &[f64]| -> Result<Vec<f64>, String> {
             Ok(t.iter().zip(&y).map(|(t, y)| x[0] * (-0.7 * t).exp() + 0.5 - y).collect())
         };
-        let s = solve(&f, &[1.0], &[Scale { lo: 0.1, hi: 2.0, log: true }], &pool(1), Options::default()).unwrap();
-        assert!((s.x[0] - 2.0).abs() < 1e-9 && Scale { lo: 0.1, hi: 2.0, log: true }.at_bound(s.x[0]), "{s:?}");
+        let s = solve(&f, &[1.0], &[Bound { lo: 0.1, hi: 2.0, log: true }], &pool(1), Options::default()).unwrap();
+        assert!(
+            (s.x[0] - 2.0).abs() < 1e-9 && Bound { lo: 0.1, hi: 2.0, log: true }.near_bound(s.x[0], AT_BOUND),
+            "{s:?}"
+        );
         // the second parameter does not enter the residuals: singular, and named
         let g = |x: &[f64]| -> Result<Vec<f64>, String> {
             Ok(t.iter().zip(&y).map(|(t, y)| x[0] * (-0.7 * t).exp() + 0.5 - y + 0.0 * x[1]).collect())
         };
-        let scales = [Scale { lo: 0.1, hi: 10.0, log: true }, Scale { lo: 0.1, hi: 10.0, log: false }];
+        let scales = [Bound { lo: 0.1, hi: 10.0, log: true }, Bound { lo: 0.1, hi: 10.0, log: false }];
         let s = solve(&g, &[1.0, 1.0], &scales, &pool(2), Options::default()).unwrap();
         assert!(s.covariance.is_none() && s.singular == vec![1], "{s:?}");
         assert!((s.x[0] - 3.0).abs() < 0.01);
@@ -425,7 +387,7 @@ mod tests {
         let f = |x: &[f64]| -> Result<Vec<f64>, String> {
             Ok(t.iter().zip(&y).map(|(t, y)| x[0] + x[1] * t - y).collect())
         };
-        let scales = [Scale { lo: -10.0, hi: 10.0, log: false }; 2];
+        let scales = [Bound { lo: -10.0, hi: 10.0, log: false }; 2];
         let s = solve(&f, &[0.0, 0.0], &scales, &pool(1), Options::default()).unwrap();
         let x = DMatrix::from_fn(50, 2, |i, k| if k == 0 { 1.0 } else { t[i] });
         let hand = (x.transpose() * &x).try_inverse().unwrap() * s.sigma2;

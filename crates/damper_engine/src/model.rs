@@ -1,21 +1,24 @@
 //! The damper model driven by a measurement's inputs, in-process ([`InProcess`]) or through a
 //! packaged FMU (`crate::fmu_model`), both behind the trait [`Backend`].
 //!
-//! The model starts at rest at the first sample and is stepped from sample to sample: the
-//! communication step is the sample interval. A measured velocity is a sample of a continuous
-//! motion, so between two samples the model's velocity follows the straight line between them
-//! (the FMU's input `a_damper`, the slope); demands are digital and held. A velocity held over
-//! the interval leads the motion by half a sample: on a clean record of a continuously moving
-//! damper (1 kHz, the truth at 0.1 ms steps) the validation NRMSE was 0.023 held, 0.016 with two
-//! held half-steps, 0.0058 with four, against a noise floor of 0.0022. The outputs at a sample
-//! are taken after the inputs of that sample are set, as an FMI master does.
+//! The model starts at rest at the first sample and is stepped from sample to sample, in
+//! substeps of at most the controller's period ([`substeps`]). A measured velocity is a sample of
+//! a continuous motion, so between two samples the model's velocity follows a cubic through the
+//! samples ([`Drive::velocity_between`]), as a straight line over each substep (the FMU's input
+//! `a_damper`, the slope); demands are digital and held. A velocity held over the interval leads
+//! the motion by half a sample: on a clean record of a continuously moving damper (1 kHz, the
+//! truth at 0.1 ms steps) the validation NRMSE was 0.023 held, 0.0023 on a straight line between
+//! the samples, against a noise floor of 0.0022; at 500 Hz the straight line still left 8 sensor
+//! σ RMS where the motion bends, the cubic 1.6σ. The outputs at a sample are taken after the
+//! inputs of that sample are set, as an FMI master does. A load-cell filter is the continuous
+//! filter it is, fed the force of every substep.
 //! [`Model::run`] is a pure function of the parameters and the inputs, and
 //! [`Model`] is plain data, so fits may call it from several threads ([`run_parallel`]).
 
-use crate::dsp::lowpass;
+use crate::dsp::Lowpass;
 use crate::measurement::Measurement;
 use crate::units::Column;
-use semi_active_damper::damper::{Damper, Inputs};
+use semi_active_damper::damper::{Damper, Inputs, Outputs};
 use semi_active_damper::physics::params::Parameters;
 use semi_active_damper::physics::plant::idx;
 use std::path::Path;
@@ -73,11 +76,64 @@ impl Drive {
         Inputs { v_damper: self.v_damper[k], a_damper: 0.0, force_demand, x_spool_demand }
     }
 
-    /// The inputs over the interval from sample `k` to `k + 1`: the velocity on the straight line
-    /// to the next sample.
-    pub(crate) fn interval_inputs(&self, k: usize) -> Inputs {
-        let a_damper = (self.v_damper[k + 1] - self.v_damper[k]) / (self.time[k + 1] - self.time[k]);
-        Inputs { a_damper, ..self.inputs(k) }
+    /// The inputs over substep `j` of `m` equal substeps of the interval from sample `k` to
+    /// `k + 1`: the velocity on the chord of the interpolated motion ([`Drive::velocity_between`]),
+    /// the demands held.
+    pub(crate) fn substep_inputs(&self, k: usize, j: usize, m: usize) -> Inputs {
+        let h = (self.time[k + 1] - self.time[k]) / m as f64;
+        let v0 = self.velocity_between(k, j as f64 / m as f64);
+        let v1 = self.velocity_between(k, (j + 1) as f64 / m as f64);
+        Inputs { v_damper: v0, a_damper: (v1 - v0) / h, ..self.inputs(k) }
+    }
+
+    /// The velocity (m/s) at the fraction `s` (0–1) of the interval from sample `k` to `k + 1`, on
+    /// the cubic Hermite curve through the samples, its slopes from five-point central differences
+    /// (three-point, then one-sided, near the ends; samples equally spaced, as the reader makes
+    /// them), exact at the samples. A straight line between the samples is second-order: on an
+    /// independent rig truth at 500 Hz (true motion every 0.1 ms) it left 163 N RMS of force error
+    /// on the training part, 8 sensor σ, where the cubic leaves 32 N (the triangle wave's corners);
+    /// on a HiL truth the cubic leaves 2.7 N with these slopes, 5.0 N with three-point ones.
+    pub(crate) fn velocity_between(&self, k: usize, s: f64) -> f64 {
+        if s == 0.0 {
+            return self.v_damper[k];
+        }
+        if s == 1.0 {
+            return self.v_damper[k + 1];
+        }
+        let (t, v) = (&self.time, &self.v_damper);
+        let last = t.len() - 1;
+        let h = t[k + 1] - t[k];
+        // the slope times h, fourth-order where four neighbours exist
+        let slope = |i: usize| {
+            if i >= 2 && i + 2 <= last {
+                return (8.0 * (v[i + 1] - v[i - 1]) - (v[i + 2] - v[i - 2])) / 12.0;
+            }
+            let (a, b) = (i.saturating_sub(1), (i + 1).min(last));
+            (v[b] - v[a]) / (t[b] - t[a]) * h
+        };
+        let (m0, m1) = (slope(k), slope(k + 1));
+        let (s2, s3) = (s * s, s * s * s);
+        (2.0 * s3 - 3.0 * s2 + 1.0) * v[k]
+            + (s3 - 2.0 * s2 + s) * m0
+            + (3.0 * s2 - 2.0 * s3) * v[k + 1]
+            + (s3 - s2) * m1
+    }
+}
+
+/// The substeps of a sample interval `h` (s) that the model takes, each at most the controller's
+/// period `t_sample` (s). The motion between two samples is then followed on a cubic, not a
+/// straight line ([`Drive::velocity_between`]), and a continuous load-cell filter is fed the
+/// force at the controller's rate, not only at the record's samples: the filter is exact for a
+/// force linear between the points it is fed; on independent truths (force every 0.1 ms,
+/// continuous 400 Hz filter) points 2 ms apart leave 0.5-0.8 sensor σ RMS and up to 6σ, points
+/// 0.5 ms apart 0.04-0.06σ and up to 1.3σ. The controller's samples already end an integrator
+/// step, so a substep costs an output evaluation and the filter.
+pub(crate) fn substeps(h: f64, t_sample: f64) -> usize {
+    if h > t_sample {
+        // the 1e-9 keeps a whole multiple from rounding up to one more
+        (h / t_sample - 1e-9).ceil() as usize
+    } else {
+        1
     }
 }
 
@@ -145,9 +201,9 @@ impl Model {
             return Ok(out);
         }
         let mut d = Damper::new(self.params, drive.inputs(0), t[0]).map_err(|e| format!("model parameters: {e}"))?;
-        let push = |d: &Damper, out: &mut Prediction| {
-            let o = d.outputs();
-            out.f_damper.push(o.load_cell);
+        let mut filter = self.load_cell_lowpass_hz.map(|fc| Lowpass::new(fc, d.outputs().load_cell));
+        let push = |o: &Outputs, load_cell: f64, out: &mut Prediction| {
+            out.f_damper.push(load_cell);
             if all {
                 out.x_spool.push(o.y[idx::X_SPOOL]);
                 out.x_spool_ref.push(o.x_spool_ref);
@@ -158,16 +214,23 @@ impl Model {
                 out.f_demand_clipped.push(o.force_demand_clipped);
             }
         };
-        push(&d, &mut out);
+        let o = d.outputs();
+        push(&o, o.load_cell, &mut out);
         for k in 1..n {
-            d.inputs = drive.interval_inputs(k - 1);
-            d.do_step(t[k] - t[k - 1])
-                .map_err(|e| format!("the model failed between t = {} s and {} s: {e}", t[k - 1], t[k]))?;
+            let m = substeps(t[k] - t[k - 1], self.params.t_sample);
+            let h = (t[k] - t[k - 1]) / m as f64;
+            for j in 0..m {
+                d.inputs = drive.substep_inputs(k - 1, j, m);
+                d.do_step(h).map_err(|e| format!("the model failed between t = {} s and {} s: {e}", t[k - 1], t[k]))?;
+                if j + 1 < m {
+                    if let Some(f) = filter.as_mut() {
+                        f.step(h, d.outputs().load_cell);
+                    }
+                }
+            }
             d.inputs = drive.inputs(k);
-            push(&d, &mut out);
-        }
-        if let Some(fc) = self.load_cell_lowpass_hz {
-            out.f_damper = lowpass(&t[..n], &out.f_damper, fc);
+            let o = d.outputs();
+            push(&o, filter.as_mut().map_or(o.load_cell, |f| f.step(h, o.load_cell)), &mut out);
         }
         Ok(out)
     }
@@ -250,4 +313,55 @@ impl Backend for InProcess {
 /// Threads to use: the machine's parallelism.
 pub fn default_threads() -> usize {
     std::thread::available_parallelism().map_or(1, |n| n.get())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn drive(f: impl Fn(f64) -> f64, h: f64, n: usize) -> Drive {
+        let time: Vec<f64> = (0..n).map(|k| k as f64 * h).collect();
+        let v_damper = time.iter().map(|&t| f(t)).collect();
+        Drive { time, v_damper, demand: Demand::Force(vec![0.0; n]) }
+    }
+
+    #[test]
+    fn the_motion_between_samples_is_exact_for_cubics_and_passes_through_the_samples() {
+        let cubic = |t: f64| 0.1 + 2.0 * t - 30.0 * t * t + 400.0 * t * t * t;
+        let d = drive(cubic, 2e-3, 12);
+        for k in 2..8 {
+            for s in [0.0, 0.25, 0.5, 0.8, 1.0] {
+                let t = d.time[k] + s * (d.time[k + 1] - d.time[k]);
+                assert!((d.velocity_between(k, s) - cubic(t)).abs() < 1e-12, "k {k} s {s}");
+            }
+        }
+        // near the ends (three-point slopes) it passes through the samples and stays close
+        let last = d.len() - 2;
+        assert_eq!(d.velocity_between(last, 1.0), d.v_damper[last + 1]);
+        assert!((d.velocity_between(0, 0.5) - cubic(1e-3)).abs() < 1e-4);
+    }
+
+    #[test]
+    fn a_sine_sampled_at_500_hz_is_followed_far_closer_than_by_a_straight_line() {
+        let w = 2.0 * std::f64::consts::PI * 15.0;
+        let d = drive(|t| (w * t).sin(), 2e-3, 200);
+        let (mut cubic, mut line) = (0.0f64, 0.0f64);
+        for k in 2..190 {
+            let t = d.time[k] + 1e-3;
+            cubic = cubic.max((d.velocity_between(k, 0.5) - (w * t).sin()).abs());
+            line = line.max((0.5 * (d.v_damper[k] + d.v_damper[k + 1]) - (w * t).sin()).abs());
+        }
+        // a straight line errs by (w h)²/8 = 4.4e-3; the cubic by about 3/128 (w h)⁴ = 1.5e-5
+        assert!(line > 4e-3 && cubic < 3e-5, "line {line:.2e}, cubic {cubic:.2e}");
+    }
+
+    #[test]
+    fn substeps_are_at_most_the_controller_period() {
+        assert_eq!(substeps(2e-3, 5e-4), 4);
+        assert_eq!(substeps(1e-3, 5e-4), 2);
+        assert_eq!(substeps(1.0000000000000002e-3, 5e-4), 2);
+        assert_eq!(substeps(1.1e-3, 5e-4), 3);
+        assert_eq!(substeps(5e-4, 5e-4), 1);
+        assert_eq!(substeps(1e-4, 5e-4), 1);
+    }
 }

@@ -1,8 +1,9 @@
 //! Records that cannot be compared with the model get a clear error naming the file and what is
 //! wrong: a dead load cell, a damper that does not move, velocities beyond the model's range, a
-//! time column in another unit than its header says.
+//! time column in another unit than its header says. Calibration refuses them as comparison does.
 mod common;
 
+use damper_engine::calibrate::{calibrate, CalibrateOptions};
 use damper_engine::comparison::{compare, CompareOptions};
 use std::path::Path;
 
@@ -42,6 +43,10 @@ fn degenerate_records_are_refused_with_the_reason() {
     };
     let e = case("dead", "F_damper", &|_, _| "-1000".into());
     assert!(e.contains("constant at -1000 N") && e.contains("load cell"), "{e}");
+    // calibration refuses the same record for the same reason, before any model run
+    let dead = dir.join("dead.csv");
+    let e = calibrate(&CalibrateOptions::new(vec![dead.clone()]), &|_| {}).err().expect("a dead load cell calibrated");
+    assert!(e.contains(&dead.display().to_string()) && e.contains("constant at -1000 N"), "{e}");
     let e = case("dead_late", "F_damper", &|k, c| if k > 1000 { "5".into() } else { c.into() });
     assert!(e.contains("validation part"), "{e}");
     let e = case("still", "v_damper", &|_, _| "0.00001".into());
