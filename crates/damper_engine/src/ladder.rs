@@ -14,13 +14,13 @@
 //! a round fits only with implausible parameters (it absorbs the error of two effects that add
 //! up), it is fitted jointly with each of the next [`PAIR_PARTNERS`] candidates, and the best
 //! plausible pair is kept if it explains more than the best single effect. A ladder that ends above
-//! twice the floor is climbed again from the best pair of the leading candidates ([`climb`]).
+//! the floor is climbed again from the best pair of the leading candidates ([`climb`]).
 //!
 //! The kept effects are judged by [`crate::verdict`].
 
 use crate::candidate::{Candidate, FitSetup, JointFit};
 use crate::criteria::share;
-use crate::criteria::{EXPLAINED_FACTOR, FLOOR_FACTOR, MIN_EXPLAINED};
+use crate::criteria::{FLOOR_FACTOR, MIN_EXPLAINED};
 use crate::parameters::{set_effect, set_real};
 use semi_active_damper::effects::EffectInfo;
 use semi_active_damper::physics::params::Parameters;
@@ -217,11 +217,13 @@ fn keep_pair(ladder: &mut Ladder, pair: Pair, errors: (f64, f64)) -> Result<(), 
 }
 
 /// Climbs the ladder from the diagnosis's `ranked` candidates (best first) over `specs`. When it
-/// ends above [`EXPLAINED_FACTOR`] times the floor, the pairs of the [`STALL_LEADERS`] best
-/// candidates are fitted jointly on the baseline: two effects that add up can each, fitted alone,
-/// absorb the other's error with plausible parameters and leave a residual that no second effect
-/// explains (seal friction and check-valve cracking). A ladder climbed from the best pair replaces
-/// the first when it ends lower.
+/// ends above the floor ([`FLOOR_FACTOR`]), pairs are fitted jointly on the baseline: the
+/// ladder's first effect (or the best candidate) with each other candidate, and the pairs of the
+/// [`STALL_LEADERS`] best. Two effects that add up can each, fitted alone, absorb the other's error
+/// with plausible parameters and leave a residual that no second effect explains, or that a wrong
+/// one half explains (piston leakage, then compressibility instead of check-valve cracking). A
+/// ladder climbed from the best pair replaces the first when it explains at least
+/// [`MIN_EXPLAINED`] of the error the first leaves above the floor.
 pub fn climb(
     fit: &FitSetup<'_>,
     specs: &[&'static EffectInfo],
@@ -239,12 +241,28 @@ pub fn climb(
     };
     let start = Ladder { rungs: vec![base], effects: Vec::new(), params: *baseline, nrmse_validation: nrmse_baseline };
     let ladder = rise(fit, specs, start.clone(), ranked.to_vec(), nrmse_floor)?;
-    if ladder.nrmse_validation <= EXPLAINED_FACTOR * nrmse_floor {
+    if ladder.nrmse_validation <= FLOOR_FACTOR * nrmse_floor {
         return Ok(ladder);
     }
+    // the ladder's first effect (or the best candidate) with every other, and the leaders' pairs
+    let first = ladder.effects.first().copied().or(ranked.first().map(|c| c.effect));
     let leaders: Vec<&'static str> = ranked.iter().take(STALL_LEADERS).map(|c| c.effect).collect();
-    let pairs: Vec<_> =
-        leaders.iter().enumerate().flat_map(|(i, &a)| leaders[i + 1..].iter().map(move |&b| (a, b))).collect();
+    let mut pairs: Vec<(&'static str, &'static str)> = Vec::new();
+    let mut add = |a: &'static str, b: &'static str| {
+        if a != b && !pairs.iter().any(|&(x, y)| (x, y) == (a, b) || (x, y) == (b, a)) {
+            pairs.push((a, b));
+        }
+    };
+    if let Some(first) = first {
+        for c in ranked {
+            add(first, c.effect);
+        }
+    }
+    for (i, &a) in leaders.iter().enumerate() {
+        for &b in &leaders[i + 1..] {
+            add(a, b);
+        }
+    }
     let Some(pair) = fit_pairs(fit, specs, &pairs, baseline)? else { return Ok(ladder) };
     let errors = (nrmse_baseline, nrmse_floor);
     if pair.fit.nrmse_validation >= ladder.nrmse_validation || pair.explained(errors) < MIN_EXPLAINED {
@@ -254,7 +272,9 @@ pub fn climb(
     keep_pair(&mut alt, pair, errors)?;
     let round = next_round(fit, specs, &alt, nrmse_floor)?;
     let alt = rise(fit, specs, alt, round, nrmse_floor)?;
-    Ok(if alt.nrmse_validation < ladder.nrmse_validation { alt } else { ladder })
+    // the other ladder must explain most of what the first leaves above the floor, not a little
+    let better = share(ladder.nrmse_validation, alt.nrmse_validation, nrmse_floor) >= MIN_EXPLAINED;
+    Ok(if better { alt } else { ladder })
 }
 
 /// Adds effects to `ladder` from `round` (the candidates fitted on top of it, best first) while
