@@ -76,10 +76,18 @@ impl Outputs {
     /// Whether every output of the FMU is a finite number.
     pub fn all_finite(&self) -> bool {
         let p = &self.plant;
-        [self.load_cell, p.p_reservoir, p.q_valve, p.flow_force, p.delta_mount, self.x_spool_ref, self.force_demand_clipped]
-            .iter()
-            .chain(self.y.iter())
-            .all(|x| x.is_finite())
+        [
+            self.load_cell,
+            p.p_reservoir,
+            p.q_valve,
+            p.flow_force,
+            p.delta_mount,
+            self.x_spool_ref,
+            self.force_demand_clipped,
+        ]
+        .iter()
+        .chain(self.y.iter())
+        .all(|x| x.is_finite())
     }
 }
 

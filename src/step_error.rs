@@ -45,10 +45,9 @@ impl fmt::Display for StepError {
                 write!(f, "more than {MAX_STEPS_PER_SAMPLE} integration steps in one controller sample")
             }
             StepError::TooManySamples => write!(f, "more than {MAX_SAMPLES_PER_STEP} controller samples in one step"),
-            StepError::TimeResolution => write!(
-                f,
-                "time too far from 0 to resolve the controller's sample grid to {GRID_RESOLUTION} T_sample"
-            ),
+            StepError::TimeResolution => {
+                write!(f, "time too far from 0 to resolve the controller's sample grid to {GRID_RESOLUTION} T_sample")
+            }
             StepError::NonFiniteOutput => write!(f, "an output is not finite at the end of the step"),
         }
     }

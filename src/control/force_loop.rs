@@ -52,7 +52,10 @@ impl ForceLoop {
                     self.integral = integral;
                 }
                 // max then min: the same as clamp for ordered bounds, but no panic if they were not
-                d.ports.position_for_area(a_demand.max(A_DEMAND_MIN).min(d.a_demand_max)).max(p.x_lap).min(d.x_demand_max)
+                d.ports
+                    .position_for_area(a_demand.max(A_DEMAND_MIN).min(d.a_demand_max))
+                    .max(p.x_lap)
+                    .min(d.x_demand_max)
             }
             ForceController::PaperPid => {
                 let rate = self.error_rate.update(error, ts, p.tau_df);

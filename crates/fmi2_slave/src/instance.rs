@@ -200,7 +200,9 @@ impl<M: Model> Instance<M> {
     ) -> Outcome {
         // with no variable (nvr = 0) the call is still subject to the state table
         if !allowed(self.phase, Api::SetFixed) && !allowed(self.phase, Api::SetInput) {
-            return Err(self.error(format_args!("{function}: illegal call sequence: not allowed in state {:?}", self.phase)));
+            return Err(
+                self.error(format_args!("{function}: illegal call sequence: not allowed in state {:?}", self.phase))
+            );
         }
         for vr in vrs {
             let v = self.lookup(function, *vr, ty, info)?;
