@@ -157,11 +157,11 @@ impl Damper {
         let s = &self.state;
         let t_end = s.time + h;
         let samples = (t_end - s.start_time) / self.params.t_sample - s.next_sample as f64 + 1.0;
-        if !(samples <= MAX_SAMPLES_PER_STEP as f64) {
+        if samples.is_nan() || samples > MAX_SAMPLES_PER_STEP as f64 {
             return Err(StepError::TooManySamples);
         }
         let scale = s.time.abs().max(t_end.abs()).max(s.start_time.abs());
-        if !(scale * f64::EPSILON <= GRID_RESOLUTION * self.params.t_sample) {
+        if scale.is_nan() || scale * f64::EPSILON > GRID_RESOLUTION * self.params.t_sample {
             return Err(StepError::TimeResolution);
         }
         Ok(())

@@ -51,7 +51,7 @@ fn random_call_sequences_get_standard_answers_in_bounded_time() {
         report.summary(),
         started.elapsed().as_secs_f64(),
         longest as f64 * 1e-6,
-        watchdog::LIMIT
+        watchdog::limit()
     );
     assert!(report.is_clean(), "{}\nfirst failures:\n{}", report.summary(), report.failures.join("\n"));
     // the run reached the interesting states, not just refusals

@@ -265,24 +265,21 @@ impl Fuzzer<'_> {
             99,
         ]);
         let (mut real, mut boolean, mut status) = (f64::NAN, 7, 9);
-        let (what, result, may_ok) = match self.rng.below(4) {
-            // SAFETY (all four): c is live; the out-pointers are valid locals.
-            0 => (
-                "fmi2GetRealStatus",
-                self.dog.call("fmi2GetRealStatus", || unsafe { (f.get_real_status)(c, kind, &mut real) }),
-                kind == fmi2StatusKind_fmi2LastSuccessfulTime,
-            ),
-            1 => (
-                "fmi2GetBooleanStatus",
-                self.dog.call("fmi2GetBooleanStatus", || unsafe { (f.get_boolean_status)(c, kind, &mut boolean) }),
-                kind == fmi2StatusKind_fmi2Terminated,
-            ),
-            2 => (
-                "fmi2GetStatus",
-                self.dog.call("fmi2GetStatus", || unsafe { (f.get_status)(c, kind, &mut status) }),
-                false,
-            ),
-            _ => ("fmi2CancelStep", self.dog.call("fmi2CancelStep", || unsafe { (f.cancel_step)(c) }), false),
+        let which = self.rng.below(4);
+        let what = ["fmi2GetRealStatus", "fmi2GetBooleanStatus", "fmi2GetStatus", "fmi2CancelStep"][which];
+        // SAFETY: c is live; the out-pointers are valid locals.
+        let result = self.dog.call(what, || unsafe {
+            match which {
+                0 => (f.get_real_status)(c, kind, &mut real),
+                1 => (f.get_boolean_status)(c, kind, &mut boolean),
+                2 => (f.get_status)(c, kind, &mut status),
+                _ => (f.cancel_step)(c),
+            }
+        });
+        let may_ok = match which {
+            0 => kind == fmi2StatusKind_fmi2LastSuccessfulTime,
+            1 => kind == fmi2StatusKind_fmi2Terminated,
+            _ => false,
         };
         let call = if what == "fmi2CancelStep" { Call::CancelStep } else { Call::GetStatus };
         self.check(what, result, may_ok && may_succeed(phase, call), false);

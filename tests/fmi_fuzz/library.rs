@@ -133,16 +133,19 @@ pub fn fmus() -> &'static [Fmu; 2] {
     })
 }
 
-/// Messages the FMUs logged (kept short: the fuzzer's instances log thousands).
-pub static LAST_MESSAGE: std::sync::Mutex<String> = std::sync::Mutex::new(String::new());
+/// The last messages the FMUs logged (a few hundred: the fuzzer's instances log millions).
+pub static RECENT: std::sync::Mutex<std::collections::VecDeque<String>> =
+    std::sync::Mutex::new(std::collections::VecDeque::new());
 
 /// The importer's logger, declared without the variadic tail (the FMUs pass none).
 unsafe extern "C" fn logger(_: *mut c_void, _: fmi2String, _: fmi2Status, _: fmi2String, message: fmi2String) {
     // SAFETY: the FMU passes a NUL-terminated message, valid for the call.
-    let text = unsafe { std::ffi::CStr::from_ptr(message) }.to_string_lossy();
-    if let Ok(mut last) = LAST_MESSAGE.lock() {
-        last.clear();
-        last.push_str(&text);
+    let text = unsafe { std::ffi::CStr::from_ptr(message) }.to_string_lossy().into_owned();
+    if let Ok(mut recent) = RECENT.lock() {
+        if recent.len() == 256 {
+            recent.pop_front();
+        }
+        recent.push_back(text);
     }
 }
 

@@ -5,8 +5,12 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
-/// The criterion: any call over 1 s is a hang.
-pub const LIMIT: Duration = Duration::from_secs(1);
+/// The criterion: any call over 1 s is a hang. `CALL_SEQUENCES_HANG_SECONDS` raises it for
+/// runs under valgrind, which is some 50 times slower.
+pub fn limit() -> Duration {
+    let seconds = std::env::var("CALL_SEQUENCES_HANG_SECONDS").ok().and_then(|s| s.parse().ok());
+    Duration::from_secs_f64(seconds.unwrap_or(1.0))
+}
 
 pub struct Watchdog {
     base: Instant,
@@ -45,7 +49,7 @@ impl Watchdog {
 }
 
 /// Runs `work` on a worker thread under a watchdog; panics (failing the test) if one call takes
-/// longer than [`LIMIT`], naming the call, the seed and the sequence.
+/// longer than [`limit`], naming the call, the seed and the sequence.
 pub fn run<T: Send + 'static>(work: impl FnOnce(Arc<Watchdog>) -> T + Send + 'static) -> T {
     let dog = Arc::new(Watchdog {
         base: Instant::now(),
@@ -55,6 +59,7 @@ pub fn run<T: Send + 'static>(work: impl FnOnce(Arc<Watchdog>) -> T + Send + 'st
         seed: AtomicU64::new(0),
         sequence: AtomicU64::new(0),
     });
+    let limit = limit();
     let worker = {
         let dog = dog.clone();
         std::thread::spawn(move || work(dog))
@@ -62,10 +67,10 @@ pub fn run<T: Send + 'static>(work: impl FnOnce(Arc<Watchdog>) -> T + Send + 'st
     while !worker.is_finished() {
         std::thread::sleep(Duration::from_millis(20));
         let started = dog.started.load(Ordering::SeqCst);
-        if started != 0 && dog.now().saturating_sub(started) > LIMIT.as_nanos() as u64 {
+        if started != 0 && dog.now().saturating_sub(started) > limit.as_nanos() as u64 {
             let what = *dog.what.lock().unwrap();
             let (seed, sequence) = (dog.seed.load(Ordering::Relaxed), dog.sequence.load(Ordering::Relaxed));
-            panic!("hang: {what} has run for more than {LIMIT:?} (seed {seed}, sequence {sequence})");
+            panic!("hang: {what} has run for more than {limit:?} (seed {seed}, sequence {sequence})");
         }
     }
     worker.join().unwrap_or_else(|e| std::panic::resume_unwind(e))
