@@ -1,4 +1,4 @@
-//! One regression test per finding of the randomized call-sequence test (issue 11): each failed,
+//! One regression test per finding of the first randomized call-sequence run: each failed,
 //! hung or panicked before its fix. The damper is driven in-process through its C API; the truck,
 //! and the two FMUs together, through their binaries (dlopen, as in tests/call_sequences.rs).
 // The FMUs' C API through raw pointers: the crate denies unsafe code (Cargo.toml), this file
