@@ -11,12 +11,11 @@ use crate::control::{Controller, Demands, Measurements};
 use crate::physics::params::{Derived, Parameters};
 use crate::physics::plant::{idx, rest_current, Plant, PlantOutputs, State};
 use crate::solver::{rodas3_step, rodas3_step_timed, OdeSystem, SolverError};
+use crate::step_error::{StepError, GRID_RESOLUTION, MAX_SAMPLES_PER_STEP, MAX_STEPS_PER_SAMPLE, MIN_STEP};
 
 /// Typical magnitude of each state, for the error weights: p_A, p_B (Pa), V_g (m³), x_s (m),
 /// v_s (m/s), i (A), x (m).
 const STATE_SCALE: [f64; 7] = [1e6, 1e6, 1e-4, 1e-3, 0.1, 1.0, 1e-3];
-/// Most integration steps in one controller sample before the step is given up.
-const MAX_STEPS_PER_SAMPLE: u32 = 5000;
 
 /// Inputs from the master, held over a communication step (the velocity along a ramp of slope
 /// `a_damper`).
@@ -71,6 +70,25 @@ pub struct Outputs {
     pub x_spool_ref: f64,
     /// Force demand after the semi-active clip (N).
     pub force_demand_clipped: f64,
+}
+
+impl Outputs {
+    /// Whether every output of the FMU is a finite number.
+    pub fn all_finite(&self) -> bool {
+        let p = &self.plant;
+        [
+            self.load_cell,
+            p.p_reservoir,
+            p.q_valve,
+            p.flow_force,
+            p.delta_mount,
+            self.x_spool_ref,
+            self.force_demand_clipped,
+        ]
+        .iter()
+        .chain(self.y.iter())
+        .all(|x| x.is_finite())
+    }
 }
 
 /// A damper with validated parameters.
@@ -133,10 +151,33 @@ impl Damper {
         }
     }
 
-    /// Advances from the present time by `h` (s) > 0. On failure the state is left as it was.
-    pub fn do_step(&mut self, h: f64) -> Result<StepStats, SolverError> {
+    /// Refuses a step of `h` (s) that spans more than [`MAX_SAMPLES_PER_STEP`] samples or whose
+    /// times cannot resolve the sample grid; nothing is computed.
+    pub fn check_step(&self, h: f64) -> Result<(), StepError> {
+        let s = &self.state;
+        let t_end = s.time + h;
+        let samples = (t_end - s.start_time) / self.params.t_sample - s.next_sample as f64 + 1.0;
+        if samples.is_nan() || samples > MAX_SAMPLES_PER_STEP as f64 {
+            return Err(StepError::TooManySamples);
+        }
+        let scale = s.time.abs().max(t_end.abs()).max(s.start_time.abs());
+        if scale.is_nan() || scale * f64::EPSILON > GRID_RESOLUTION * self.params.t_sample {
+            return Err(StepError::TimeResolution);
+        }
+        Ok(())
+    }
+
+    /// Advances from the present time by `h` (s) > 0. On failure, including a non-finite output
+    /// at the new time, the state is left as it was.
+    pub fn do_step(&mut self, h: f64) -> Result<StepStats, StepError> {
         let (saved, inputs) = (self.state, self.inputs);
-        let result = self.advance(h);
+        let result = self.check_step(h).and_then(|()| self.advance(h)).and_then(|stats| {
+            if self.outputs().all_finite() {
+                Ok(stats)
+            } else {
+                Err(StepError::NonFiniteOutput)
+            }
+        });
         if result.is_err() {
             self.state = saved;
             self.inputs = inputs;
@@ -144,7 +185,7 @@ impl Damper {
         result
     }
 
-    fn advance(&mut self, h: f64) -> Result<StepStats, SolverError> {
+    fn advance(&mut self, h: f64) -> Result<StepStats, StepError> {
         let ts = self.params.t_sample;
         let tol = 1e-6 * ts;
         let t_start = self.state.time;
@@ -155,6 +196,10 @@ impl Damper {
         loop {
             let t_sample = self.state.start_time + self.state.next_sample as f64 * ts;
             if t_sample <= t + tol {
+                // check_step bounds the samples; this bounds them whatever rounding does
+                if stats.samples >= MAX_SAMPLES_PER_STEP {
+                    return Err(StepError::TooManySamples);
+                }
                 self.sample_controller();
                 stats.samples += 1;
                 continue;
@@ -191,11 +236,14 @@ impl Damper {
     }
 
     /// Integrates over `span` (s) with step-size control; returns the number of steps taken.
-    fn integrate(&mut self, span: f64) -> Result<u32, SolverError> {
+    fn integrate(&mut self, span: f64) -> Result<u32, StepError> {
         let p = &self.params;
         let (mut done, mut steps, mut attempts) = (0.0, 0u32, 0u32);
         let mut h = self.state.h_next.min(p.h_max);
         while done < span {
+            if attempts >= MAX_STEPS_PER_SAMPLE {
+                return Err(StepError::TooManySteps);
+            }
             let last = h >= (span - done) * (1.0 - 1e-9);
             let step = if last { span - done } else { h };
             let (y, error) = self.rodas3(step, done)?;
@@ -210,6 +258,9 @@ impl Damper {
             let factor = (0.9 * norm.max(1e-12).powf(-1.0 / 3.0)).clamp(0.2, 4.0);
             attempts += 1;
             if norm <= 1.0 {
+                if !last && step < MIN_STEP {
+                    return Err(SolverError::StepSizeTooSmall.into());
+                }
                 self.state.y = y;
                 done = if last { span } else { done + step };
                 steps += 1;
@@ -219,8 +270,8 @@ impl Damper {
                 }
             } else {
                 h = step * factor;
-                if h < 1e-10 || attempts > MAX_STEPS_PER_SAMPLE {
-                    return Err(SolverError::StepSizeTooSmall);
+                if h < MIN_STEP {
+                    return Err(SolverError::StepSizeTooSmall.into());
                 }
             }
         }

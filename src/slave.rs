@@ -5,8 +5,8 @@
 use crate::damper::{Damper, DamperState, Inputs, Outputs};
 use crate::model_description::{BooleanVar, Causality, IntegerVar, RealVar, GUID};
 use crate::physics::params::Parameters;
-use crate::snapshot::MAGIC;
-use crate::solver::SolverError;
+use crate::snapshot::{check_restored, MAGIC};
+use crate::step_error::StepError;
 use crate::variables::{
     boolean_parameter, default_inputs, default_parameters, integer_parameter, real_input, real_output, real_parameter,
 };
@@ -53,7 +53,7 @@ impl Slave {
 impl Model for Slave {
     const GUID: &'static str = GUID;
     type State = SlaveState;
-    type StepError = SolverError;
+    type StepError = StepError;
 
     fn real_info(vr: u32) -> Option<VarInfo> {
         RealVar::from_vr(vr).map(RealVar::info)
@@ -75,7 +75,11 @@ impl Model for Slave {
         if let Some(x) = real_parameter(&mut params, v).or(real_input(&mut inputs, v)) {
             return Ok(*x);
         }
-        Ok(real_output(&self.outputs()?, v).expect("every output is mapped (tested)"))
+        let x = real_output(&self.outputs()?, v).expect("every output is mapped (tested)");
+        if !x.is_finite() {
+            return Err(format!("{} = {x} is not finite (inputs out of the model's reach)", v.name()));
+        }
+        Ok(x)
     }
 
     fn get_integer(&self, vr: u32) -> Result<i32, String> {
@@ -131,7 +135,11 @@ impl Model for Slave {
         }
     }
 
-    fn do_step(&mut self, h: f64) -> Result<(), SolverError> {
+    fn check_step(&self, h: f64) -> Result<(), StepError> {
+        self.damper.as_ref().expect("check_step after initialisation").check_step(h)
+    }
+
+    fn do_step(&mut self, h: f64) -> Result<(), StepError> {
         let damper = self.damper.as_mut().expect("do_step after initialisation");
         damper.inputs = self.inputs;
         damper.do_step(h)?;
@@ -166,13 +174,7 @@ impl Model for Slave {
     fn deserialize(bytes: &[u8]) -> Result<SlaveState, String> {
         let mut s = Slave::default().state();
         snapshot::from_bytes(MAGIC, GUID, bytes, &mut s)?;
-        s.params.validate()?;
-        if let Some(d) = &s.damper {
-            let expected = s.params.derive().delay_samples;
-            if !d.controller.delay.is_consistent(expected) || !d.y.iter().all(|x| x.is_finite()) {
-                return Err("serialized FMU state rejected: inconsistent damper state".into());
-            }
-        }
+        check_restored(&s).map_err(|e| format!("serialized FMU state rejected: {e}"))?;
         Ok(s)
     }
 }

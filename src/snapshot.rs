@@ -4,8 +4,12 @@
 
 use crate::control::{Controller, DelayLine, FilteredDerivative, ForceLoop, SpoolLoop};
 use crate::damper::{DamperState, Inputs};
+use crate::model_description::{Causality, IntegerVar, RealVar};
 use crate::physics::params::Parameters;
-use fmi2_slave::snapshot::{boolean, int32, uint, uint64, Visit, Visitor};
+use crate::slave::SlaveState;
+use crate::variables::{integer_parameter, real_parameter};
+use fmi2_slave::snapshot::{all_finite, boolean, int32, uint, uint64, Visit, Visitor};
+use fmi2_slave::{check_integer, check_real};
 
 /// Tag of a serialised damper state.
 pub const MAGIC: &[u8; 8] = b"SADAMPER";
@@ -99,5 +103,35 @@ impl Visit for DamperState {
             v.real(x);
         }
         uint64(v, next_sample);
+    }
+}
+
+/// Checks that a restored state is one this FMU could have made: every number finite, every
+/// parameter in its XML range, and once initialised, parameters that pass initialisation's checks,
+/// the delay line, step-size proposal and sample grid consistent with them and with the time.
+/// Inputs are only required finite: the velocity moves along its ramp beyond its range's reach.
+pub fn check_restored(s: &SlaveState) -> Result<(), String> {
+    if !all_finite(s) {
+        return Err("a number is not finite".into());
+    }
+    let mut p = s.params;
+    for v in RealVar::ALL.into_iter().filter(|v| v.causality() == Causality::Parameter) {
+        check_real(v.name(), *real_parameter(&mut p, v).expect("a parameter"), v.min(), v.max())?;
+    }
+    for v in IntegerVar::ALL {
+        check_integer(v.name(), *integer_parameter(&mut p, v).expect("a parameter"), v.min(), v.max())?;
+    }
+    let Some(d) = &s.damper else { return Ok(()) };
+    s.params.validate()?;
+    let ts = s.params.t_sample;
+    let next_sample = d.start_time + d.next_sample as f64 * ts;
+    let checks = [
+        (d.controller.delay.is_consistent(s.params.derive().delay_samples), "the amplifier delay line"),
+        (d.h_next > 0.0 && d.h_next <= s.params.h_max, "the step-size proposal h_next (0 < h_next <= h_max)"),
+        (d.next_sample < 1 << 53 && (next_sample - d.time - 0.5 * ts).abs() <= ts, "the sample grid and the time"),
+    ];
+    match checks.iter().find(|(ok, _)| !ok) {
+        Some((_, what)) => Err(format!("{what} do not match the parameters")),
+        None => Ok(()),
     }
 }

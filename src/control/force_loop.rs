@@ -16,6 +16,9 @@ use crate::physics::params::{Derived, ForceController, Parameters};
 
 /// Smallest valve-area demand (m²).
 const A_DEMAND_MIN: f64 = 1e-7;
+/// Smallest feed-forward area (m²); parameters whose largest demanded area is not at least twice
+/// this are refused (`Parameters::validate`).
+pub const A_FEEDFORWARD_MIN: f64 = 2e-7;
 
 /// Outer-loop state.
 #[derive(Clone, Copy, Debug, Default)]
@@ -48,7 +51,11 @@ impl ForceLoop {
                 if a_demand > A_DEMAND_MIN && a_demand < d.a_demand_max {
                     self.integral = integral;
                 }
-                d.ports.position_for_area(a_demand.clamp(A_DEMAND_MIN, d.a_demand_max)).clamp(p.x_lap, d.x_demand_max)
+                // max then min: the same as clamp for ordered bounds, but no panic if they were not
+                d.ports
+                    .position_for_area(a_demand.max(A_DEMAND_MIN).min(d.a_demand_max))
+                    .max(p.x_lap)
+                    .min(d.x_demand_max)
             }
             ForceController::PaperPid => {
                 let rate = self.error_rate.update(error, ts, p.tau_df);
@@ -57,7 +64,7 @@ impl ForceLoop {
                 if x > p.x_lap && x < d.x_demand_max {
                     self.integral = integral;
                 }
-                x.clamp(p.x_lap, d.x_demand_max)
+                x.max(p.x_lap).min(d.x_demand_max)
             }
         }
     }
@@ -74,5 +81,5 @@ pub fn feedforward_area(p: &Parameters, d: &Derived, f_demand: f64, v: f64) -> f
         (cyl.a_rod * -v, -f_demand / cyl.a_rod - p.p_reservoir0)
     };
     let area = q / (p.cd_valve * (2.0 * dp.max(1e4) / p.rho).sqrt());
-    area.clamp(2e-7, d.a_demand_max)
+    area.max(A_FEEDFORWARD_MIN).min(d.a_demand_max)
 }

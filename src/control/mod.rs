@@ -6,7 +6,7 @@ mod force_loop;
 mod spool_loop;
 
 pub use amplifier::DelayLine;
-pub use force_loop::{clip_to_dissipative, ForceLoop};
+pub use force_loop::{clip_to_dissipative, ForceLoop, A_FEEDFORWARD_MIN};
 pub use spool_loop::SpoolLoop;
 
 use crate::physics::params::{ControlMode, Derived, Parameters};

@@ -36,7 +36,14 @@ impl CubicMount {
         let p = self.k1 / self.k3;
         let q = -force / self.k3;
         let s = (p / 3.0).sqrt();
-        -2.0 * s * ((1.5 * q / p / s).asinh() / 3.0).sinh()
+        let delta = -2.0 * s * ((1.5 * q / p / s).asinh() / 3.0).sinh();
+        if delta.is_finite() {
+            return delta;
+        }
+        // k3 so small against k1 that k1/k3 overflows (2.2e-308): the cubic term is a perturbation,
+        // δ = F/k1 − k3 F³/k1⁴ + O(k3²)
+        let linear = force / self.k1;
+        linear - self.k3 * linear * linear * linear / self.k1
     }
 }
 
@@ -57,6 +64,10 @@ mod tests {
         assert!((m.deflection(70e3) - 1e-3).abs() < 1e-15);
         let linear = CubicMount { k1: 5e7, k3: 0.0 };
         assert_eq!(linear.deflection(1e4), 2e-4);
+        // k1/k3 overflows: the closed form gives ∞·0, the perturbation series the linear spring
+        let tiny = CubicMount { k1: 5e7, k3: 2.2e-308 };
+        assert_eq!(tiny.deflection(1e4), 2e-4);
+        assert_eq!(tiny.deflection(-7e4), -7e4 / 5e7);
     }
 
     #[test]

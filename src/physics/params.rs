@@ -5,6 +5,7 @@
 use super::hydraulics::Cylinder;
 use super::mount::CubicMount;
 use super::valve::ValvePorts;
+use crate::control::A_FEEDFORWARD_MIN;
 
 /// Longest amplifier delay line, in controller samples.
 pub const MAX_DELAY_SAMPLES: usize = 200;
@@ -165,6 +166,16 @@ impl Parameters {
             if !ok {
                 return Err(msg.to_string());
             }
+        }
+        // the force loop works between a floor and the largest demanded area: both must fit
+        let a_max = ValvePorts { n_ports: self.n_ports as f64, r_port: self.r_port, x_lap: self.x_lap }
+            .area(self.x_spool_max - 0.5e-3);
+        if a_max.is_nan() || a_max < 2.0 * A_FEEDFORWARD_MIN {
+            return Err(format!(
+                "the valve's largest demanded area ({a_max:.3e} m² from n_ports, r_port, x_lap and x_spool_max - 0.5 mm) \
+                 must be at least {:.1e} m²: raise r_port, n_ports or x_spool_max, or lower x_lap",
+                2.0 * A_FEEDFORWARD_MIN
+            ));
         }
         let l = self.l_half_stroke + self.l_dead;
         if self.x_damper_start.abs() >= l {

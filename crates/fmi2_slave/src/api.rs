@@ -222,6 +222,9 @@ get_set!(get_boolean, set_boolean, i32, "fmi2GetBoolean", "fmi2SetBoolean");
 /// `vr` must hold `nvr` elements (or be NULL when `nvr` is 0).
 pub unsafe fn no_strings<M: Model>(c: fmi2Component, function: &'static str, vr: *const u32, nvr: usize) -> fmi2Status {
     with_instance::<M>(c, function, |inst| {
+        // the state table holds for nvr = 0 too: Get as any getter, Set where inputs may be set
+        let api = if function == "fmi2GetString" { Api::Get } else { Api::SetInput };
+        inst.check(api, function)?;
         if nvr == 0 {
             return Ok(());
         }
@@ -231,19 +234,44 @@ pub unsafe fn no_strings<M: Model>(c: fmi2Component, function: &'static str, vr:
     })
 }
 
-/// Boxed FMU state; the tag lets a foreign pointer be refused rather than misread.
+/// Boxed FMU state. The header comes first (`repr(C)`) and is read on its own before the box is
+/// used: a tag per model (from its GUID) and the box's size, so that a state of another FMU built
+/// on this crate, which shares the header layout, is refused without reading past its allocation.
+#[repr(C)]
 struct StateBox<S> {
     tag: u64,
+    size: u64,
     state: S,
 }
 
-const STATE_TAG: u64 = 0x5341_4453_5441_5445; // "SADSTATE"
+impl<S> StateBox<S> {
+    fn new<M: Model<State = S>>(state: S) -> Self {
+        StateBox { tag: state_tag::<M>(), size: std::mem::size_of::<Self>() as u64, state }
+    }
+}
+
+/// The model's state tag: FNV-1a of its GUID (never 0, the tag of a freed box).
+fn state_tag<M: Model>() -> u64 {
+    let hash = M::GUID.bytes().fold(0xcbf2_9ce4_8422_2325_u64, |h, b| (h ^ b as u64).wrapping_mul(0x0100_0000_01b3));
+    hash | 1
+}
 
 /// # Safety
-/// `s` must be NULL or a pointer returned by this library's state functions for model `M`.
+/// `s` must be NULL or a pointer returned by the state functions of this crate, for any model
+/// (each such box starts with the 16-byte header of [`StateBox`]).
 unsafe fn state_ref<'a, M: Model>(s: fmi2FMUstate) -> Option<&'a mut StateBox<M::State>> {
-    // SAFETY: see above.
-    unsafe { (s as *mut StateBox<M::State>).as_mut() }.filter(|b| b.tag == STATE_TAG)
+    if s.is_null() {
+        return None;
+    }
+    let header = s as *const u64;
+    // SAFETY: a non-null s is a StateBox of some model (see above): its first two words are its
+    // tag and size, whatever the model; the rest is read only once both match this model's box.
+    let (tag, size) = unsafe { (header.read(), header.add(1).read()) };
+    if tag != state_tag::<M>() || size != std::mem::size_of::<StateBox<M::State>>() as u64 {
+        return None;
+    }
+    // SAFETY: tag and size say this is a live box of model M.
+    unsafe { (s as *mut StateBox<M::State>).as_mut() }
 }
 
 /// Stores `state` in the importer's slot: a new box when `*slot` is NULL, else the state it points
@@ -262,7 +290,7 @@ unsafe fn store_state<M: Model>(
     // SAFETY: a non-null *slot is a state this library returned (the function's safety section).
     match unsafe { state_ref::<M>(*slot) } {
         Some(existing) => existing.state = state,
-        None if slot.is_null() => *slot = Box::into_raw(Box::new(StateBox { tag: STATE_TAG, state })) as fmi2FMUstate,
+        None if slot.is_null() => *slot = Box::into_raw(Box::new(StateBox::new::<M>(state))) as fmi2FMUstate,
         None => return Err(inst.error(format_args!("{function}: *FMUstate is not a state of this FMU"))),
     }
     Ok(())

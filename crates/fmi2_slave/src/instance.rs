@@ -25,6 +25,9 @@ pub fn status(outcome: Outcome) -> fmi2Status {
     }
 }
 
+/// Largest relative error of the step length in `(t + h) - t` that fmi2DoStep accepts.
+pub const TIME_RESOLUTION: f64 = 1e-6;
+
 /// Log categories by status.
 const CAT_WARNING: usize = 1;
 const CAT_DISCARD: usize = 2;
@@ -195,6 +198,12 @@ impl<M: Model> Instance<M> {
         values: &[T],
         set: impl Fn(&mut M, u32, T) -> Result<(), String>,
     ) -> Outcome {
+        // with no variable (nvr = 0) the call is still subject to the state table
+        if !allowed(self.phase, Api::SetFixed) && !allowed(self.phase, Api::SetInput) {
+            return Err(
+                self.error(format_args!("{function}: illegal call sequence: not allowed in state {:?}", self.phase))
+            );
+        }
         for vr in vrs {
             let v = self.lookup(function, *vr, ty, info)?;
             self.check_set(function, v.name, v.causality)?;
@@ -237,6 +246,17 @@ impl<M: Model> Instance<M> {
             if t + h > stop + tol {
                 return Err(self.error(format_args!("fmi2DoStep: step to {} s passes stopTime {stop} s", t + h)));
             }
+        }
+        // t + h must move the clock by h: far from 0 a small step would round away (and the
+        // model's time would stop while its loops wait for it)
+        let end = t + h;
+        if !end.is_finite() || ((end - t) - h).abs() > TIME_RESOLUTION * h {
+            return Err(self.error(format_args!(
+                "fmi2DoStep: step of {h} s at t = {t} s refused: t + h is not resolved to {TIME_RESOLUTION} of the step"
+            )));
+        }
+        if let Err(e) = self.slave.check_step(h) {
+            return Err(self.error(format_args!("fmi2DoStep: step from {t} s by {h} s refused: {e}")));
         }
         self.slave.align_time(t);
         match self.slave.do_step(h) {

@@ -66,7 +66,11 @@ pub trait Model: Clone + Default {
     fn time(&self) -> Option<f64>;
     /// Sets the model's clock to the master's communication point (equal to within rounding).
     fn align_time(&mut self, t: f64);
-    /// Advances by `h` (s) > 0 with the present inputs held; on failure the state is unchanged.
+    /// Refuses, before any work, a step of `h` (s) > 0 from the present time that would exceed the
+    /// model's documented work limits or that its time arithmetic cannot resolve (docs/robustness.md).
+    fn check_step(&self, h: f64) -> Result<(), Self::StepError>;
+    /// Advances by `h` (s) > 0 with the present inputs held; on failure (including non-finite
+    /// outputs at the new time) the state is unchanged.
     fn do_step(&mut self, h: f64) -> Result<(), Self::StepError>;
 
     fn state(&self) -> Self::State;

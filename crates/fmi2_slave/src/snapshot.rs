@@ -84,6 +84,20 @@ impl Visitor for Reader<'_> {
     }
 }
 
+/// Whether every Real field of `item` is finite (a check for restored states).
+pub fn all_finite<T: Visit + Clone>(item: &T) -> bool {
+    struct Finite(bool);
+    impl Visitor for Finite {
+        fn real(&mut self, x: &mut f64) {
+            self.0 &= x.is_finite();
+        }
+        fn int(&mut self, _: &mut i64) {}
+    }
+    let mut check = Finite(true);
+    item.clone().visit(&mut check);
+    check.0
+}
+
 /// Serialises `item` behind a header naming the model (`magic`) and its `guid`.
 pub fn to_bytes<T: Visit + Clone>(magic: &[u8; 8], guid: &str, item: &T) -> Vec<u8> {
     let mut payload = Vec::new();
@@ -98,8 +112,11 @@ pub fn to_bytes<T: Visit + Clone>(magic: &[u8; 8], guid: &str, item: &T) -> Vec<
     out
 }
 
-/// Reads into `item` what [`to_bytes`] wrote; refuses a foreign or truncated blob.
-pub fn from_bytes<T: Visit>(magic: &[u8; 8], guid: &str, bytes: &[u8], item: &mut T) -> Result<(), String> {
+/// Reads into `item` what [`to_bytes`] wrote; refuses a foreign or truncated blob, and one that
+/// does not read back to the same bytes (a Boolean word other than 0 or 1, an integer out of its
+/// type's range): what is accepted is exactly what a state of this layout serialises to. The
+/// values' ranges are the model's to check.
+pub fn from_bytes<T: Visit + Clone>(magic: &[u8; 8], guid: &str, bytes: &[u8], item: &mut T) -> Result<(), String> {
     let err = |what: &str| Err(format!("serialized FMU state rejected: {what}"));
     let Some((head, rest)) = bytes.split_first_chunk::<8>() else { return err("shorter than its header") };
     if head != magic {
@@ -118,9 +135,15 @@ pub fn from_bytes<T: Visit>(magic: &[u8; 8], guid: &str, bytes: &[u8], item: &mu
     if r.short || r.bytes.len() != len {
         return err("payload length does not match");
     }
+    let payload = r.bytes;
     item.visit(&mut r);
     if r.short || !r.bytes.is_empty() {
         return err("payload does not match this model's state layout");
+    }
+    let mut again = Vec::with_capacity(payload.len());
+    item.clone().visit(&mut Writer(&mut again));
+    if again != payload {
+        return err("a field is not in its type's range (Boolean not 0 or 1, integer overflow)");
     }
     Ok(())
 }

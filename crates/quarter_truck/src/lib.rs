@@ -5,9 +5,11 @@
 //! - [`truck`]: the equations of motion, the MSD law and the RK4 integration (safe Rust, SI);
 //! - [`variables`]: the binding of `modelDescription.xml`'s variables onto the parameters, inputs and
 //!   outputs (exhaustive matches over the generated enums);
+//! - [`limits`]: the step limit and the RK4 stability check of the parameters;
 //! - [`slave`]: variable access, initialisation and stepping, without FMI types;
 //! - [`snapshot`]: the FMU state's bytes;
 //! - [`fmi2`]: the C API, emitted by the shared `fmi2_slave` crate.
+pub mod limits;
 pub mod slave;
 pub mod snapshot;
 pub mod truck;

@@ -3,6 +3,7 @@
 //! stepping and state save/restore ([`crate::snapshot`]). `fmi2_slave` adds the C boundary and
 //! the FMI state machine on top.
 
+use crate::limits::MAX_SUBSTEPS;
 use crate::model_description::{BooleanVar, Causality, IntegerVar, RealVar, GUID};
 use crate::snapshot::MAGIC;
 use crate::truck::{Evaluation, Inputs, Params, State};
@@ -32,6 +33,35 @@ impl Slave {
         let y = if self.initialized { self.y } else { self.params.start_state() };
         (y, self.params.evaluate(&self.inputs, &y, 0.0))
     }
+
+    /// Whether every output is a finite number.
+    fn outputs_finite(&self) -> bool {
+        let (y, e) = self.evaluation();
+        RealVar::ALL.iter().filter_map(|&v| real_output(&y, &e, v)).all(f64::is_finite)
+    }
+
+    /// Checks that a restored state is one this FMU could have made: every parameter in its XML
+    /// range (and, once initialised, stable), every number finite.
+    fn check_restored(&self) -> Result<(), String> {
+        let (mut p, mut u) = (self.params, self.inputs);
+        for v in RealVar::ALL {
+            if let Some(x) = real_parameter(&mut p, v) {
+                check_real(v.name(), *x, v.min(), v.max())?;
+            }
+            if let Some(x) = real_input(&mut u, v) {
+                check_real(v.name(), *x, None, None)?;
+            }
+        }
+        let mode = IntegerVar::DamperMode;
+        check_integer(mode.name(), self.params.damper_mode, mode.min(), mode.max())?;
+        if !self.y.iter().chain([&self.time]).all(|x| x.is_finite()) {
+            return Err("a state or the time is not finite".into());
+        }
+        if self.initialized {
+            self.params.validate()?;
+        }
+        Ok(())
+    }
 }
 
 impl Model for Slave {
@@ -58,7 +88,11 @@ impl Model for Slave {
             return Ok(*x);
         }
         let (y, e) = self.evaluation();
-        real_output(&y, &e, v).ok_or_else(|| unknown(vr))
+        let x = real_output(&y, &e, v).ok_or_else(|| unknown(vr))?;
+        if !x.is_finite() {
+            return Err(format!("{} = {x} is not finite (inputs out of the model's reach)", v.name()));
+        }
+        Ok(x)
     }
 
     fn get_integer(&self, vr: u32) -> Result<i32, String> {
@@ -97,6 +131,7 @@ impl Model for Slave {
     }
 
     fn initialize(&mut self, start_time: f64) -> Result<(), String> {
+        self.params.validate()?;
         self.y = self.params.start_state();
         self.time = start_time;
         self.initialized = true;
@@ -111,7 +146,15 @@ impl Model for Slave {
         self.time = t;
     }
 
+    fn check_step(&self, h: f64) -> Result<(), &'static str> {
+        if self.params.substeps(h) > MAX_SUBSTEPS {
+            return Err("more than 1e7 integration steps (h/h_max) in one step");
+        }
+        Ok(())
+    }
+
     fn do_step(&mut self, h: f64) -> Result<(), &'static str> {
+        let saved = *self;
         let mut y = self.y;
         self.params.advance(&self.inputs, &mut y, h);
         if !y.iter().all(|x| x.is_finite()) {
@@ -121,6 +164,10 @@ impl Model for Slave {
         // the road input is extrapolated over the step; hold its end value for the outputs
         self.inputs.z_road += self.inputs.v_road * h;
         self.time += h;
+        if !self.outputs_finite() || !self.inputs.z_road.is_finite() {
+            *self = saved;
+            return Err("an output is not finite at the end of the step");
+        }
         Ok(())
     }
 
@@ -144,6 +191,7 @@ impl Model for Slave {
     fn deserialize(bytes: &[u8]) -> Result<Slave, String> {
         let mut s = Slave::default();
         snapshot::from_bytes(MAGIC, GUID, bytes, &mut s)?;
+        s.check_restored().map_err(|e| format!("serialized FMU state rejected: {e}"))?;
         Ok(s)
     }
 }

@@ -90,9 +90,11 @@ impl Params {
         }
     }
 
-    /// Advances `y` over `h` (s) from the start of a communication step.
+    /// Advances `y` over `h` (s) from the start of a communication step, in
+    /// [`Params::substeps`] equal steps (the slave refuses a step of more than
+    /// [`crate::limits::MAX_SUBSTEPS`]; this caps them there too).
     pub fn advance(&self, u: &Inputs, y: &mut State, h: f64) {
-        let n = ((h / self.h_max) - 1e-9).ceil().max(1.0) as usize;
+        let n = self.substeps(h).min(crate::limits::MAX_SUBSTEPS) as usize;
         let dt = h / n as f64;
         let add = |y: &State, k: &State, s: f64| -> State { std::array::from_fn(|i| y[i] + s * k[i]) };
         for step in 0..n {

@@ -1,0 +1,66 @@
+//! What keeps the truck's steps bounded and its explicit integration stable (docs/robustness.md).
+
+use crate::truck::Params;
+
+/// Most RK4 steps in one communication step: 2500 s at the default h_max of 0.25 ms.
+pub const MAX_SUBSTEPS: f64 = 1e7;
+/// Largest h_max·|λ| allowed: RK4 is stable on the left half-disk of this radius (|R(z)| ≤ 0.88).
+pub const RK4_STABLE_RADIUS: f64 = 2.5;
+
+impl Params {
+    /// RK4 steps for a communication step of `h` (s): equal steps of at most `h_max`.
+    pub fn substeps(&self, h: f64) -> f64 {
+        ((h / self.h_max) - 1e-9).ceil().max(1.0)
+    }
+
+    /// A bound on the largest |eigenvalue| (1/s) of the truck with its damper law: with
+    /// K = M⁻¹·stiffness and C = M⁻¹·damping, λ²x + λCx + Kx = 0 gives
+    /// |λ| ≤ (‖C‖ + sqrt(‖C‖² + 4‖K‖))/2 in the row-sum norm. The MSD law adds at most Cm
+    /// (clipped to 0 or applied), an external damper force nothing.
+    pub fn eigenvalue_bound(&self) -> f64 {
+        let c = self.c_susp
+            + match self.damper_mode {
+                1 => self.cm,
+                2 => self.c_passive,
+                _ => 0.0,
+            };
+        let k = (2.0 * self.k_susp / self.m_body).max((2.0 * self.k_susp + self.k_tyre) / self.m_axle);
+        let c = (2.0 * c / self.m_body).max((2.0 * c + self.c_tyre) / self.m_axle);
+        0.5 * (c + (c * c + 4.0 * k).sqrt())
+    }
+
+    /// Refuses parameters for which RK4 with steps of `h_max` could be unstable.
+    pub fn validate(&self) -> Result<(), String> {
+        let z = self.h_max * self.eigenvalue_bound();
+        if z > RK4_STABLE_RADIUS {
+            return Err(format!(
+                "h_max·|λ|max = {z:.3} exceeds RK4's stable {RK4_STABLE_RADIUS}: lower h_max, or the stiffness or \
+                 damping (k_susp, k_tyre, c_susp, c_tyre, Cm/c_passive) against the masses (m_body, m_axle)"
+            ));
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_defaults_are_far_inside_the_stable_region() {
+        for damper_mode in 0..=2 {
+            let p = Params { damper_mode, ..Params::default() };
+            assert!(p.h_max * p.eigenvalue_bound() < 0.1, "mode {damper_mode}");
+            assert!(p.validate().is_ok());
+        }
+    }
+
+    #[test]
+    fn the_bound_holds_for_one_mass() {
+        // a stiff light body on a rigid axle: λ = ±i sqrt(k/m), the bound sqrt(2k/m) ≥ it
+        let p = Params { m_body: 1.7, k_susp: 1e9, m_axle: 1e5, k_tyre: 1.0, ..Params::default() };
+        let exact = (1e9f64 / 1.7).sqrt();
+        assert!(p.eigenvalue_bound() >= exact && p.eigenvalue_bound() < 2.0 * exact);
+        assert!(p.validate().unwrap_err().contains("m_body"));
+    }
+}
