@@ -29,11 +29,22 @@ fn rung_label(l: &Rung) -> (String, &'static str) {
     (what, note)
 }
 
-/// The floor's parts, one line.
+/// The floor's parts, one line, and the samples left out.
 fn floor_line(f: &Floor) -> String {
     format!(
-        "floor {:.4} = sensor noise {:.4} (σ {:.1} N; cross-checks {:.1} N windowed, {:.1} N median-absolute, {:.1} N over all samples) ⊕ the model's numerical error {:.4} (rtol {:.0e} against {:.0e})",
-        f.nrmse, f.nrmse_noise, f.noise.sigma, f.noise.sigma_window, f.noise.sigma_mad, f.noise.sigma_all, f.nrmse_numerics, f.rtol, f.rtol_check
+        "floor {:.4} = sensor noise {:.4} (σ {:.1} N; cross-checks {:.1} N windowed, {:.1} N median-absolute, {:.1} N over all samples) ⊕ the model's numerical error {:.4} (rtol {:.0e} against {:.0e}); {} validation samples left out, where a velocity noise of {:.2} mm/s moves the force by more than {:.0} N",
+        f.nrmse,
+        f.nrmse_noise,
+        f.noise.sigma,
+        f.noise.sigma_window,
+        f.noise.sigma_mad,
+        f.noise.sigma_all,
+        f.nrmse_numerics,
+        f.rtol,
+        f.rtol_check,
+        f.left_out_validation,
+        1e3 * f.delta_v,
+        f.sensitive_threshold
     )
 }
 

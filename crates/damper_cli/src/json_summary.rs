@@ -180,6 +180,9 @@ pub fn diagnosed(r: &Diagnosed) -> Summary {
                 noise_method: NoiseEstimate::METHOD.into(),
                 rtol: d.floor.rtol,
                 rtol_check: d.floor.rtol_check,
+                delta_v: d.floor.delta_v,
+                sensitive_threshold: d.floor.sensitive_threshold,
+                left_out_validation: d.floor.left_out_validation,
             },
             explanation: d.explanation.clone(),
             ladder: d

@@ -4,8 +4,9 @@
 //! candidates in parallel.
 
 use crate::criteria::{share, MOVED_SIGMAS};
-use crate::dsp::nrmse;
+use crate::dsp::nrmse_kept;
 use crate::fit::{minimize, standard_errors, Bound, Fit, AT_BOUND};
+use crate::lm::colour_factor;
 use crate::parameters::{effect_on, get_real, set_effect, set_real};
 use semi_active_damper::effects::{EffectInfo, FittedParameter};
 use semi_active_damper::physics::params::Parameters;
@@ -60,6 +61,8 @@ pub type Progress<'a> = dyn Fn(&Candidate, usize, usize) + Sync + 'a;
 pub struct FitSetup<'a> {
     pub simulate: &'a Simulator<'a>,
     pub measured: &'a [f64],
+    /// The samples that inform the fits and the scores (`crate::sensitivity`).
+    pub keep: &'a [bool],
     pub split: usize,
     /// Samples a fit runs and scores, from the start: the train part, at most
     /// [`MAX_FIT_SECONDS`] of it (see there).
@@ -90,8 +93,7 @@ impl FitSetup<'_> {
                 .into_iter()
                 .par_bridge()
                 .map(|i| {
-                    let c =
-                        try_candidate(self.simulate, params, (self.measured, self.train, self.split), errors, specs[i]);
+                    let c = try_candidate(self.simulate, params, self.data(), errors, specs[i]);
                     if let Ok(c) = &c {
                         let mut done = done.lock().expect("no fit panicked");
                         *done += 1;
@@ -111,7 +113,11 @@ impl FitSetup<'_> {
 impl FitSetup<'_> {
     /// [`fit_effects`] with this setup's model and data.
     pub fn joint(&self, params: &Parameters, keys: &[&str], fitted: &[FittedParameter]) -> Result<JointFit, String> {
-        fit_effects(self.simulate, params, (self.measured, self.train, self.split), keys, fitted)
+        fit_effects(self.simulate, params, self.data(), keys, fitted)
+    }
+
+    fn data(&self) -> Data<'_> {
+        Data { measured: self.measured, keep: self.keep, train: self.train, split: self.split }
     }
 }
 
@@ -137,12 +143,22 @@ pub struct JointFit {
     pub evaluations: usize,
 }
 
+/// The measured force, the samples kept, the samples a fit runs (from the start) and the first
+/// sample of the validation part.
+#[derive(Clone, Copy)]
+pub struct Data<'a> {
+    pub measured: &'a [f64],
+    pub keep: &'a [bool],
+    pub train: usize,
+    pub split: usize,
+}
+
 /// Switches the effects `keys` on in `baseline` and fits `fitted` (their parameters, starting at
 /// the model's values) on the training part of `measured`, then runs the whole record.
 pub fn fit_effects(
     simulate: &Simulator<'_>,
     baseline: &Parameters,
-    (measured, train_len, split): (&[f64], usize, usize),
+    Data { measured, keep, train: train_len, split }: Data<'_>,
     keys: &[&str],
     fitted: &[FittedParameter],
 ) -> Result<JointFit, String> {
@@ -160,7 +176,7 @@ pub fn fit_effects(
     let train = &measured[..train_len];
     let sse = |x: &[f64]| -> f64 {
         match with(x).and_then(|p| simulate(&p, train_len)) {
-            Ok(m) => m.iter().zip(train).map(|(m, y)| (m - y).powi(2)).sum(),
+            Ok(m) => m.iter().zip(train).zip(keep).filter(|(_, k)| **k).map(|((m, y), _)| (m - y).powi(2)).sum(),
             Err(_) => f64::INFINITY,
         }
     };
@@ -183,12 +199,22 @@ pub fn fit_effects(
         }
         _ => {
             let fit = minimize(sse, &x0, &bounds, MAX_EVALS * fitted.len());
-            let errors = standard_errors(sse, (&fit.x, fit.value), train_len, 1e-2);
+            let errors =
+                standard_errors(sse, (&fit.x, fit.value), keep[..train_len].iter().filter(|k| **k).count(), 1e-2);
             (fit, errors)
         }
     };
     let model = with(&fit.x)?;
     let full = simulate(&model, measured.len())?;
+    // the curvature's uncertainties assume white residuals; the model's remaining error colours
+    // them, and without this a refit of 0.2 % counted as "moved" on a clean record
+    let residual: Vec<f64> =
+        full[..train_len].iter().zip(train).zip(keep).filter(|(_, k)| **k).map(|((m, y), _)| m - y).collect();
+    let inflation = colour_factor(&residual).sqrt();
+    let errors: Vec<Option<f64>> = match fitted {
+        [FittedParameter { grid: Some(_), .. }] => errors,
+        _ => errors.into_iter().map(|e| e.map(|e| e * inflation)).collect(),
+    };
     let mut flags = Vec::new();
     for (s, &x) in fitted.iter().zip(&fit.x) {
         if bound(s).near_bound(x, AT_BOUND) {
@@ -215,8 +241,8 @@ pub fn fit_effects(
     Ok(JointFit {
         params: fitted.iter().zip(&fit.x).zip(errors).map(|((s, &x), e)| (s.name, x, e)).collect(),
         model,
-        nrmse_train: nrmse(train, &full[..train_len]),
-        nrmse_validation: nrmse(&measured[split..], &full[split..]),
+        nrmse_train: nrmse_kept(train, &full[..train_len], &keep[..train_len]),
+        nrmse_validation: nrmse_kept(&measured[split..], &full[split..], &keep[split..]),
         flags,
         evaluations: fit.evaluations,
     })
@@ -246,7 +272,7 @@ impl JointFit {
 pub fn try_candidate(
     simulate: &Simulator<'_>,
     baseline: &Parameters,
-    data: (&[f64], usize, usize),
+    data: Data<'_>,
     errors: (f64, f64),
     spec: &EffectInfo,
 ) -> Result<Candidate, String> {

@@ -7,12 +7,15 @@
 //! The floor the verdict judges by has two parts, both reported: the sensor noise, estimated from
 //! the residual so that the model's error cannot inflate it ([`crate::dsp::noise_floor`]), and the model's own
 //! numerical error, measured on each record as the difference between the baseline run and the
-//! same run at a hundredth of its tolerance ([`crate::floor`]).
+//! same run at a hundredth of its tolerance ([`crate::floor`]). Samples whose force hangs on the
+//! velocity by less than the record resolves it inform nothing and are left out of the fits and
+//! the scores ([`crate::sensitivity`]).
 
 use crate::candidate::{Candidate, FitSetup};
-use crate::dsp::nrmse;
+use crate::dsp::nrmse_kept;
 use crate::floor::{floor, Numerics};
 use crate::ladder::{climb, Ladder};
+use crate::sensitivity::Informative;
 use crate::verdict::{judge, Judged};
 use semi_active_damper::effects::EffectInfo;
 use semi_active_damper::physics::params::Parameters;
@@ -38,16 +41,18 @@ pub struct Diagnosis {
 
 /// Runs the diagnosis over `specs` (usually the whole [`catalog`](crate::candidate::catalog)) with
 /// the model, data and thread pool of `fit`, from the `baseline` parameters whose force over the
-/// measurement is `numerics.base` (the comparison has it already).
+/// measurement is `numerics.base` (the comparison has it already), over the samples
+/// `informative` keeps (the same as `fit.keep`).
 pub fn diagnose(
     fit: &FitSetup<'_>,
     specs: &[&'static EffectInfo],
     baseline: &Parameters,
     numerics: &Numerics<'_>,
+    informative: &Informative,
 ) -> Result<Diagnosis, String> {
     let (measured, split) = (fit.measured, fit.split);
-    let nrmse_baseline = nrmse(&measured[split..], &numerics.base[split..]);
-    let floor = floor(measured, numerics, split);
+    let nrmse_baseline = nrmse_kept(&measured[split..], &numerics.base[split..], &informative.keep[split..]);
+    let floor = floor(measured, numerics, split, informative);
     if !nrmse_baseline.is_finite() || !floor.nrmse.is_finite() {
         return Err(format!(
             "nothing to diagnose: the validation NRMSE is {nrmse_baseline} and the noise floor {} (is the measured force constant?)",

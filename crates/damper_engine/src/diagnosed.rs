@@ -6,8 +6,11 @@ use crate::candidate::{FitSetup, Progress, MAX_FIT_SECONDS};
 use crate::comparison::{self, CompareOptions, Comparison, ANALYSIS_RTOL};
 use crate::criteria::NUMERICS_CHECK_FACTOR;
 use crate::diagnose::{diagnose, Diagnosis};
+use crate::dsp::noise_sigma;
 use crate::floor::Numerics;
-use crate::model::{force_simulator, thread_pool};
+use crate::model::{force_simulator, thread_pool, Drive, Model};
+use crate::rng::Rng;
+use crate::sensitivity::{informative, velocity_resolution, SENSITIVITY_SEEDS};
 use crate::units::Column;
 
 /// A finished diagnosis with its comparison.
@@ -39,13 +42,36 @@ pub fn diagnose_measurement(
     }
     let pool = thread_pool(threads)?;
     let train = split.min((MAX_FIT_SECONDS / c.measurement.median_interval()).round() as usize);
-    let fit = FitSetup { simulate: &simulate, measured: &measured, split, train, pool: &pool, progress };
     let mut check = baseline;
     check.rtol = baseline.rtol * NUMERICS_CHECK_FACTOR;
-    let base_check = simulate(&check, measured.len())?;
-    let numerics =
-        Numerics { base: &c.prediction.f_damper, base_check: &base_check, rtol: baseline.rtol, rtol_check: check.rtol };
-    let d = diagnose(&fit, &candidates, &baseline, &numerics)?;
+    let delta_v = velocity_resolution(&c.drive.v_damper);
+    let shifted = |seed: u64| {
+        let mut rng = Rng::new(seed);
+        let v_damper = c.drive.v_damper.iter().map(|v| v + delta_v * rng.normal()).collect();
+        let drive = Drive { v_damper, ..c.drive.clone() };
+        let model = Model { params: baseline, load_cell_lowpass_hz: opts.load_cell_lowpass_hz };
+        c.setup.backend.run_first(&model, &drive, drive.len(), false).map(|p| p.f_damper)
+    };
+    let (base_check, (plus, minus)) = pool.install(|| {
+        rayon::join(
+            || simulate(&check, measured.len()),
+            || rayon::join(|| shifted(SENSITIVITY_SEEDS[0]), || shifted(SENSITIVITY_SEEDS[1])),
+        )
+    });
+    let base = &c.prediction.f_damper;
+    let residual: Vec<f64> = base.iter().zip(&measured).map(|(m, y)| m - y).collect();
+    let informative = informative(base, &plus?, &minus?, delta_v, noise_sigma(&residual));
+    let fit = FitSetup {
+        simulate: &simulate,
+        measured: &measured,
+        keep: &informative.keep,
+        split,
+        train,
+        pool: &pool,
+        progress,
+    };
+    let numerics = Numerics { base, base_check: &base_check?, rtol: baseline.rtol, rtol_check: check.rtol };
+    let d = diagnose(&fit, &candidates, &baseline, &numerics, &informative)?;
     drop(simulate);
     let after = match d.effects.as_slice() {
         [] => None,

@@ -52,6 +52,13 @@ pub fn nrmse(y: &[f64], yhat: &[f64]) -> f64 {
     metrics(y, yhat).nrmse
 }
 
+/// [`nrmse`] over the samples where `keep` is true (`crate::sensitivity`).
+pub fn nrmse_kept(y: &[f64], yhat: &[f64], keep: &[bool]) -> f64 {
+    let (y, yhat): (Vec<f64>, Vec<f64>) =
+        y.iter().zip(yhat).zip(keep).filter(|(_, k)| **k).map(|((y, m), _)| (*y, *m)).unzip();
+    nrmse(&y, &yhat)
+}
+
 /// Samples per window of [`noise_floor`]'s windowed estimate.
 pub const NOISE_WINDOW: usize = 64;
 

@@ -1,8 +1,10 @@
 //! The floor of a diagnosis: the validation NRMSE below which nothing can be explained, made of
 //! the sensor noise (estimated robustly from the residual, [`noise_floor`]) and the model's own
-//! numerical error (measured on each record against a run at a hundredth of the tolerance).
+//! numerical error (measured on each record against a run at a hundredth of the tolerance), over
+//! the samples that inform the diagnosis (`crate::sensitivity`).
 
 use crate::dsp::{noise_floor, std, NoiseEstimate};
+use crate::sensitivity::Informative;
 
 /// The floor of the validation NRMSE below which nothing can be explained.
 #[derive(Clone, Copy, Debug)]
@@ -19,6 +21,11 @@ pub struct Floor {
     /// The tolerance the model ran at, and the one of the check.
     pub rtol: f64,
     pub rtol_check: f64,
+    /// The velocity noise δ (m/s) of the sensitivity test, the force's change (N) that leaves a
+    /// sample out, and the samples left out of the validation part.
+    pub delta_v: f64,
+    pub sensitive_threshold: f64,
+    pub left_out_validation: usize,
 }
 
 /// The force of the model at its tolerance and at the check's tighter one, over the measurement.
@@ -29,14 +36,18 @@ pub struct Numerics<'a> {
     pub rtol_check: f64,
 }
 
-/// The floor of a baseline residual `measured − numerics.base` on the validation part from `split`.
-pub fn floor(measured: &[f64], numerics: &Numerics<'_>, split: usize) -> Floor {
+/// The floor of a baseline residual `measured − numerics.base` on the validation part from `split`,
+/// over the samples `informative` keeps (the noise is estimated on them all: its estimate is
+/// robust, and needs the samples' succession).
+pub fn floor(measured: &[f64], numerics: &Numerics<'_>, split: usize, informative: &Informative) -> Floor {
     let residual: Vec<f64> = numerics.base[split..].iter().zip(&measured[split..]).map(|(m, y)| m - y).collect();
     let noise = noise_floor(&residual);
-    let val_std = std(&measured[split..]);
+    let keep = &informative.keep[split..];
+    let kept = |x: &[f64]| -> Vec<f64> { x.iter().zip(keep).filter(|(_, k)| **k).map(|(x, _)| *x).collect() };
+    let val_std = std(&kept(&measured[split..]));
     let nrmse_noise = noise.sigma / val_std;
     let diff: Vec<f64> = numerics.base[split..].iter().zip(&numerics.base_check[split..]).map(|(a, b)| a - b).collect();
-    let nrmse_numerics = crate::dsp::rms(&diff) / val_std;
+    let nrmse_numerics = crate::dsp::rms(&kept(&diff)) / val_std;
     Floor {
         nrmse_noise,
         nrmse_numerics,
@@ -44,5 +55,8 @@ pub fn floor(measured: &[f64], numerics: &Numerics<'_>, split: usize) -> Floor {
         noise,
         rtol: numerics.rtol,
         rtol_check: numerics.rtol_check,
+        delta_v: informative.delta_v,
+        sensitive_threshold: informative.threshold,
+        left_out_validation: informative.left_out(split),
     }
 }

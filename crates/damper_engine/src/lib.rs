@@ -39,6 +39,7 @@ pub mod model;
 pub mod parameters;
 pub mod record_checks;
 pub mod rng;
+pub mod sensitivity;
 pub mod ssv;
 pub mod summary;
 pub mod units;

@@ -407,6 +407,13 @@ pub struct Floor {
     pub rtol: f64,
     /// Relative tolerance of the numerical check (1).
     pub rtol_check: f64,
+    /// The velocity shift of the sensitivity test (m/s): the velocity's resolution estimated
+    /// from the record.
+    pub delta_v: f64,
+    /// The force's shift under it that leaves a sample out of the fits and scores (N).
+    pub sensitive_threshold: f64,
+    /// Validation samples left out.
+    pub left_out_validation: usize,
 }
 
 /// A rung of the ladder.
