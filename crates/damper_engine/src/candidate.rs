@@ -19,6 +19,9 @@ pub const MAX_EVALS: usize = 25;
 /// 55 s with the whole train part (42 s) at rtol 1e-4.
 pub const MAX_FIT_SECONDS: f64 = 20.0;
 
+/// The flag of a refit that stayed within its uncertainty of the model's value.
+pub const NOTHING_MOVED: &str = "nothing moved";
+
 /// The catalog: every effect of the model (`semi_active_damper::effects`), in its order.
 pub fn catalog() -> impl Iterator<Item = &'static EffectInfo> {
     semi_active_damper::effects::CATALOG.into_iter().map(|e| e.info())
@@ -235,7 +238,7 @@ pub fn fit_effects(
             (None, None) => (x - x0).abs() > 1e-3 * x0.abs(),
         });
         if !moved {
-            flags.push(format!("within {MOVED_SIGMAS} standard uncertainties of the model's value: nothing moved"));
+            flags.push(format!("within {MOVED_SIGMAS} standard uncertainties of the model's value: {NOTHING_MOVED}"));
         }
     }
     Ok(JointFit {
@@ -246,6 +249,14 @@ pub fn fit_effects(
         flags,
         evaluations: fit.evaluations,
     })
+}
+
+impl Candidate {
+    /// Plausible as a refinement of an effect already kept: a refit that stays within its
+    /// uncertainty of the kept value has not found nothing, it has confirmed it.
+    pub fn plausible_refinement(&self) -> bool {
+        self.flags.iter().all(|f| f.ends_with(NOTHING_MOVED))
+    }
 }
 
 impl JointFit {

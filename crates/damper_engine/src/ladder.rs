@@ -18,7 +18,7 @@
 //!
 //! The kept effects are judged by [`crate::verdict`].
 
-use crate::candidate::{Candidate, FitSetup, JointFit};
+use crate::candidate::{Candidate, FitSetup, JointFit, NOTHING_MOVED};
 use crate::criteria::share;
 use crate::criteria::{FLOOR_FACTOR, MIN_EXPLAINED};
 use crate::parameters::{set_effect, set_real};
@@ -130,7 +130,7 @@ fn refine(fit: &FitSetup<'_>, spec: &'static EffectInfo, ladder: &mut Ladder, nr
     let all: Vec<_> = spec.fitted.iter().chain(spec.secondary).copied().collect();
     let errors = (ladder.nrmse_validation, nrmse_floor);
     let c = fit.joint(&ladder.params, &[spec.key], &all)?.candidate(spec, "refitted", errors);
-    let kept = c.plausible && c.nrmse_validation < ladder.nrmse_validation;
+    let kept = c.plausible_refinement() && c.nrmse_validation < ladder.nrmse_validation;
     ladder.push(&c, true, kept)
 }
 
@@ -168,7 +168,7 @@ fn best_pair(
     round: &[Candidate],
     params: &Parameters,
 ) -> Result<Option<Pair>, String> {
-    let Some(top) = round.first().filter(|c| !c.plausible && !c.flags.iter().any(|f| f.contains("nothing moved")))
+    let Some(top) = round.first().filter(|c| !c.plausible && !c.flags.iter().any(|f| f.ends_with(NOTHING_MOVED)))
     else {
         return Ok(None);
     };
@@ -317,7 +317,7 @@ fn rise(
         for key in ladder.effects.clone() {
             let spec = spec_of(specs, key)?;
             let c = fit.all(&[spec], &ladder.params, (ladder.nrmse_validation, nrmse_floor))?.remove(0);
-            let kept = c.plausible && c.nrmse_validation < ladder.nrmse_validation;
+            let kept = c.plausible_refinement() && c.nrmse_validation < ladder.nrmse_validation;
             ladder.push(&c, true, kept)?;
         }
         if ladder.nrmse_validation > 0.99 * start {
