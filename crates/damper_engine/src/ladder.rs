@@ -20,7 +20,7 @@
 
 use crate::candidate::{Candidate, FitSetup, JointFit, NOTHING_MOVED};
 use crate::criteria::share;
-use crate::criteria::{FLOOR_FACTOR, MIN_EXPLAINED};
+use crate::criteria::{EXPLAINED_FACTOR, FLOOR_FACTOR, MIN_EXPLAINED};
 use crate::parameters::{set_effect, set_real};
 use semi_active_damper::effects::EffectInfo;
 use semi_active_damper::physics::params::Parameters;
@@ -219,7 +219,9 @@ fn keep_pair(ladder: &mut Ladder, pair: Pair, errors: (f64, f64)) -> Result<(), 
 /// Climbs the ladder from the diagnosis's `ranked` candidates (best first) over `specs`. When it
 /// ends above the floor ([`FLOOR_FACTOR`]), pairs are fitted jointly on the baseline: the
 /// ladder's first effect (or the best candidate) with each other candidate, and the pairs of the
-/// [`STALL_LEADERS`] best. Two effects that add up can each, fitted alone, absorb the other's error
+/// [`STALL_LEADERS`] best; every pair when it ends above [`EXPLAINED_FACTOR`] times the floor
+/// (seal friction and check-valve cracking, each fitted alone, explained a quarter of the error or
+/// made it worse, and cracking was not among the leaders). Two effects that add up can each, fitted alone, absorb the other's error
 /// with plausible parameters and leave a residual that no second effect explains, or that a wrong
 /// one half explains (piston leakage, then compressibility instead of check-valve cracking). A
 /// ladder climbed from the best pair replaces the first when it explains at least
@@ -244,9 +246,12 @@ pub fn climb(
     if ladder.nrmse_validation <= FLOOR_FACTOR * nrmse_floor {
         return Ok(ladder);
     }
-    // the ladder's first effect (or the best candidate) with every other, and the leaders' pairs
+    // the ladder's first effect (or the best candidate) with every other, and the leaders' pairs;
+    // every pair when the ladder ends clearly above the floor
     let first = ladder.effects.first().copied().or(ranked.first().map(|c| c.effect));
-    let leaders: Vec<&'static str> = ranked.iter().take(STALL_LEADERS).map(|c| c.effect).collect();
+    let stuck = ladder.nrmse_validation > EXPLAINED_FACTOR * nrmse_floor;
+    let leaders: Vec<&'static str> =
+        ranked.iter().take(if stuck { ranked.len() } else { STALL_LEADERS }).map(|c| c.effect).collect();
     let mut pairs: Vec<(&'static str, &'static str)> = Vec::new();
     let mut add = |a: &'static str, b: &'static str| {
         if a != b && !pairs.iter().any(|&(x, y)| (x, y) == (a, b) || (x, y) == (b, a)) {
