@@ -21,6 +21,8 @@ pub const MAX_FIT_SECONDS: f64 = 20.0;
 
 /// The flag of a refit that stayed within its uncertainty of the model's value.
 pub const NOTHING_MOVED: &str = "nothing moved";
+/// The flag of an effect switched on whose size is within its uncertainty of zero.
+pub const INDISTINGUISHABLE: &str = "is indistinguishable from off";
 
 /// The catalog: every effect of the model (`semi_active_damper::effects`), in its order.
 pub fn catalog() -> impl Iterator<Item = &'static EffectInfo> {
@@ -239,6 +241,21 @@ pub fn fit_effects(
         });
         if !moved {
             flags.push(format!("within {MOVED_SIGMAS} standard uncertainties of the model's value: {NOTHING_MOVED}"));
+        }
+    }
+    // an effect switched on whose size (its first parameter, zero when off) is within its
+    // uncertainty of zero has not been found either: a spurious viscous friction of 313 ± 286 N·s/m
+    // had been kept beside a hidden cracking
+    for (key, on) in keys.iter().zip(&was_on) {
+        let size = catalog().find(|e| e.key == *key).and_then(|e| e.fitted.first()).map(|f| f.name);
+        let Some(i) = size.and_then(|name| fitted.iter().position(|f| f.name == name)) else { continue };
+        if let (false, Some(e)) = (*on, errors[i]) {
+            if fit.x[i].abs() <= MOVED_SIGMAS * e {
+                flags.push(format!(
+                    "{} = {:.4e} ± {e:.1e}: within {MOVED_SIGMAS} standard uncertainties of zero, {key} {INDISTINGUISHABLE}",
+                    fitted[i].name, fit.x[i]
+                ));
+            }
         }
     }
     Ok(JointFit {
