@@ -4,14 +4,15 @@
         --out out/ind/rig_sf.csv --truth out/ind/rig_sf.truth.json
 
 `damper generate` (crates/damper_engine/src/generate.rs) makes its truth with the model the diagnosis
-runs: the same in-process integrator, stepped on the record's own sample grid with the inputs held
-over each sample, and a load-cell filter applied to the force sampled at that grid. A diagnosis
+runs: the same in-process integrator, stepped over the record's own sample grid in substeps of the
+controller's period with the velocity on a cubic through the samples, and a load-cell filter fed the
+force of every substep. A diagnosis
 tested on such data is tested on truths it made itself. The records here differ in every one of
 those steps:
 
 - the truth is the PACKAGED FMU (target/fmu/SemiActiveDamper.fmu) run through fmpy at FMU tolerance
-  `rtol` = 1e-7 (the diagnosis: the default 1e-3) and a communication step of 0.1 ms (the diagnosis:
-  the sample interval, 0.5-2 ms);
+  `rtol` = 1e-7 (the diagnosis: 1e-4) and a communication step of 0.1 ms (the diagnosis: the sample
+  interval, 0.5-2 ms, in substeps of at most 0.5 ms);
 - the velocity the truth moves with is the true, continuous motion evaluated every 0.1 ms, plus the
   velocity sensor's noise of the current sample (the rig's controller works with the measured
   velocity); the record holds only the measured samples;
@@ -443,8 +444,9 @@ def make(case: Case, out: str | Path, truth_path: str | Path, damper_fmu: str | 
 
 
 def foh_filter_difference(force_fine: np.ndarray, rate: float, corner_hz: float = LOWPASS_HZ) -> np.ndarray:
-    """The continuous load-cell filter (on the fine-step force, then sampled) minus the filter that
-    `damper generate` uses, a first-order hold on the force sampled at the record's rate."""
+    """The continuous load-cell filter (on the fine-step force, then sampled) minus a first-order hold
+    on the force sampled at the record's rate (what the diagnosis's filter was before it was fed every
+    0.5 ms substep)."""
     m = steps_per_sample(rate)
     continuous = lowpass_fine(force_fine, FINE_STEP, corner_hz)[::m]
     sampled_foh = lowpass_fine(force_fine[::m], 1.0 / rate, corner_hz)

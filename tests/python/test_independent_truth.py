@@ -1,6 +1,6 @@
 """Records the diagnosis did not make (damper_tools.independent, damper_tools.foreign), read by the
 `damper` program as a user would: same seed, same bytes; the continuous load-cell filter against the
-sampled one of `damper generate`; a record in ms, mm/s and kN reads as its SI twin; `damper diagnose`
+one fed only the samples; a record in ms, mm/s and kN reads as its SI twin; `damper diagnose`
 names no effect on clean records, names a hidden one, and does not "explain" a foreign damper.
 
 The whole blind score (many seeds, every effect, pairs) is scripts/blind_score.py; these are short
@@ -63,9 +63,10 @@ def test_the_same_seed_gives_the_same_bytes(kind, work_dir, fmu, truck_fmu):
 
 
 def test_the_continuous_load_cell_filter_differs_from_a_sampled_first_order_hold(work_dir, fmu, truck_fmu):
-    """`damper generate` filters the force sampled at the record's rate, exact for a force linear
-    between samples; the records here filter the 0.1 ms force. The difference is a small fraction of
-    the load cell's noise (20 N) and grows as the rate falls."""
+    """A first-order filter fed only the record's samples (exact for a force linear between them),
+    which the diagnosis used before it fed the filter every 0.5 ms substep, against the continuous
+    filter on the 0.1 ms force of the records here: a fraction of the load cell's noise (20 N) that
+    grows as the rate falls, and 0.5-0.8 sigma RMS at 500 Hz."""
     sigma = ind.SENSORS["F_damper"][0]
     rms = {}
     for rate in (500.0, 1000.0, 2000.0):
@@ -97,18 +98,16 @@ def test_a_record_in_ms_mm_per_s_and_kN_reads_as_its_si_twin(damper, work_dir, f
     assert a["nrmse_baseline"] == pytest.approx(b["nrmse_baseline"], rel=1e-7)
 
 
-# Known limits (docs/blind-score.md), kept visible as expected failures: at 500 Hz the model's load-cell
-# filter, applied to the force sampled at the record's rate, differs from the continuous one by 0.6 sensor
-# sigmas RMS (10 at demand steps), and the record is 1.4-1.7x the floor; some 1 kHz rig records sit at
-# 1.6x the floor (seed 2, 3 s: 0.0035 against 0.0022) and end `unexplained` (not a false effect).
-FILTER_500HZ = pytest.mark.xfail(reason="the load-cell filter on the sampled force at 500 Hz", strict=False)
-ABOVE_FLOOR = pytest.mark.xfail(reason="a clean 1 kHz rig record at 1.6x the floor: unexplained", strict=False)
+# A known limit (docs/blind-score.md), kept visible as an expected failure: this clean 500 Hz rig record
+# sits at 5.5x the floor, from a few events where the model's force switches between two courses, and a
+# tiny change of any of five parameters (k1_mount by 0.4 %) brings it to the floor: `unexplained`
+# ("ambiguous"), not a false effect.
+EVENTS_500HZ = pytest.mark.xfail(reason="a clean 500 Hz rig record at 5.5x the floor: unexplained", strict=False)
 
 
 @pytest.mark.parametrize("kind,seed,rate", [("rig", 1, 1000.0), ("hil", 1, 1000.0), ("hil", 2, 2000.0),
-                                            pytest.param("rig", 2, 1000.0, marks=ABOVE_FLOOR),
-                                            pytest.param("rig", 2, 500.0, marks=FILTER_500HZ),
-                                            pytest.param("hil", 2, 500.0, marks=FILTER_500HZ)])
+                                            ("rig", 2, 1000.0), pytest.param("rig", 2, 500.0, marks=EVENTS_500HZ),
+                                            ("hil", 2, 500.0)])
 def test_a_clean_record_of_continuous_motion_is_at_the_noise_floor(kind, seed, rate, damper, work_dir, fmu,
                                                                    truck_fmu):
     case = ind.Case(kind, seed, (), rate, 3.0 if kind == "rig" else 4.0)
