@@ -93,7 +93,7 @@ impl Drive {
     /// independent rig truth at 500 Hz (true motion every 0.1 ms) it left 163 N RMS of force error
     /// on the training part, 8 sensor σ, where the cubic leaves 32 N (the triangle wave's corners);
     /// on a HiL truth the cubic leaves 2.7 N with these slopes, 5.0 N with three-point ones.
-    pub(crate) fn velocity_between(&self, k: usize, s: f64) -> f64 {
+    pub fn velocity_between(&self, k: usize, s: f64) -> f64 {
         if s == 0.0 {
             return self.v_damper[k];
         }
@@ -128,7 +128,7 @@ impl Drive {
 /// continuous 400 Hz filter) points 2 ms apart leave 0.5-0.8 sensor σ RMS and up to 6σ, points
 /// 0.5 ms apart 0.04-0.06σ and up to 1.3σ. The controller's samples already end an integrator
 /// step, so a substep costs an output evaluation and the filter.
-pub(crate) fn substeps(h: f64, t_sample: f64) -> usize {
+pub fn substeps(h: f64, t_sample: f64) -> usize {
     if h > t_sample {
         // the 1e-9 keeps a whole multiple from rounding up to one more
         (h / t_sample - 1e-9).ceil() as usize
