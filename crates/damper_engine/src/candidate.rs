@@ -4,10 +4,11 @@
 //! candidates in parallel.
 
 use crate::criteria::{share, MOVED_SIGMAS};
-use crate::dsp::nrmse_kept;
+use crate::dsp::{kept, nrmse_kept};
 use crate::fit::{minimize, standard_errors, Bound, Fit, AT_BOUND};
 use crate::lm::colour_factor;
 use crate::parameters::{effect_on, get_real, set_effect, set_real};
+use crate::sensitivity::Informative;
 use semi_active_damper::effects::{EffectInfo, FittedParameter};
 use semi_active_damper::physics::params::Parameters;
 
@@ -66,8 +67,8 @@ pub type Progress<'a> = dyn Fn(&Candidate, usize, usize) + Sync + 'a;
 pub struct FitSetup<'a> {
     pub simulate: &'a Simulator<'a>,
     pub measured: &'a [f64],
-    /// The samples that inform the fits and the scores (`crate::sensitivity`).
-    pub keep: &'a [bool],
+    /// The samples that inform the fits and the scores.
+    pub informative: &'a Informative,
     pub split: usize,
     /// Samples a fit runs and scores, from the start: the train part, at most
     /// [`MAX_FIT_SECONDS`] of it (see there).
@@ -122,7 +123,7 @@ impl FitSetup<'_> {
     }
 
     fn data(&self) -> Data<'_> {
-        Data { measured: self.measured, keep: self.keep, train: self.train, split: self.split }
+        Data { measured: self.measured, keep: &self.informative.keep, train: self.train, split: self.split }
     }
 }
 
@@ -213,9 +214,8 @@ pub fn fit_effects(
     let full = simulate(&model, measured.len())?;
     // the curvature's uncertainties assume white residuals; the model's remaining error colours
     // them, and without this a refit of 0.2 % counted as "moved" on a clean record
-    let residual: Vec<f64> =
-        full[..train_len].iter().zip(train).zip(keep).filter(|(_, k)| **k).map(|((m, y), _)| m - y).collect();
-    let inflation = colour_factor(&residual).sqrt();
+    let residual: Vec<f64> = full[..train_len].iter().zip(train).map(|(m, y)| m - y).collect();
+    let inflation = colour_factor(&kept(&residual, keep)).sqrt();
     let errors: Vec<Option<f64>> = match fitted {
         [FittedParameter { grid: Some(_), .. }] => errors,
         _ => errors.into_iter().map(|e| e.map(|e| e * inflation)).collect(),

@@ -15,7 +15,6 @@ use crate::candidate::{Candidate, FitSetup};
 use crate::dsp::nrmse_kept;
 use crate::floor::{floor, Numerics};
 use crate::ladder::{climb, Ladder};
-use crate::sensitivity::Informative;
 use crate::verdict::{judge, Judged};
 use semi_active_damper::effects::EffectInfo;
 use semi_active_damper::physics::params::Parameters;
@@ -42,15 +41,14 @@ pub struct Diagnosis {
 /// Runs the diagnosis over `specs` (usually the whole [`catalog`](crate::candidate::catalog)) with
 /// the model, data and thread pool of `fit`, from the `baseline` parameters whose force over the
 /// measurement is `numerics.base` (the comparison has it already), over the samples
-/// `informative` keeps (the same as `fit.keep`).
+/// `fit.informative` keeps.
 pub fn diagnose(
     fit: &FitSetup<'_>,
     specs: &[&'static EffectInfo],
     baseline: &Parameters,
     numerics: &Numerics<'_>,
-    informative: &Informative,
 ) -> Result<Diagnosis, String> {
-    let (measured, split) = (fit.measured, fit.split);
+    let (measured, split, informative) = (fit.measured, fit.split, fit.informative);
     let nrmse_baseline = nrmse_kept(&measured[split..], &numerics.base[split..], &informative.keep[split..]);
     let floor = floor(measured, numerics, split, informative);
     if !nrmse_baseline.is_finite() || !floor.nrmse.is_finite() {

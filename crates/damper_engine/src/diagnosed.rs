@@ -8,7 +8,7 @@ use crate::criteria::NUMERICS_CHECK_FACTOR;
 use crate::diagnose::{diagnose, Diagnosis};
 use crate::dsp::noise_sigma;
 use crate::floor::Numerics;
-use crate::model::{force_simulator, thread_pool, Drive, Model};
+use crate::model::{force_simulator, thread_pool, Drive};
 use crate::rng::Rng;
 use crate::sensitivity::{informative, velocity_resolution, SENSITIVITY_SEEDS};
 use crate::units::Column;
@@ -49,8 +49,8 @@ pub fn diagnose_measurement(
         let mut rng = Rng::new(seed);
         let v_damper = c.drive.v_damper.iter().map(|v| v + delta_v * rng.normal()).collect();
         let drive = Drive { v_damper, ..c.drive.clone() };
-        let model = Model { params: baseline, load_cell_lowpass_hz: opts.load_cell_lowpass_hz };
-        c.setup.backend.run_first(&model, &drive, drive.len(), false).map(|p| p.f_damper)
+        let run = force_simulator(c.setup.backend.as_ref(), &drive, opts.load_cell_lowpass_hz);
+        run(&baseline, drive.len())
     };
     let (base_check, (plus, minus)) = pool.install(|| {
         rayon::join(
@@ -64,14 +64,14 @@ pub fn diagnose_measurement(
     let fit = FitSetup {
         simulate: &simulate,
         measured: &measured,
-        keep: &informative.keep,
+        informative: &informative,
         split,
         train,
         pool: &pool,
         progress,
     };
     let numerics = Numerics { base, base_check: &base_check?, rtol: baseline.rtol, rtol_check: check.rtol };
-    let d = diagnose(&fit, &candidates, &baseline, &numerics, &informative)?;
+    let d = diagnose(&fit, &candidates, &baseline, &numerics)?;
     drop(simulate);
     let after = match d.effects.as_slice() {
         [] => None,

@@ -52,11 +52,14 @@ pub fn nrmse(y: &[f64], yhat: &[f64]) -> f64 {
     metrics(y, yhat).nrmse
 }
 
-/// [`nrmse`] over the samples where `keep` is true (`crate::sensitivity`).
+/// The samples of `x` where `keep` is true (`crate::sensitivity`).
+pub fn kept(x: &[f64], keep: &[bool]) -> Vec<f64> {
+    x.iter().zip(keep).filter(|(_, k)| **k).map(|(x, _)| *x).collect()
+}
+
+/// [`nrmse`] over the samples where `keep` is true.
 pub fn nrmse_kept(y: &[f64], yhat: &[f64], keep: &[bool]) -> f64 {
-    let (y, yhat): (Vec<f64>, Vec<f64>) =
-        y.iter().zip(yhat).zip(keep).filter(|(_, k)| **k).map(|((y, m), _)| (*y, *m)).unzip();
-    nrmse(&y, &yhat)
+    nrmse(&kept(y, keep), &kept(yhat, keep))
 }
 
 /// Samples per window of [`noise_floor`]'s windowed estimate.
@@ -289,16 +292,6 @@ impl Lowpass {
     }
 }
 
-/// [`Lowpass`] over a whole sampled signal `u(t)`.
-pub fn lowpass(t: &[f64], u: &[f64], fc: f64) -> Vec<f64> {
-    let Some(&u0) = u.first() else { return Vec::new() };
-    let mut filter = Lowpass::new(fc, u0);
-    let mut y = Vec::with_capacity(u.len());
-    y.push(u0);
-    y.extend((1..u.len()).map(|k| filter.step(t[k] - t[k - 1], u[k])));
-    y
-}
-
 /// Derivative by a central difference over ±`half` samples (one-sided near the ends): a smoothed
 /// rate for classifying regimes, not for the model.
 pub fn smooth_rate(t: &[f64], x: &[f64], half: usize) -> Vec<f64> {
@@ -385,6 +378,12 @@ mod tests {
         let (k, refined, _) = peak_lag(&c);
         assert_eq!(k, 7);
         assert!((refined - 7.0).abs() < 0.1);
+    }
+
+    /// [`Lowpass`] over a whole sampled signal `u(t)`, from steady state at `u[0]`.
+    fn lowpass(t: &[f64], u: &[f64], fc: f64) -> Vec<f64> {
+        let mut filter = Lowpass::new(fc, u[0]);
+        std::iter::once(u[0]).chain((1..u.len()).map(|k| filter.step(t[k] - t[k - 1], u[k]))).collect()
     }
 
     #[test]

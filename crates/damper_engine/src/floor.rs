@@ -3,7 +3,7 @@
 //! numerical error (measured on each record against a run at a hundredth of the tolerance), over
 //! the samples that inform the diagnosis (`crate::sensitivity`).
 
-use crate::dsp::{noise_floor, std, NoiseEstimate};
+use crate::dsp::{kept, noise_floor, rms, std, NoiseEstimate};
 use crate::sensitivity::Informative;
 
 /// The floor of the validation NRMSE below which nothing can be explained.
@@ -43,11 +43,10 @@ pub fn floor(measured: &[f64], numerics: &Numerics<'_>, split: usize, informativ
     let residual: Vec<f64> = numerics.base[split..].iter().zip(&measured[split..]).map(|(m, y)| m - y).collect();
     let noise = noise_floor(&residual);
     let keep = &informative.keep[split..];
-    let kept = |x: &[f64]| -> Vec<f64> { x.iter().zip(keep).filter(|(_, k)| **k).map(|(x, _)| *x).collect() };
-    let val_std = std(&kept(&measured[split..]));
+    let val_std = std(&kept(&measured[split..], keep));
     let nrmse_noise = noise.sigma / val_std;
     let diff: Vec<f64> = numerics.base[split..].iter().zip(&numerics.base_check[split..]).map(|(a, b)| a - b).collect();
-    let nrmse_numerics = crate::dsp::rms(&kept(&diff)) / val_std;
+    let nrmse_numerics = rms(&kept(&diff, keep)) / val_std;
     Floor {
         nrmse_noise,
         nrmse_numerics,

@@ -267,19 +267,24 @@ impl FmuModel {
         })
     }
 
+    /// The first `y.len()` outputs (of [`OUTPUTS`]) at time `t` (s).
+    fn read(&self, fmu: &mut InstanceCS, t: f64, y: &mut [f64]) -> Result<(), String> {
+        fmu.get_real(&self.outputs[..y.len()], y)
+            .map(|_| ())
+            .map_err(|e| format!("the FMU {} failed at t = {t} s: fmi2GetReal: {e}", self.path.display()))
+    }
+
     /// The load-cell force at time `t` (s) between two samples.
     fn load_cell(&self, fmu: &mut InstanceCS, t: f64) -> Result<f64, String> {
         let mut y = [0.0];
-        fmu.get_real(&self.outputs[..1], &mut y)
-            .map_err(|e| format!("the FMU {} failed at t = {t} s: fmi2GetReal: {e}", self.path.display()))?;
+        self.read(fmu, t, &mut y)?;
         Ok(y[0])
     }
 
     fn read_outputs(&self, fmu: &mut InstanceCS, t: f64, all: bool, out: &mut Prediction) -> Result<(), String> {
         let mut y = [0.0; 8];
         let count = if all { 8 } else { 1 };
-        fmu.get_real(&self.outputs[..count], &mut y[..count])
-            .map_err(|e| format!("the FMU {} failed at t = {t} s: fmi2GetReal: {e}", self.path.display()))?;
+        self.read(fmu, t, &mut y[..count])?;
         out.f_damper.push(y[0]);
         if all {
             let fields = [

@@ -221,11 +221,12 @@ fn keep_pair(ladder: &mut Ladder, pair: Pair, errors: (f64, f64)) -> Result<(), 
 /// ladder's first effect (or the best candidate) with each other candidate, and the pairs of the
 /// [`STALL_LEADERS`] best; every pair when it ends above [`EXPLAINED_FACTOR`] times the floor
 /// (seal friction and check-valve cracking, each fitted alone, explained a quarter of the error or
-/// made it worse, and cracking was not among the leaders). Two effects that add up can each, fitted alone, absorb the other's error
-/// with plausible parameters and leave a residual that no second effect explains, or that a wrong
-/// one half explains (piston leakage, then compressibility instead of check-valve cracking). A
-/// ladder climbed from the best pair replaces the first when it explains at least
-/// [`MIN_EXPLAINED`] of the error the first leaves above the floor.
+/// made it worse, and cracking was not among the leaders). Two effects that add up can each,
+/// fitted alone, absorb the other's error with plausible parameters and leave a residual that no
+/// second effect explains, or that a wrong one half explains (piston leakage, then
+/// compressibility instead of check-valve cracking). A ladder climbed from the best pair replaces
+/// the first when it explains at least [`MIN_EXPLAINED`] of the error the first leaves above the
+/// floor.
 pub fn climb(
     fit: &FitSetup<'_>,
     specs: &[&'static EffectInfo],
