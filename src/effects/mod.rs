@@ -42,7 +42,7 @@ pub struct FittedParameter {
     /// Physically plausible range; a fitted value outside it is flagged.
     pub plausible: (f64, f64),
     /// Step of a parameter the model quantises (a delay in controller samples): a fit searches
-    /// the grid, since a simplex cannot move on a staircase.
+    /// the grid, since a derivative-based fit cannot move on a staircase.
     pub grid: Option<f64>,
 }
 
@@ -115,6 +115,56 @@ pub trait Effect: Sync {
     fn bypass_flow(&self, _p: &Parameters, _s: &PlantSignals) -> f64 {
         0.0
     }
+    /// The partial derivatives of [`Effect::force`] with respect to each signal (each field of
+    /// the result holds ∂force/∂that signal), for the solver's Jacobian. Default: central
+    /// differences of `force`, so a new effect needs no derivative to work; the catalog's own
+    /// effects write theirs out (`tests/physics.rs` checks them against differences).
+    fn force_gradient(&self, p: &Parameters, s: &PlantSignals) -> PlantSignals {
+        numeric_gradient(s, |s| self.force(p, s))
+    }
+    /// The partial derivatives of [`Effect::bypass_flow`], as [`Effect::force_gradient`].
+    fn bypass_flow_gradient(&self, p: &Parameters, s: &PlantSignals) -> PlantSignals {
+        numeric_gradient(s, |s| self.bypass_flow(p, s))
+    }
+}
+
+impl PlantSignals {
+    /// All fields zero (the gradient of a constant).
+    pub const ZERO: PlantSignals =
+        PlantSignals { v_damper: 0.0, x_damper: 0.0, p_ext: 0.0, p_comp: 0.0, p_reservoir: 0.0, x_spool: 0.0 };
+
+    fn fields_mut(&mut self) -> [&mut f64; 6] {
+        [
+            &mut self.v_damper,
+            &mut self.x_damper,
+            &mut self.p_ext,
+            &mut self.p_comp,
+            &mut self.p_reservoir,
+            &mut self.x_spool,
+        ]
+    }
+
+    fn fields(&self) -> [f64; 6] {
+        [self.v_damper, self.x_damper, self.p_ext, self.p_comp, self.p_reservoir, self.x_spool]
+    }
+}
+
+/// Increment of each signal for central differences: relative, floored at a typical size
+/// (velocity, stroke, three pressures, spool position; SI units).
+const GRADIENT_SCALE: [f64; 6] = [1e-2, 1e-3, 1e5, 1e5, 1e5, 1e-3];
+
+/// Central-difference gradient of `f` at the signals `s`.
+fn numeric_gradient(s: &PlantSignals, f: impl Fn(&PlantSignals) -> f64) -> PlantSignals {
+    let mut gradient = PlantSignals::ZERO;
+    let values = s.fields();
+    for (k, slot) in gradient.fields_mut().into_iter().enumerate() {
+        let h = 1e-6 * values[k].abs().max(GRADIENT_SCALE[k]);
+        let (mut up, mut down) = (*s, *s);
+        *up.fields_mut()[k] += h;
+        *down.fields_mut()[k] -= h;
+        *slot = (f(&up) - f(&down)) / (2.0 * h);
+    }
+    gradient
 }
 
 /// Every effect, in the order of docs/effects.md.
@@ -139,11 +189,33 @@ pub fn find(key: &str) -> Option<&'static dyn Effect> {
 // (`cargo bench --bench realtime`: 153x against 214x real time).
 
 /// Sum of the switched-on effects' forces (N).
+#[inline]
 pub fn total_force(p: &Parameters, s: &PlantSignals) -> f64 {
     CATALOG.iter().filter(|e| e.is_on(p)).map(|e| e.force(p, s)).sum()
 }
 
 /// Sum of the switched-on effects' bypass flows (m³/s).
+#[inline]
 pub fn total_bypass_flow(p: &Parameters, s: &PlantSignals) -> f64 {
     CATALOG.iter().filter(|e| e.is_on(p)).map(|e| e.bypass_flow(p, s)).sum()
+}
+
+/// Gradient of [`total_force`] with respect to the signals.
+#[inline]
+pub fn total_force_gradient(p: &Parameters, s: &PlantSignals) -> PlantSignals {
+    CATALOG.iter().filter(|e| e.is_on(p)).map(|e| e.force_gradient(p, s)).fold(PlantSignals::ZERO, sum)
+}
+
+/// Gradient of [`total_bypass_flow`] with respect to the signals.
+#[inline]
+pub fn total_bypass_flow_gradient(p: &Parameters, s: &PlantSignals) -> PlantSignals {
+    CATALOG.iter().filter(|e| e.is_on(p)).map(|e| e.bypass_flow_gradient(p, s)).fold(PlantSignals::ZERO, sum)
+}
+
+#[inline]
+fn sum(mut a: PlantSignals, b: PlantSignals) -> PlantSignals {
+    for (x, y) in a.fields_mut().into_iter().zip(b.fields()) {
+        *x += y;
+    }
+    a
 }

@@ -35,4 +35,7 @@ impl Effect for PistonLeakage {
     fn bypass_flow(&self, p: &Parameters, s: &PlantSignals) -> f64 {
         p.g_leak * (s.p_ext - s.p_comp)
     }
+    fn bypass_flow_gradient(&self, p: &Parameters, _s: &PlantSignals) -> PlantSignals {
+        PlantSignals { p_ext: p.g_leak, p_comp: -p.g_leak, ..PlantSignals::ZERO }
+    }
 }

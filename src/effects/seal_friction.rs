@@ -32,4 +32,8 @@ impl Effect for SealFriction {
     fn force(&self, p: &Parameters, s: &PlantSignals) -> f64 {
         p.f_coulomb * (s.v_damper / p.v_friction).tanh()
     }
+    fn force_gradient(&self, p: &Parameters, s: &PlantSignals) -> PlantSignals {
+        let tanh = (s.v_damper / p.v_friction).tanh();
+        PlantSignals { v_damper: p.f_coulomb * (1.0 - tanh * tanh) / p.v_friction, ..PlantSignals::ZERO }
+    }
 }

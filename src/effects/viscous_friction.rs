@@ -36,4 +36,7 @@ impl Effect for ViscousFriction {
     fn force(&self, p: &Parameters, s: &PlantSignals) -> f64 {
         p.c_viscous * s.v_damper
     }
+    fn force_gradient(&self, p: &Parameters, _s: &PlantSignals) -> PlantSignals {
+        PlantSignals { v_damper: p.c_viscous, ..PlantSignals::ZERO }
+    }
 }

@@ -18,12 +18,28 @@ pub const P_ATM: f64 = 101_325.0;
 /// pressure `p` (Pa). Below 2 % of an atmosphere absolute the air law is frozen (cavitation region)
 /// so that β_e stays positive.
 pub fn effective_bulk_modulus(p: f64, beta_oil: f64, air_fraction: f64, n: f64) -> f64 {
+    effective_bulk_modulus_and_slope(p, beta_oil, air_fraction, n).0
+}
+
+/// [`effective_bulk_modulus`] (Pa) and its slope dβ_e/dp (-).
+#[inline]
+pub fn effective_bulk_modulus_and_slope(p: f64, beta_oil: f64, air_fraction: f64, n: f64) -> (f64, f64) {
     if air_fraction == 0.0 {
-        return beta_oil;
+        return (beta_oil, 0.0);
     }
+    let frozen = p + P_ATM < 0.02 * P_ATM;
     let p_abs = (p + P_ATM).max(0.02 * P_ATM);
     let r = (P_ATM / p_abs).powf(1.0 / n);
-    (1.0 + air_fraction * r) / (1.0 / beta_oil + air_fraction * r / (n * p_abs))
+    let num = 1.0 + air_fraction * r;
+    let den = 1.0 / beta_oil + air_fraction * r / (n * p_abs);
+    let beta = num / den;
+    if frozen {
+        return (beta, 0.0);
+    }
+    // dr/dp = −r/(n p_abs)
+    let d_num = -air_fraction * r / (n * p_abs);
+    let d_den = -air_fraction * r * (1.0 + 1.0 / n) / (n * p_abs * p_abs);
+    (beta, (d_num - beta * d_den) / den)
 }
 
 /// Flow (m³/s) through a sharp-edged orifice of area `area` (m²) with discharge coefficient `cd`
@@ -31,7 +47,17 @@ pub fn effective_bulk_modulus(p: f64, beta_oil: f64, air_fraction: f64, n: f64) 
 /// the laminar region around Δp = 0.
 #[inline]
 pub fn orifice_flow(cd: f64, area: f64, dp: f64, rho: f64, p_transition: f64) -> f64 {
-    cd * area * (2.0 / rho).sqrt() * dp / (dp * dp + p_transition * p_transition).sqrt().sqrt()
+    orifice_flow_partials(cd, area, dp, rho, p_transition).0
+}
+
+/// [`orifice_flow`] Q (m³/s) and its partial derivatives ∂Q/∂A (m/s) and ∂Q/∂Δp (m³/(s·Pa)):
+/// ∂Q/∂Δp = C_d A sqrt(2/ρ) (Δp²/2 + p_tr²) / (Δp² + p_tr²)^(5/4).
+#[inline]
+pub fn orifice_flow_partials(cd: f64, area: f64, dp: f64, rho: f64, p_transition: f64) -> (f64, f64, f64) {
+    let s2 = dp * dp + p_transition * p_transition;
+    let per_area = cd * (2.0 / rho).sqrt() / s2.sqrt().sqrt();
+    let dq_darea = per_area * dp;
+    (area * dq_darea, dq_darea, area * per_area * (0.5 * dp * dp + p_transition * p_transition) / s2)
 }
 
 /// C¹ ramp from 0 (u ≤ 0) to 1 (u ≥ 1): 3u² − 2u³. Used for valve openings so the right-hand side
@@ -40,6 +66,13 @@ pub fn orifice_flow(cd: f64, area: f64, dp: f64, rho: f64, p_transition: f64) ->
 pub fn smoothstep(u: f64) -> f64 {
     let u = u.clamp(0.0, 1.0);
     u * u * (3.0 - 2.0 * u)
+}
+
+/// The slope of [`smoothstep`]: 6u(1 − u) inside the ramp, 0 outside.
+#[inline]
+pub fn smoothstep_slope(u: f64) -> f64 {
+    let u = u.clamp(0.0, 1.0);
+    6.0 * u * (1.0 - u)
 }
 
 #[cfg(test)]
@@ -82,6 +115,28 @@ mod tests {
         let slope = orifice_flow(0.65, 10e-6, 1e-3, 870.0, 5e3) / 1e-3;
         let hand_slope = 0.65 * 10e-6 * (2.0 / 870.0f64).sqrt() / 5e3f64.sqrt();
         assert!((slope - hand_slope).abs() < 1e-6 * hand_slope);
+    }
+
+    #[test]
+    fn slopes_are_the_derivatives() {
+        let central = |f: &dyn Fn(f64) -> f64, x: f64, h: f64| (f(x + h) - f(x - h)) / (2.0 * h);
+        for bar in [-0.9, -0.5, 0.0, 1.0, 5.0, 20.0, 100.0, 300.0] {
+            let p = bar * 1e5;
+            let (_, slope) = effective_bulk_modulus_and_slope(p, 1.5e9, 0.025, 1.4);
+            let fd = central(&|p| effective_bulk_modulus(p, 1.5e9, 0.025, 1.4), p, 10.0);
+            assert!((slope - fd).abs() < 1e-6 * fd.abs().max(1.0), "{bar} bar: {slope} vs {fd}");
+        }
+        for dp in [-50e5, -1e4, -1e3, 0.0, 2e3, 5e3, 1e5, 80e5] {
+            let (q, dq_da, dq_ddp) = orifice_flow_partials(0.65, 10e-6, dp, 870.0, 5e3);
+            assert_eq!(q, orifice_flow(0.65, 10e-6, dp, 870.0, 5e3));
+            assert!((dq_da - q / 10e-6).abs() <= 1e-12 * dq_da.abs());
+            let fd = central(&|dp| orifice_flow(0.65, 10e-6, dp, 870.0, 5e3), dp, 1.0);
+            assert!((dq_ddp - fd).abs() < 1e-6 * fd.abs(), "Δp {dp}: {dq_ddp} vs {fd}");
+        }
+        for u in [0.1, 0.3, 0.5, 0.9] {
+            assert!((smoothstep_slope(u) - central(&smoothstep, u, 1e-6)).abs() < 1e-8);
+        }
+        assert_eq!(smoothstep_slope(-0.5) + smoothstep_slope(1.5), 0.0);
     }
 
     #[test]

@@ -11,7 +11,7 @@
 //! Extension squeezes A only (force ≈ p_A A_a − p_r A_p); compression squeezes A and B together
 //! through CV1 (force ≈ −p A_r) with about three times the oil volume.
 
-use super::fluid::{smoothstep, P_ATM};
+use super::fluid::{smoothstep, smoothstep_slope, P_ATM};
 use std::f64::consts::PI;
 
 /// Cylinder geometry.
@@ -58,10 +58,24 @@ pub fn check_valve_area(a_leak: f64, a_max: f64, p_crack: f64, p_full: f64, dp: 
     a_leak + a_max * smoothstep((dp - p_crack) / (p_full - p_crack))
 }
 
+/// The slope d[`check_valve_area`]/dΔp (m²/Pa).
+#[inline]
+pub fn check_valve_area_slope(a_max: f64, p_crack: f64, p_full: f64, dp: f64) -> f64 {
+    a_max * smoothstep_slope((dp - p_crack) / (p_full - p_crack)) / (p_full - p_crack)
+}
+
 /// Gauge pressure (Pa) of the reservoir gas: pre-charge `p_r0` (Pa) at volume `v_g0` (m³),
 /// polytropic index `n`, present gas volume `v_gas` (m³).
 pub fn reservoir_pressure(p_r0: f64, v_g0: f64, n: f64, v_gas: f64) -> f64 {
-    (p_r0 + P_ATM) * (v_g0 / v_gas.max(1e-9)).powf(n) - P_ATM
+    reservoir_pressure_and_slope(p_r0, v_g0, n, v_gas).0
+}
+
+/// [`reservoir_pressure`] (Pa) and its slope dp_r/dV_g = −n (p_r + p_atm)/V_g (Pa/m³).
+#[inline]
+pub fn reservoir_pressure_and_slope(p_r0: f64, v_g0: f64, n: f64, v_gas: f64) -> (f64, f64) {
+    let v = v_gas.max(1e-9);
+    let absolute = (p_r0 + P_ATM) * (v_g0 / v).powf(n);
+    (absolute - P_ATM, if v_gas > 1e-9 { -n * absolute / v } else { 0.0 })
 }
 
 #[cfg(test)]

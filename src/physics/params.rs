@@ -4,7 +4,7 @@
 
 use super::hydraulics::Cylinder;
 use super::mount::CubicMount;
-use super::valve::ValvePorts;
+use super::valve::{flow_force_gain, ValvePorts};
 use crate::control::A_FEEDFORWARD_MIN;
 
 /// Longest amplifier delay line, in controller samples.
@@ -138,6 +138,8 @@ pub struct Derived {
     pub a_demand_max: f64,
     /// Amplifier delay in controller samples.
     pub delay_samples: usize,
+    /// Flow-force gain 2 C_d C_v cos θ (-), see [`crate::physics::valve::flow_force`].
+    pub flow_force_gain: f64,
     pub control_mode: ControlMode,
     pub force_controller: ForceController,
     pub fc_mode: FlowForceCompensation,
@@ -197,6 +199,7 @@ impl Parameters {
             p_cv_crack: if self.effect_check_valve_cracking { self.p_cv_crack } else { 0.0 },
             x_demand_max,
             a_demand_max: ports.area(x_demand_max),
+            flow_force_gain: flow_force_gain(self.cd_valve, self.cv_valve, self.theta_jet),
             delay_samples: if self.effect_amplifier_delay {
                 (self.tau_amp / self.t_sample).round() as usize
             } else {

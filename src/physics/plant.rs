@@ -16,12 +16,11 @@
 //! [`effects`] catalog: the force F_e in parallel with the piston (seal friction, viscous
 //! friction) and the bypass flow Q_l (piston leakage). The amplifier delay is the controller's.
 
-use super::fluid::{effective_bulk_modulus, orifice_flow, smoothstep};
-use super::hydraulics::{check_valve_area, reservoir_pressure};
+use super::fluid::{effective_bulk_modulus_and_slope, orifice_flow_partials, smoothstep, smoothstep_slope};
+use super::hydraulics::{check_valve_area, check_valve_area_slope, reservoir_pressure, reservoir_pressure_and_slope};
 use super::params::{Derived, Parameters};
-use super::valve::{flow_force, solenoid_force};
+use super::valve::solenoid_force;
 use crate::effects::{self, PlantSignals};
-use crate::solver::OdeSystem;
 use nalgebra::{SMatrix, SVector};
 
 /// Number of continuous states.
@@ -74,80 +73,222 @@ pub struct Plant<'a> {
     pub i_command: f64,
 }
 
+/// The plant linearised at a state: the Jacobian ∂f/∂y and the derivative ∂f/∂v with respect to
+/// the damper velocity (for a velocity that moves over a step: ∂f/∂t = ∂f/∂v · a).
+#[derive(Clone, Copy, Debug)]
+pub struct Linearisation {
+    pub jacobian: SMatrix<f64, N_STATES, N_STATES>,
+    pub df_dv: State,
+}
+
+/// Partial derivatives of one quantity: with respect to each state, then (index [`DV`]) the damper
+/// velocity.
+type Grad = SVector<f64, { N_STATES + 1 }>;
+/// Index of ∂/∂v in a [`Grad`].
+const DV: usize = N_STATES;
+
+/// `f()` when the Jacobian is asked for, else zeros (which the compiler drops).
+#[inline(always)]
+fn grad<const JAC: bool>(f: impl FnOnce() -> Grad) -> Grad {
+    if JAC {
+        f()
+    } else {
+        Grad::zeros()
+    }
+}
+
+fn unit(i: usize) -> Grad {
+    let mut g = Grad::zeros();
+    g[i] = 1.0;
+    g
+}
+
 impl Plant<'_> {
     /// Derivatives and outputs at state `y`.
     pub fn evaluate(&self, y: &State) -> PlantOutputs {
+        self.evaluate_with::<false>(y).0
+    }
+
+    /// Derivatives and outputs at state `y`, and the plant linearised there. The derivatives are
+    /// written out with the values (chain rule through every intermediate), so the Jacobian costs
+    /// about one more evaluation instead of five finite differences, and it is exact.
+    pub fn evaluate_linearised(&self, y: &State) -> (PlantOutputs, Linearisation) {
+        let (out, lin) = self.evaluate_with::<true>(y);
+        (out, lin.expect("computed when asked"))
+    }
+
+    /// The one body of [`Plant::evaluate`] and [`Plant::evaluate_linearised`]: each intermediate
+    /// quantity `q` is followed by its gradient `d_q` (a [`Grad`]), computed only when `JAC`.
+    #[inline(always)]
+    fn evaluate_with<const JAC: bool>(&self, y: &State) -> (PlantOutputs, Option<Linearisation>) {
+        use idx::*;
         let (p, d) = (self.p, self.d);
         let cyl = &d.cylinder;
         let v = self.v_damper;
-        let (p_a, p_b, v_gas, x_s, v_s, i_coil) =
-            (y[idx::P_A], y[idx::P_B], y[idx::V_GAS], y[idx::X_SPOOL], y[idx::V_SPOOL], y[idx::I_COIL]);
+        let (p_a, p_b, v_gas, x_s, v_s, i_coil) = (y[P_A], y[P_B], y[V_GAS], y[X_SPOOL], y[V_SPOOL], y[I_COIL]);
 
-        let p_r = reservoir_pressure(p.p_reservoir0, p.v_gas0, p.n_polytropic, v_gas);
+        let (p_r, dpr_dvg) = reservoir_pressure_and_slope(p.p_reservoir0, p.v_gas0, p.n_polytropic, v_gas);
+        let d_pr = grad::<JAC>(|| unit(V_GAS) * dpr_dvg);
         let signals = PlantSignals {
             v_damper: v,
-            x_damper: y[idx::X_DAMPER],
+            x_damper: y[X_DAMPER],
             p_ext: p_a,
             p_comp: p_b,
             p_reservoir: p_r,
             x_spool: x_s,
         };
-        let force = p_a * cyl.a_annulus - p_b * cyl.a_piston + effects::total_force(p, &signals);
-        let delta = d.mount.map_or(0.0, |m| m.deflection(force));
-        let (vol_a, vol_b) = cyl.volumes(y[idx::X_DAMPER] - delta);
+        // a signal gradient (∂/∂ each signal) as a gradient over the states and v
+        let chain = |g: PlantSignals| {
+            let mut out = unit(DV) * g.v_damper + d_pr * g.p_reservoir;
+            out[X_DAMPER] += g.x_damper;
+            out[P_A] += g.p_ext;
+            out[P_B] += g.p_comp;
+            out[X_SPOOL] += g.x_spool;
+            out
+        };
 
-        let orifice = |cd: f64, area: f64, dp: f64| orifice_flow(cd, area, dp, p.rho, p.p_transition);
+        let force = p_a * cyl.a_annulus - p_b * cyl.a_piston + effects::total_force(p, &signals);
+        let d_force = grad::<JAC>(|| {
+            chain(effects::total_force_gradient(p, &signals)) + unit(P_A) * cyl.a_annulus - unit(P_B) * cyl.a_piston
+        });
+        let (delta, mount_stiffness) = match d.mount {
+            Some(m) => {
+                let delta = m.deflection(force);
+                (delta, m.stiffness(delta))
+            }
+            None => (0.0, f64::INFINITY),
+        };
+        let d_delta = grad::<JAC>(|| if d.mount.is_some() { d_force / mount_stiffness } else { Grad::zeros() });
+        let x_piston = y[X_DAMPER] - delta;
+        let (vol_a, vol_b) = cyl.volumes(x_piston);
+        let d_xp = grad::<JAC>(|| unit(X_DAMPER) - d_delta);
+        // the volumes' floor (0.1 cm³) has no slope
+        let d_vol_a = grad::<JAC>(|| if vol_a > 1e-7 { -d_xp * cyl.a_annulus } else { Grad::zeros() });
+        let d_vol_b = grad::<JAC>(|| if vol_b > 1e-7 { d_xp * cyl.a_piston } else { Grad::zeros() });
+
+        let orifice = |cd: f64, area: f64, dp: f64| orifice_flow_partials(cd, area, dp, p.rho, p.p_transition);
         let a_valve = d.ports.area(x_s);
         let dp_valve = p_a - p_r;
-        let q_valve = orifice(p.cd_valve, a_valve + p.a_valve_leak, dp_valve);
-        let dp_cv1 = p_b - p_a;
-        let q_cv1 =
-            orifice(p.cd_cv, check_valve_area(p.a_cv_leak, p.a_cv_max, d.p_cv_crack, p.p_cv_full, dp_cv1), dp_cv1);
-        let dp_cv2 = p_r - p_b;
-        let q_cv2 =
-            orifice(p.cd_cv, check_valve_area(p.a_cv_leak, p.a_cv_max, d.p_cv_crack, p.p_cv_full, dp_cv2), dp_cv2);
-        let q_relief = if dp_valve > p.p_relief {
-            orifice(p.cd_valve, p.a_relief * smoothstep((dp_valve - p.p_relief) / p.dp_relief), dp_valve)
+        let d_dp_valve = grad::<JAC>(|| unit(P_A) - d_pr);
+        let (q_valve, dqv_da, dqv_ddp) = orifice(p.cd_valve, a_valve + p.a_valve_leak, dp_valve);
+        let d_q_valve = grad::<JAC>(|| unit(X_SPOOL) * (dqv_da * d.ports.area_slope(x_s)) + d_dp_valve * dqv_ddp);
+        let check_valve = |dp: f64| {
+            let (q, dq_da, dq_ddp) =
+                orifice(p.cd_cv, check_valve_area(p.a_cv_leak, p.a_cv_max, d.p_cv_crack, p.p_cv_full, dp), dp);
+            (q, dq_ddp + dq_da * check_valve_area_slope(p.a_cv_max, d.p_cv_crack, p.p_cv_full, dp))
+        };
+        let (q_cv1, dq1) = check_valve(p_b - p_a);
+        let d_q_cv1 = grad::<JAC>(|| (unit(P_B) - unit(P_A)) * dq1);
+        let (q_cv2, dq2) = check_valve(p_r - p_b);
+        let d_q_cv2 = grad::<JAC>(|| (d_pr - unit(P_B)) * dq2);
+        let (q_relief, d_q_relief) = if dp_valve > p.p_relief {
+            let u = (dp_valve - p.p_relief) / p.dp_relief;
+            let (q, dq_da, dq_ddp) = orifice(p.cd_valve, p.a_relief * smoothstep(u), dp_valve);
+            (q, grad::<JAC>(|| d_dp_valve * (dq_ddp + dq_da * p.a_relief * smoothstep_slope(u) / p.dp_relief)))
         } else {
-            0.0
+            (0.0, Grad::zeros())
         };
         let q_leak = effects::total_bypass_flow(p, &signals);
+        let d_q_leak = grad::<JAC>(|| chain(effects::total_bypass_flow_gradient(p, &signals)));
         let r_a = q_cv1 - q_valve - q_relief - q_leak;
+        let d_r_a = grad::<JAC>(|| d_q_cv1 - d_q_valve - d_q_relief - d_q_leak);
         let r_b = -q_cv1 + q_cv2 + q_leak;
+        let d_r_b = grad::<JAC>(|| -d_q_cv1 + d_q_cv2 + d_q_leak);
 
-        let a = effective_bulk_modulus(p_a, p.beta_oil, d.air_fraction, p.n_polytropic) / vol_a;
-        let b = effective_bulk_modulus(p_b, p.beta_oil, d.air_fraction, p.n_polytropic) / vol_b;
-        let k_h = a * cyl.a_annulus * cyl.a_annulus + b * cyl.a_piston * cyl.a_piston;
-        let s = a * cyl.a_annulus * r_a - b * cyl.a_piston * r_b;
-        let delta_rate = d.mount.map_or(0.0, |m| (k_h * v + s) / (m.stiffness(delta) + k_h));
+        let (beta_a, dbeta_a) = effective_bulk_modulus_and_slope(p_a, p.beta_oil, d.air_fraction, p.n_polytropic);
+        let (beta_b, dbeta_b) = effective_bulk_modulus_and_slope(p_b, p.beta_oil, d.air_fraction, p.n_polytropic);
+        let (a, b) = (beta_a / vol_a, beta_b / vol_b);
+        let d_a = grad::<JAC>(|| unit(P_A) * (dbeta_a / vol_a) - d_vol_a * (a / vol_a));
+        let d_b = grad::<JAC>(|| unit(P_B) * (dbeta_b / vol_b) - d_vol_b * (b / vol_b));
+        let (aa, ap) = (cyl.a_annulus, cyl.a_piston);
+        let k_h = a * aa * aa + b * ap * ap;
+        let s_flow = a * aa * r_a - b * ap * r_b;
+        let (delta_rate, d_delta_rate) = if d.mount.is_some() {
+            let denominator = mount_stiffness + k_h;
+            let rate = (k_h * v + s_flow) / denominator;
+            let d_rate = grad::<JAC>(|| {
+                let k3 = d.mount.map_or(0.0, |m| m.k3);
+                let d_k_h = d_a * (aa * aa) + d_b * (ap * ap);
+                let d_s = (d_a * r_a + d_r_a * a) * aa - (d_b * r_b + d_r_b * b) * ap;
+                let d_stiffness = d_delta * (6.0 * k3 * delta);
+                (d_k_h * v + unit(DV) * k_h + d_s - (d_stiffness + d_k_h) * rate) / denominator
+            });
+            (rate, d_rate)
+        } else {
+            (0.0, Grad::zeros())
+        };
         let v_piston = v - delta_rate;
+        let d_v_piston = grad::<JAC>(|| unit(DV) - d_delta_rate);
 
-        let f_flow =
-            if p.effect_flow_forces { flow_force(p.cd_valve, p.cv_valve, p.theta_jet, a_valve, dp_valve) } else { 0.0 };
-        let f_stop = self.stop_force(x_s, v_s);
+        let flow_force_on = p.effect_flow_forces && dp_valve > 0.0;
+        let f_flow = if flow_force_on { d.flow_force_gain * a_valve * dp_valve } else { 0.0 };
+        let d_f_flow = grad::<JAC>(|| {
+            if flow_force_on {
+                (unit(X_SPOOL) * (d.ports.area_slope(x_s) * dp_valve) + d_dp_valve * a_valve) * d.flow_force_gain
+            } else {
+                Grad::zeros()
+            }
+        });
+        let (f_stop, k_stop, c_stop) = self.stop_force(x_s, v_s);
         let f_sol = solenoid_force(p.k_sol, p.kappa_sol, p.x_spool_max, i_coil, x_s);
 
         let mut dydt = State::zeros();
-        dydt[idx::P_A] = a * (cyl.a_annulus * v_piston + r_a);
-        dydt[idx::P_B] = b * (-cyl.a_piston * v_piston + r_b);
-        dydt[idx::V_GAS] = q_cv2 - q_valve - q_relief;
-        dydt[idx::X_SPOOL] = v_s;
-        dydt[idx::V_SPOOL] = (f_sol - p.k_spool * x_s - p.c_spool * v_s - f_flow - f_stop) / p.m_spool;
-        dydt[idx::I_COIL] = (self.i_command - i_coil) / p.tau_coil;
-        dydt[idx::X_DAMPER] = v;
-        PlantOutputs { dydt, force, p_reservoir: p_r, q_valve, flow_force: f_flow, delta_mount: delta }
+        dydt[P_A] = a * (aa * v_piston + r_a);
+        dydt[P_B] = b * (-ap * v_piston + r_b);
+        dydt[V_GAS] = q_cv2 - q_valve - q_relief;
+        dydt[X_SPOOL] = v_s;
+        dydt[V_SPOOL] = (f_sol - p.k_spool * x_s - p.c_spool * v_s - f_flow - f_stop) / p.m_spool;
+        dydt[I_COIL] = self.evaluate_coil(y);
+        dydt[X_DAMPER] = v;
+        let out = PlantOutputs { dydt, force, p_reservoir: p_r, q_valve, flow_force: f_flow, delta_mount: delta };
+        if !JAC {
+            return (out, None);
+        }
+
+        let rows: [Grad; N_STATES] = [
+            d_a * (aa * v_piston + r_a) + (d_v_piston * aa + d_r_a) * a,
+            d_b * (-ap * v_piston + r_b) + (-d_v_piston * ap + d_r_b) * b,
+            d_q_cv2 - d_q_valve - d_q_relief,
+            unit(V_SPOOL),
+            {
+                let mut g = -d_f_flow;
+                g[X_SPOOL] += p.k_sol * i_coil * p.kappa_sol / p.x_spool_max - p.k_spool - k_stop;
+                g[V_SPOOL] -= p.c_spool + c_stop;
+                g[I_COIL] += solenoid_force(p.k_sol, p.kappa_sol, p.x_spool_max, 1.0, x_s);
+                g / p.m_spool
+            },
+            unit(I_COIL) * (-1.0 / p.tau_coil),
+            unit(DV),
+        ];
+        let mut jacobian = SMatrix::<f64, N_STATES, N_STATES>::zeros();
+        let mut df_dv = State::zeros();
+        for (r, g) in rows.iter().enumerate() {
+            for c in 0..N_STATES {
+                jacobian[(r, c)] = g[c];
+            }
+            df_dv[r] = g[DV];
+        }
+        (out, Some(Linearisation { jacobian, df_dv }))
     }
 
-    /// Contact force (N) of the spool end stops (spring-damper beyond the travel).
-    fn stop_force(&self, x_s: f64, v_s: f64) -> f64 {
+    /// The coil current's derivative (A/s) at `y`: the one component that depends on the coil
+    /// command.
+    pub fn evaluate_coil(&self, y: &State) -> f64 {
+        (self.i_command - y[idx::I_COIL]) / self.p.tau_coil
+    }
+
+    /// Contact force (N) of the spool end stops (spring-damper beyond the travel), with the
+    /// stiffness (N/m) and damping (N·s/m) in effect.
+    fn stop_force(&self, x_s: f64, v_s: f64) -> (f64, f64, f64) {
         let p = self.p;
-        if x_s < p.x_spool_min {
-            p.k_stop * (x_s - p.x_spool_min) + p.c_stop * v_s
+        let limit = if x_s < p.x_spool_min {
+            p.x_spool_min
         } else if x_s > p.x_spool_max {
-            p.k_stop * (x_s - p.x_spool_max) + p.c_stop * v_s
+            p.x_spool_max
         } else {
-            0.0
-        }
+            return (0.0, 0.0, 0.0);
+        };
+        (p.k_stop * (x_s - limit) + p.c_stop * v_s, p.k_stop, p.c_stop)
     }
 
     /// Static equilibrium at rest: both chambers at the reservoir pressure of stroke `x`, spool at
@@ -165,30 +306,77 @@ pub fn rest_current(p: &Parameters, x_spool: f64) -> f64 {
     (p.k_spool * x_spool / solenoid_force(p.k_sol, p.kappa_sol, p.x_spool_max, 1.0, x_spool)).clamp(0.0, p.i_max)
 }
 
-impl OdeSystem<N_STATES> for Plant<'_> {
-    fn rhs(&self, y: &State) -> State {
-        self.evaluate(y).dydt
-    }
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::variables::default_parameters;
 
-    /// Finite differences for the nonlinear columns; the spool-velocity and coil columns are
-    /// linear and written out.
-    fn jacobian(&self, y: &State, f0: &State) -> SMatrix<f64, N_STATES, N_STATES> {
-        const SCALE: [f64; N_STATES] = [1e5, 1e5, 1e-4, 1e-3, 1e-2, 1.0, 1e-2];
-        let mut j = SMatrix::<f64, N_STATES, N_STATES>::zeros();
-        for col in [idx::P_A, idx::P_B, idx::V_GAS, idx::X_SPOOL, idx::X_DAMPER] {
-            let step = 1.5e-8 * y[col].abs().max(SCALE[col]);
-            let mut yp = *y;
-            yp[col] += step;
-            let step = yp[col] - y[col];
-            j.set_column(col, &((self.rhs(&yp) - f0) / step));
+    /// The written-out Jacobian and ∂f/∂v against central differences of `evaluate`, over states
+    /// that cross every regime: check valves shut, cracking and open, the relief valve, the valve
+    /// shut and open, the spool on its stops, chambers above and below the reservoir, with every
+    /// effect on and off.
+    #[test]
+    fn linearisation_matches_central_differences() {
+        const SCALE: [f64; N_STATES + 1] = [1e5, 1e5, 1e-5, 1e-4, 1e-2, 1e-1, 1e-2, 1e-2];
+        let mut rng = 0x2545_f491_4f6c_dd1d_u64;
+        let mut uniform = move || {
+            rng ^= rng << 13;
+            rng ^= rng >> 7;
+            rng ^= rng << 17;
+            (rng >> 11) as f64 / (1u64 << 53) as f64
+        };
+        for all_on in [false, true] {
+            let mut p = default_parameters();
+            if all_on {
+                p.effect_seal_friction = true;
+                p.effect_piston_leakage = true;
+                p.effect_viscous_friction = true;
+            }
+            let d = p.derive();
+            for case in 0..400 {
+                let rest = Plant::rest_state(&p, &d, 0.0, 1e-3);
+                let mut y = rest;
+                y[idx::P_A] = -0.5e5 + 150e5 * uniform();
+                y[idx::P_B] =
+                    if case % 3 == 0 { y[idx::P_A] + 2e5 * (uniform() - 0.5) } else { -0.5e5 + 60e5 * uniform() };
+                y[idx::V_GAS] = rest[idx::V_GAS] * (0.8 + 0.4 * uniform());
+                y[idx::X_SPOOL] = -0.5e-3 + 7e-3 * uniform();
+                y[idx::V_SPOOL] = 0.2 * (uniform() - 0.5);
+                y[idx::I_COIL] = 2.0 * uniform();
+                y[idx::X_DAMPER] = 0.08 * (uniform() - 0.5);
+                let v = 1.5 * (uniform() - 0.5);
+                let plant = |v: f64| Plant { p: &p, d: &d, v_damper: v, i_command: 0.7 };
+                let (out, lin) = plant(v).evaluate_linearised(&y);
+                assert_eq!(out.dydt, plant(v).evaluate(&y).dydt);
+                for col in 0..=N_STATES {
+                    let h = 1e-6 * SCALE[col];
+                    let f = |s: f64| {
+                        let mut yp = y;
+                        if col < N_STATES {
+                            yp[col] += s * h;
+                            plant(v).evaluate(&yp).dydt
+                        } else {
+                            plant(v + s * h).evaluate(&yp).dydt
+                        }
+                    };
+                    let fd = (f(1.0) - f(-1.0)) / (2.0 * h);
+                    // a kink (check valve or stop edge) within ±h makes the difference meaningless
+                    let one_sided = (f(1.0) - f(0.0)) / h - (f(0.0) - f(-1.0)) / h;
+                    for row in 0..N_STATES {
+                        let exact = if col < N_STATES { lin.jacobian[(row, col)] } else { lin.df_dv[row] };
+                        let size = fd[row].abs().max(exact.abs());
+                        if one_sided[row].abs() > 1e-4 * size {
+                            continue;
+                        }
+                        let tol = 1e-5 * size + 1e-9 * out.dydt[row].abs().max(1e-12) / SCALE[col];
+                        assert!(
+                            (exact - fd[row]).abs() <= tol,
+                            "case {case} (effects on: {all_on}), ∂f{row}/∂y{col}: written {exact:e}, differences {:e}",
+                            fd[row]
+                        );
+                    }
+                }
+            }
         }
-        let p = self.p;
-        let x_s = y[idx::X_SPOOL];
-        let c_stop = if x_s < p.x_spool_min || x_s > p.x_spool_max { p.c_stop } else { 0.0 };
-        j[(idx::X_SPOOL, idx::V_SPOOL)] = 1.0;
-        j[(idx::V_SPOOL, idx::V_SPOOL)] = -(p.c_spool + c_stop) / p.m_spool;
-        j[(idx::V_SPOOL, idx::I_COIL)] = solenoid_force(p.k_sol, p.kappa_sol, p.x_spool_max, 1.0, x_s) / p.m_spool;
-        j[(idx::I_COIL, idx::I_COIL)] = -1.0 / p.tau_coil;
-        j
     }
 }

@@ -91,7 +91,12 @@ pub fn solenoid_force(k_sol: f64, kappa: f64, x_max: f64, i: f64, x_spool: f64) 
 /// Steady flow force (N) on the spool, acting to close the valve: jet momentum through the open
 /// area `area` (m²) under the pressure drop `dp` (Pa) (only positive drops drive the jet).
 pub fn flow_force(cd: f64, cv: f64, theta_jet: f64, area: f64, dp: f64) -> f64 {
-    2.0 * cd * cv * theta_jet.cos() * area * dp.max(0.0)
+    flow_force_gain(cd, cv, theta_jet) * area * dp.max(0.0)
+}
+
+/// The flow-force gain 2 C_d C_v cos θ (-): [`flow_force`] = gain · A · max(Δp, 0).
+pub fn flow_force_gain(cd: f64, cv: f64, theta_jet: f64) -> f64 {
+    2.0 * cd * cv * theta_jet.cos()
 }
 
 #[cfg(test)]

@@ -1,8 +1,9 @@
 //! Stiff integration: a linearly-implicit, L-stable Rosenbrock method on fixed-size nalgebra
 //! vectors (no heap allocation, fixed operation sequence, hence bitwise deterministic).
-mod rodas3;
+mod lu;
+mod rosenbrock;
 
-pub use rodas3::{rodas3_step, rodas3_step_timed};
+pub use rosenbrock::{rosenbrock_step, rosenbrock_step_from, StepStart, Tableau, RODAS3};
 
 use nalgebra::{SMatrix, SVector};
 

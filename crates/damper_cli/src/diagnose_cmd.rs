@@ -58,7 +58,7 @@ pub fn html_section(r: &Diagnosed) -> String {
     let mut h = format!(
         "<h2>Which effect is missing</h2><p><b>Verdict: {}</b>{}. {}</p>\
          <p class=\"small\">Every effect of the catalog (docs/effects.md) is switched on, or refitted where the baseline has \
-         it, its parameters are fitted on the train part (Nelder–Mead on bounded scales; delays on the controller's sample grid), \
+         it, its parameters are fitted on the train part (Levenberg–Marquardt on bounded scales; delays on the controller's sample grid), \
          and the candidate is scored by the validation NRMSE. Verdicts: <i>effect</i> when the named effects leave at most {EXPLAINED_FACTOR}× the floor and \
          the first explains at least {:.0} % of the validation error above the floor (b² − c²)/(b² − f²) with plausible parameters, clearly more than the best \
          plausible runner-up (or the ladder's effects reach the floor together); <i>partial</i> when they explain a clear share but leave more; \

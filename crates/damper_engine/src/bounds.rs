@@ -1,6 +1,6 @@
-//! The box a fitted parameter is searched in, shared by the diagnosis's Nelder–Mead
-//! (`crate::fit`) and calibration's Levenberg–Marquardt (`crate::lm`): bounds, and a logarithmic
-//! scale for parameters spanning decades (leakage, stiffness).
+//! The box a fitted parameter is searched in by Levenberg–Marquardt (`crate::lm`), for the
+//! diagnosis's candidates and for calibration: bounds, and a logarithmic scale for parameters
+//! spanning decades (leakage, stiffness).
 
 /// How a parameter is searched: its box, and whether on a logarithmic scale (needs lo > 0).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -41,19 +41,6 @@ impl Bound {
         } else {
             1.0
         }
-    }
-
-    /// The unbounded coordinate u of `x` under θ = lo + (hi − lo)·(1 + sin u)/2 (on the searched
-    /// scale), where any u maps into the box.
-    pub fn unbounded_at(self, x: f64) -> f64 {
-        let (lo, hi) = self.internal_box();
-        (2.0 * (self.to_internal(x) - lo) / (hi - lo) - 1.0).clamp(-1.0, 1.0).asin()
-    }
-
-    /// The parameter at the unbounded coordinate `u` ([`Bound::unbounded_at`]).
-    pub fn value_at_unbounded(self, u: f64) -> f64 {
-        let (lo, hi) = self.internal_box();
-        self.to_physical(lo + (hi - lo) * ((1.0 + u.sin()) / 2.0))
     }
 
     /// True when `x` lies within `fraction` of the (searched) range of a bound.

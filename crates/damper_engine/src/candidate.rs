@@ -3,22 +3,27 @@
 //! candidate scored on the held-out validation part; and the fitting of a whole round of
 //! candidates in parallel.
 
+use crate::bounds::Bound;
 use crate::criteria::{share, MOVED_SIGMAS};
-use crate::dsp::{kept, nrmse_kept};
-use crate::fit::{minimize, standard_errors, Bound, Fit, AT_BOUND};
-use crate::lm::colour_factor;
+use crate::dsp::nrmse_kept;
+use crate::lm;
 use crate::parameters::{effect_on, get_real, set_effect, set_real};
 use crate::sensitivity::Informative;
 use semi_active_damper::effects::{EffectInfo, FittedParameter};
 use semi_active_damper::physics::params::Parameters;
 
-/// Objective evaluations per fit.
-pub const MAX_EVALS: usize = 25;
+/// Levenberg–Marquardt settings of a candidate's fit: it stops when an accepted step lowers the
+/// sum of squares by less than 1e-4 of it (the fitted value then moves by far less than its
+/// uncertainty), after at most 12 iterations.
+pub const FIT_OPTIONS: lm::Options = lm::Options { max_iterations: 12, step: 3e-3, tolerance: 1e-4 };
 /// A fit runs the model over at most this much of the train part (s), from its start; the
 /// candidate is then scored on the whole validation part. One or two parameters are pinned by far
 /// fewer samples, and the model's run time grows with the length: a 60 s record's diagnosis took
 /// 55 s with the whole train part (42 s) at rtol 1e-4.
 pub const MAX_FIT_SECONDS: f64 = 20.0;
+/// A fitted value within this fraction of its box's (searched) range of a bound is "at its search
+/// bound": the data do not pin it inside the box.
+pub const AT_BOUND: f64 = 0.01;
 
 /// The flag of a refit that stayed within its uncertainty of the model's value.
 pub const NOTHING_MOVED: &str = "nothing moved";
@@ -123,15 +128,22 @@ impl FitSetup<'_> {
     }
 
     fn data(&self) -> Data<'_> {
-        Data { measured: self.measured, keep: &self.informative.keep, train: self.train, split: self.split }
+        Data {
+            measured: self.measured,
+            keep: &self.informative.keep,
+            train: self.train,
+            split: self.split,
+            pool: self.pool,
+        }
     }
 }
 
-/// Model runs a fit of `spec` takes, about: its grid, or the simplex's budget and the Hessian.
+/// Model runs a fit of `spec` takes, about: its grid, or a few Levenberg–Marquardt iterations of
+/// a Jacobian and a trial step.
 fn model_runs(spec: &EffectInfo) -> usize {
     match spec.fitted {
         [FittedParameter { search, grid: Some(step), .. }] => ((search.1 - search.0) / step).round() as usize + 1,
-        p => MAX_EVALS * p.len() + 2 * p.len() * p.len(),
+        p => 5 * (p.len() + 1),
     }
 }
 
@@ -149,22 +161,28 @@ pub struct JointFit {
     pub evaluations: usize,
 }
 
-/// The measured force, the samples kept, the samples a fit runs (from the start) and the first
-/// sample of the validation part.
+/// The measured force, the samples kept, the samples a fit runs (from the start), the first
+/// sample of the validation part, and the threads a fit's Jacobian columns run on.
 #[derive(Clone, Copy)]
 pub struct Data<'a> {
     pub measured: &'a [f64],
     pub keep: &'a [bool],
     pub train: usize,
     pub split: usize,
+    pub pool: &'a rayon::ThreadPool,
 }
 
 /// Switches the effects `keys` on in `baseline` and fits `fitted` (their parameters, starting at
-/// the model's values) on the training part of `measured`, then runs the whole record.
+/// the model's values) on the training part of `measured`, then runs the whole record. A
+/// quantised parameter (a delay in controller samples) is searched over its whole grid; the
+/// others by bounded Levenberg–Marquardt ([`crate::lm`]), whose covariance at the optimum, inflated
+/// for the residuals' colour, gives their uncertainties. It replaced a Nelder–Mead simplex of 25
+/// runs per parameter plus a Hessian for the uncertainties: the same optimum in about a third of
+/// the model runs (docs/performance.md).
 pub fn fit_effects(
     simulate: &Simulator<'_>,
     baseline: &Parameters,
-    Data { measured, keep, train: train_len, split }: Data<'_>,
+    Data { measured, keep, train: train_len, split, pool }: Data<'_>,
     keys: &[&str],
     fitted: &[FittedParameter],
 ) -> Result<JointFit, String> {
@@ -180,48 +198,42 @@ pub fn fit_effects(
         Ok(p)
     };
     let train = &measured[..train_len];
-    let sse = |x: &[f64]| -> f64 {
-        match with(x).and_then(|p| simulate(&p, train_len)) {
-            Ok(m) => m.iter().zip(train).zip(keep).filter(|(_, k)| **k).map(|((m, y), _)| (m - y).powi(2)).sum(),
-            Err(_) => f64::INFINITY,
-        }
+    let residuals = |x: &[f64]| -> Result<Vec<f64>, String> {
+        let m = simulate(&with(x)?, train_len)?;
+        Ok(m.iter().zip(train).zip(keep).filter(|(_, k)| **k).map(|((m, y), _)| m - y).collect())
     };
     let x0: Vec<f64> = fitted
         .iter()
         .map(|s| get_real(&start, s.name).map(|v| v.clamp(s.search.0.max(1e-300), s.search.1)))
         .collect::<Result<_, _>>()?;
     let bounds: Vec<Bound> = fitted.iter().map(bound).collect();
-    let (fit, errors) = match fitted {
+    let mut flags = Vec::new();
+    let (x, errors, evaluations) = match fitted {
         [p @ FittedParameter { grid: Some(step), .. }] => {
             let bound = bound(p);
-            // the whole grid: the answer is exact to half a step
+            let sse = |k: usize| {
+                let x = bound.lo + k as f64 * step;
+                residuals(&[x]).map_or(f64::INFINITY, |r| r.iter().map(|v| v * v).sum())
+            };
             let n = ((bound.hi - bound.lo) / step).round() as usize;
-            let best = (0..=n)
-                .map(|k| bound.lo + k as f64 * step)
-                .map(|x| (x, sse(&[x])))
-                .min_by(|a, b| a.1.total_cmp(&b.1))
-                .expect("non-empty grid");
-            (Fit { x: vec![best.0], value: best.1, evaluations: n + 1 }, vec![Some(0.5 * step)])
+            let (best, runs) = grid_minimum(sse, n);
+            (vec![bound.lo + best as f64 * step], vec![Some(0.5 * step)], runs)
         }
-        _ => {
-            let fit = minimize(sse, &x0, &bounds, MAX_EVALS * fitted.len());
-            let errors =
-                standard_errors(sse, (&fit.x, fit.value), keep[..train_len].iter().filter(|k| **k).count(), 1e-2);
-            (fit, errors)
-        }
+        _ => match lm::solve(&residuals, &x0, &bounds, pool, FIT_OPTIONS) {
+            Ok(solution) => {
+                let errors = (0..fitted.len()).map(|i| solution.std_error(i)).collect();
+                (solution.x, errors, solution.model_runs)
+            }
+            // the model failed at the start or next to it: the candidate stays where it started
+            Err(e) => {
+                flags.push(format!("the fit failed: {e}"));
+                (x0.clone(), vec![None; fitted.len()], 0)
+            }
+        },
     };
-    let model = with(&fit.x)?;
+    let model = with(&x)?;
     let full = simulate(&model, measured.len())?;
-    // the curvature's uncertainties assume white residuals; the model's remaining error colours
-    // them, and without this a refit of 0.2 % counted as "moved" on a clean record
-    let residual: Vec<f64> = full[..train_len].iter().zip(train).map(|(m, y)| m - y).collect();
-    let inflation = colour_factor(&kept(&residual, keep)).sqrt();
-    let errors: Vec<Option<f64>> = match fitted {
-        [FittedParameter { grid: Some(_), .. }] => errors,
-        _ => errors.into_iter().map(|e| e.map(|e| e * inflation)).collect(),
-    };
-    let mut flags = Vec::new();
-    for (s, &x) in fitted.iter().zip(&fit.x) {
+    for (s, &x) in fitted.iter().zip(&x) {
         if bound(s).near_bound(x, AT_BOUND) {
             flags.push(format!("{} = {x:.4e} at its search bound", s.name));
         } else if x < s.plausible.0 || x > s.plausible.1 {
@@ -234,7 +246,7 @@ pub fn fit_effects(
     // a refit that stays within its uncertainty of the model's value has found nothing
     let was_on = keys.iter().map(|k| effect_on(baseline, k)).collect::<Result<Vec<_>, _>>()?;
     if was_on.iter().all(|&on| on) {
-        let moved = fitted.iter().zip(&fit.x).zip(&x0).zip(&errors).any(|(((s, &x), &x0), e)| match (s.grid, e) {
+        let moved = fitted.iter().zip(&x).zip(&x0).zip(&errors).any(|(((s, &x), &x0), e)| match (s.grid, e) {
             (Some(step), _) => (x - x0).abs() >= 0.5 * step,
             (None, Some(e)) => (x - x0).abs() > MOVED_SIGMAS * e,
             (None, None) => (x - x0).abs() > 1e-3 * x0.abs(),
@@ -250,22 +262,48 @@ pub fn fit_effects(
         let size = catalog().find(|e| e.key == *key).and_then(|e| e.fitted.first()).map(|f| f.name);
         let Some(i) = size.and_then(|name| fitted.iter().position(|f| f.name == name)) else { continue };
         if let (false, Some(e)) = (*on, errors[i]) {
-            if fit.x[i].abs() <= MOVED_SIGMAS * e {
+            if x[i].abs() <= MOVED_SIGMAS * e {
                 flags.push(format!(
                     "{} = {:.4e} ± {e:.1e}: within {MOVED_SIGMAS} standard uncertainties of zero, {key} {INDISTINGUISHABLE}",
-                    fitted[i].name, fit.x[i]
+                    fitted[i].name, x[i]
                 ));
             }
         }
     }
     Ok(JointFit {
-        params: fitted.iter().zip(&fit.x).zip(errors).map(|((s, &x), e)| (s.name, x, e)).collect(),
+        params: fitted.iter().zip(&x).zip(errors).map(|((s, &x), e)| (s.name, x, e)).collect(),
         model,
         nrmse_train: nrmse_kept(train, &full[..train_len], &keep[..train_len]),
         nrmse_validation: nrmse_kept(&measured[split..], &full[split..], &keep[split..]),
         flags,
-        evaluations: fit.evaluations,
+        evaluations,
     })
+}
+
+/// Coarse grid step of [`grid_minimum`].
+const GRID_COARSE: usize = 3;
+
+/// The grid point k in 0..=n where `sse` is least, and the runs it took: every
+/// [`GRID_COARSE`]-th point (and the last), then the points between the best of them and its
+/// coarse neighbours. Exact when `sse` falls and rises once around its minimum on the scale of
+/// the coarse step, as a delay's error does (the amplifier delay: 12 runs instead of 21).
+fn grid_minimum(sse: impl Fn(usize) -> f64, n: usize) -> (usize, usize) {
+    let mut points: Vec<usize> = (0..=n).step_by(GRID_COARSE).collect();
+    if points.last() != Some(&n) {
+        points.push(n);
+    }
+    let mut tried: Vec<(usize, f64)> = points.iter().map(|&k| (k, sse(k))).collect();
+    let coarse_best = tried.iter().min_by(|a, b| a.1.total_cmp(&b.1)).expect("non-empty grid").0;
+    let near = coarse_best.saturating_sub(GRID_COARSE - 1)..=(coarse_best + GRID_COARSE - 1).min(n);
+    for k in near {
+        if !points.contains(&k) {
+            tried.push((k, sse(k)));
+        }
+    }
+    // the first of equal values, in grid order: independent of the order tried
+    tried.sort_by_key(|t| t.0);
+    let best = tried.iter().min_by(|a, b| a.1.total_cmp(&b.1)).expect("non-empty grid").0;
+    (best, tried.len())
 }
 
 impl Candidate {
@@ -312,6 +350,18 @@ pub fn try_candidate(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn grid_minimum_finds_the_least_point_of_a_valley() {
+        for n in [0, 1, 2, 5, 20, 21] {
+            for target in 0..=n {
+                let (best, runs) = grid_minimum(|k| (k as f64 - target as f64).abs(), n);
+                assert_eq!(best, target, "n {n}");
+                assert!(runs <= n + 1);
+            }
+        }
+        assert_eq!(grid_minimum(|k| (k as f64 - 13.0).powi(2), 20), (13, 12));
+    }
 
     #[test]
     fn catalog_names_are_fmu_parameters() {

@@ -9,7 +9,7 @@
 //! - [`dsp`]: error metrics, spectra, correlations, the load-cell filter, the noise estimate;
 //! - [`analysis`]: fit per signal and where the error lives; [`comparison`]: read, run, analyse;
 //! - [`diagnose`]: which catalog effect is missing, by the thresholds of [`criteria`], from the
-//!   [`candidate`] fits ([`fit`]: bounded Nelder–Mead, parameter uncertainty), with [`ladder`]
+//!   [`candidate`] fits ([`lm`]: bounded Levenberg–Marquardt, parameter uncertainty), with [`ladder`]
 //!   (the effects added in turn) and [`before_after`] (the model with the named effects);
 //!   [`diagnosed`] runs it all on a measurement;
 //! - [`summary`]: the typed `summary.json` and the JSON writing shared with the truth file;
@@ -28,7 +28,6 @@ pub mod criteria;
 pub mod diagnose;
 pub mod diagnosed;
 pub mod dsp;
-pub mod fit;
 pub mod floor;
 pub mod fmu_model;
 pub mod generate;

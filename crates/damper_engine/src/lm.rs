@@ -158,6 +158,12 @@ pub fn solve(
             };
             let mut trial: Vec<f64> = u.iter().zip(step.iter()).map(|(a, b)| a + b).collect();
             clamp(&mut trial);
+            if trial == u {
+                // the box cut the whole step: the same point, whose cost is known (a parameter
+                // at its bound took some twenty runs of the model to learn this)
+                lambda *= 4.0;
+                continue;
+            }
             let r_trial = eval(&physical(&trial)).ok().filter(|r| r.len() == m && r.iter().all(|v| v.is_finite()));
             match r_trial {
                 Some(r_new) if sum_sq(&r_new) < cost => {
