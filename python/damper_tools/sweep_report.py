@@ -30,6 +30,7 @@ import math
 import os
 import sys
 import time
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
@@ -76,8 +77,10 @@ def pareto_mask(x: np.ndarray, y: np.ndarray) -> np.ndarray:
     return mask
 
 
-def first_order_index(x: Any, y: np.ndarray) -> float:
-    """Var(E[y | x]) / Var(y) (module docstring): groups by x's values, or by rank bins of x."""
+def first_order_index(x: Any, y: np.ndarray) -> tuple[float, float]:
+    """(S, no-effect level): S = Var(E[y | x]) / Var(y) (module docstring), grouping by x's values or
+    by rank bins of x; the no-effect level (k - 1)/(n - 1) for k groups of n points is what S
+    averages to when y does not depend on x at all (the estimator's bias): below it, no effect shows."""
     import pandas as pd
 
     x = pd.Series(x).reset_index(drop=True)
@@ -85,66 +88,90 @@ def first_order_index(x: Any, y: np.ndarray) -> float:
     ok = y.notna()
     x, y = x[ok], y[ok]
     if y.size < 2 or y.var(ddof=0) == 0:
-        return math.nan
+        return math.nan, math.nan
     if x.nunique() > MAX_GROUP_LEVELS:
         x = pd.Series(np.minimum((x.rank(method="first") - 1) * RANK_BINS // x.size, RANK_BINS - 1), index=x.index)
     means = y.groupby(x).transform("mean")
-    return float(((means - y.mean()) ** 2).mean() / y.var(ddof=0))
+    return float(((means - y.mean()) ** 2).mean() / y.var(ddof=0)), (x.nunique() - 1) / (y.size - 1)
 
 
 def sensitivity(df: Any, params: list[str], metrics: list[str]) -> Any:
-    """One row per (metric, parameter): index (first_order_index) and spearman (nan for a category)."""
+    """One row per (metric, parameter): index and no_effect_level (first_order_index), spearman (nan
+    for a category)."""
     import pandas as pd
 
     rows = []
     for m in metrics:
         for p in params:
             rho = (float(df[p].corr(df[m], method="spearman")) if _numeric(df, p) else math.nan)
-            rows.append({"metric": m, "parameter": p, "index": first_order_index(df[p], df[m].to_numpy()),
-                         "spearman": rho})
-    return pd.DataFrame(rows, columns=["metric", "parameter", "index", "spearman"])
+            index, level = first_order_index(df[p], df[m].to_numpy())
+            rows.append({"metric": m, "parameter": p, "index": index, "no_effect_level": level, "spearman": rho})
+    return pd.DataFrame(rows, columns=["metric", "parameter", "index", "no_effect_level", "spearman"])
 
 
 # --------------------------------------------------------------------------- plots
 
-def _facets(df: Any, facet: str | None) -> list[tuple[str, Any]]:
-    if facet and facet in df and df[facet].nunique() > 1:
-        return [(f"{facet} = {v}", df[df[facet] == v]) for v in df[facet].drop_duplicates()]
-    return [("", df)]
+def _facets(df: Any, facet: str | Sequence[str] | None) -> list[list[tuple[str, Any]]]:
+    """Panels as rows of (title, frame): by one parameter (one row), or by two (rows by the first,
+    columns by the second); a parameter with one value is not a facet."""
+    names = [facet] if isinstance(facet, str) else list(facet or [])
+    names = [n for n in names if n in df and df[n].nunique() > 1][:2]
+    if not names:
+        return [[("", df)]]
+    if len(names) == 1:
+        n = names[0]
+        return [[(f"{n} = {v:g}" if isinstance(v, float) else f"{n} = {v}", df[df[n] == v])
+                 for v in df[n].drop_duplicates()]]
+    a, b = names
+    return [[(f"{a} = {va}, {b} = {vb:g}" if isinstance(vb, float) else f"{a} = {va}, {b} = {vb}",
+              df[(df[a] == va) & (df[b] == vb)]) for vb in df[b].drop_duplicates()] for va in df[a].drop_duplicates()]
 
 
 def plot_tradeoff(df: Any, path: Path, x: str = "DLC", y: str = "a_body_rms", color: str | None = None,
-                  facet: str | None = "road") -> Path:
-    """y against x for every point, coloured by a parameter, the Pareto front (both small) as a line."""
+                  facet: str | Sequence[str] | None = "road", size: str | None = None) -> Path:
+    """y against x for every point, coloured by a parameter (and sized by another), the Pareto front
+    (both small) of each panel as a line."""
     plt = _plt()
-    panels = _facets(df, facet)
-    fig, axes = plt.subplots(1, len(panels), figsize=(5.2 * len(panels), 4.4), squeeze=False)
-    vmin = vmax = None
-    if color and color in df and _numeric(df, color):
-        vmin, vmax = float(df[color].min()), float(df[color].max())
-    for ax, (title, d) in zip(axes[0], panels, strict=True):
-        d = d[d[x].notna() & d[y].notna()]
-        xs, ys = d[x].to_numpy(float), d[y].to_numpy(float)
-        if color and color in d and _numeric(d, color):
-            sc = ax.scatter(xs, ys, c=d[color].to_numpy(float), cmap="viridis", vmin=vmin, vmax=vmax, s=22,
-                            edgecolors="none")
-            fig.colorbar(sc, ax=ax, label=color)
-        else:
-            ax.scatter(xs, ys, s=22, color="tab:blue", edgecolors="none")
-        if xs.size:
-            front = pareto_mask(xs, ys)
-            order = np.argsort(xs[front])
-            ax.plot(xs[front][order], ys[front][order], "-", color="tab:red", lw=1.2,
-                    label=f"Pareto front ({int(front.sum())} points)")
-            ax.legend(fontsize=8, loc="upper right")
-        ax.set_xlabel(x)
-        ax.set_ylabel(y)
-        ax.set_title(title or f"{len(d)} points", fontsize=10)
-        ax.grid(alpha=0.3)
-    fig.suptitle(f"Trade-off: {y} against {x}, every point of the sweep", fontsize=11)
-    fig.tight_layout()
+    grid = _facets(df, facet)
+    nrow, ncol = len(grid), len(grid[0])
+    fig, axes = plt.subplots(nrow, ncol, figsize=(3.9 * ncol + 1.2, 3.3 * nrow + 0.6), squeeze=False)
+    coloured = bool(color and color in df and _numeric(df, color))
+    vmin, vmax = (float(df[color].min()), float(df[color].max())) if coloured else (None, None)
+    sizes = None
+    if size and size in df and _numeric(df, size):
+        lo, hi = float(df[size].min()), float(df[size].max())
+        sizes = (lambda v: 8 + 50 * (v - lo) / (hi - lo)) if hi > lo else (lambda v: 22 + 0 * v)
+    sc = None
+    for r, row in enumerate(grid):
+        for c, (title, d) in enumerate(row):
+            ax = axes[r][c]
+            d = d[d[x].notna() & d[y].notna()]
+            xs, ys = d[x].to_numpy(float), d[y].to_numpy(float)
+            s = sizes(d[size].to_numpy(float)) if sizes else 22
+            if coloured:
+                sc = ax.scatter(xs, ys, c=d[color].to_numpy(float), cmap="viridis", vmin=vmin, vmax=vmax, s=s,
+                                edgecolors="none")
+            else:
+                ax.scatter(xs, ys, color="tab:blue", s=s, edgecolors="none")
+            if xs.size:
+                front = pareto_mask(xs, ys)
+                order = np.argsort(xs[front])
+                ax.plot(xs[front][order], ys[front][order], "-", color="tab:red", lw=1.0,
+                        label=f"Pareto front ({int(front.sum())})")
+                ax.legend(fontsize=7, loc="upper left")
+            ax.set_title(title or f"{len(d)} points", fontsize=9)
+            ax.tick_params(labelsize=7)
+            ax.grid(alpha=0.3)
+            if r == nrow - 1:
+                ax.set_xlabel(x, fontsize=8)
+            if c == 0:
+                ax.set_ylabel(y, fontsize=8)
+    if coloured and sc is not None:
+        fig.colorbar(sc, ax=axes.ravel().tolist(), label=color, shrink=0.8)
+    note = f"; marker size: {size} ({df[size].min():g} small to {df[size].max():g} large)" if sizes else ""
+    fig.suptitle(f"Trade-off: {y} against {x}, every point of the sweep{note}", fontsize=10)
     path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=110)
+    fig.savefig(path, dpi=100, bbox_inches="tight")
     plt.close(fig)
     return path
 
@@ -154,8 +181,9 @@ def plot_heatmap(df: Any, path: Path, x: str, y: str, metric: str, facet: str | 
     """The mean of `metric` over the points sharing (x, y) (so over the parameters `others`), one
     panel per facet value, one colour scale."""
     plt = _plt()
-    panels = _facets(df, facet)
-    others = [o for o in (others or []) if o not in (x, y, facet)]
+    panels = [p for row in _facets(df, facet) for p in row]
+    facets = [facet] if isinstance(facet, str) else list(facet or [])
+    others = [o for o in (others or []) if o not in (x, y, *facets)]
     fig, axes = plt.subplots(1, len(panels), figsize=(5.0 * len(panels) + 1.0, 4.4), squeeze=False)
     pivots = [d.pivot_table(index=y, columns=x, values=metric, aggfunc="mean") for _, d in panels]
     vmin = min(float(np.nanmin(p.to_numpy())) for p in pivots)
@@ -196,6 +224,7 @@ def plot_sensitivity(sens: Any, path: Path) -> Path:
         s = sens[sens["metric"] == m].sort_values("index", na_position="first")
         colors = ["tab:red" if r > 0 else "tab:blue" if r < 0 else "0.6" for r in s["spearman"].fillna(0)]
         ax.barh(range(len(s)), s["index"].fillna(0), color=colors)
+        ax.plot(s["no_effect_level"], range(len(s)), "|", color="k", ms=12, mew=1.5)
         ax.set_yticks(range(len(s)), list(s["parameter"]), fontsize=8)
         ax.set_xlim(0, 1)
         ax.set_title(m, fontsize=10)
@@ -203,7 +232,8 @@ def plot_sensitivity(sens: Any, path: Path) -> Path:
     for ax in axes[-1]:
         ax.set_xlabel("first-order index Var(E[Y|X]) / Var(Y)")
     fig.suptitle("Sensitivity: share of each metric's variance explained by one parameter alone\n"
-                 "(red: the metric rises with the parameter, blue: it falls, grey: a category)", fontsize=10)
+                 "(red: the metric rises with the parameter, blue: it falls, grey: a category; "
+                 "black tick: the level a parameter without effect reaches by chance)", fontsize=10)
     fig.tight_layout()
     path.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(path, dpi=110)
@@ -222,7 +252,7 @@ def plot_specs(spec: sweep.Sweep, df: Any) -> dict[str, Any]:
     tradeoff = None
     if "DLC" in metrics and "a_body_rms" in metrics:
         tradeoff = {"x": "DLC", "y": "a_body_rms", "color": numeric_axes[0] if numeric_axes else None,
-                    "facet": facet}
+                    "size": numeric_axes[1] if len(numeric_axes) > 1 else None, "facet": facet}
     heatmaps = []
     if len(numeric_axes) >= 2:
         heatmaps = [{"x": numeric_axes[0], "y": numeric_axes[1], "metric": m, "facet": facet} for m in metrics[:2]]
@@ -239,9 +269,9 @@ def draw(spec: sweep.Sweep, df: Any, out: Path) -> dict[str, Any]:
     ok = df[df["error"] == ""] if "error" in df else df
     images = []
     if plots["tradeoff"] and len(ok):
-        t = {"facet": None, "color": None, **plots["tradeoff"]}
+        t = {"facet": None, "color": None, "size": None, **plots["tradeoff"]}
         images.append(("Trade-off", plot_tradeoff(ok, out / "plots" / "tradeoff.png", t["x"], t["y"], t["color"],
-                                                  t["facet"])))
+                                                  t["facet"], t["size"])))
     for h in plots["heatmaps"]:
         if len(ok):
             h = {"facet": None, **h}
@@ -352,12 +382,15 @@ def main(argv: list[str] | None = None) -> int:
            "failed": outcome.failed, "workers": workers or "serial", "scheduler": args.scheduler or "local",
            "wall_s": round(time.perf_counter() - start, 2), "sweep_wall_s": round(outcome.wall_s, 2),
            "cpu_s_of_runs": round(float(df["wall_s"].sum()), 2)}
-    (out / "run.json").write_text(json.dumps(run, indent=1) + "\n", encoding="utf-8")
+    history = out / "run.json"
+    runs = json.loads(history.read_text(encoding="utf-8")).get("runs", []) if history.is_file() else []
+    history.write_text(json.dumps({**run, "runs": [*runs, run]}, indent=1) + "\n", encoding="utf-8")
     if not args.no_plots:
         drawn = draw(spec, df, out)
         write_html(out / "index.html", spec, df, drawn["images"], drawn["sensitivity"], run)
+    where = f"on {workers} workers" if workers else "serially"
     print(f"sweep: {spec.name}: {n} points ({outcome.ran} run, {outcome.skipped} resumed, {outcome.failed} failed) "
-          f"on {run['workers']} workers in {run['wall_s']:.1f} s; wrote {out / 'results.parquet'}"
+          f"{where} in {run['wall_s']:.1f} s; wrote {out / 'results.parquet'}"
           + ("" if args.no_plots else f" and {out / 'index.html'}"))
     for r in outcome.rows:
         if r["error"]:
