@@ -278,7 +278,9 @@ def run_campaign(records: Sequence[Path], out: str | Path, options: Options | No
 
 # --------------------------------------------------------------------------- the table
 
-def _cell(v: Any) -> str:
+def _cell(v: Any, column: str = "") -> str:
+    if column == "seconds" and isinstance(v, float):
+        return f"{v:.1f}"
     if v is None:
         return "–"
     if isinstance(v, bool):
@@ -308,7 +310,7 @@ def markdown(rows: Sequence[dict[str, Any]]) -> str:
                                                       any(r.get(c) is not None for r in rows))]
     lines = ["| " + " | ".join(cols) + " |", "|" + "---|" * len(cols)]
     for r in rows:
-        lines.append("| " + " | ".join(_cell(r.get(c)).replace("|", "/") for c in cols) + " |")
+        lines.append("| " + " | ".join(_cell(r.get(c), c).replace("|", "/") for c in cols) + " |")
     right, judged = score(rows)
     failed = sum(1 for r in rows if r["status"] != "ok")
     tail = f"; right verdicts: {right} of {judged}" if judged else ""
@@ -332,7 +334,7 @@ def write_index(path: Path, rows: Sequence[dict[str, Any]], title: str, note: st
            "<table><tr>" + "".join(f"<th>{esc(c)}</th>" for c in cols) + "<th>report</th></tr>"]
     for r in rows:
         cls = "error" if r["status"] != "ok" else ("wrong" if r.get("right") is False else "")
-        cells = "".join(f"<td>{esc(_cell(r.get(c)))}</td>" for c in cols)
+        cells = "".join(f"<td>{esc(_cell(r.get(c), c))}</td>" for c in cols)
         link = f"<a href='{esc(r['report'])}'>report</a>" if r.get("report") else "–"
         out.append(f"<tr class='{cls}'>{cells}<td>{link}</td></tr>")
     out.append("</table></body></html>")

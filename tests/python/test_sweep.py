@@ -148,3 +148,16 @@ def test_a_bad_sweep_is_refused_or_reported(paths, tmp_path):
     row = sweep.run_sweep(spec, tmp_path / "w", paths).rows[0]
     assert "no_such_parameter" in row["error"] and np.isnan(row["a_body_rms"])
     assert not list((tmp_path / "w" / "points").glob("*.json"))  # not kept: a rerun tries it again
+
+
+def test_the_full_truck_and_rig_scenarios(paths, tmp_path):
+    truck = sweep.from_dict({"scenario": "full_truck", "seed": 3, "fixed": {"duration": 1.0, "settle": 0.5},
+                             "grid": {"Cm": [12e3, 24e3]}})
+    rows = sweep.run_sweep(truck, tmp_path / "truck", paths).rows
+    assert all(not r["error"] and 0 < r["DLC"] <= r["DLC_max"] for r in rows)
+    assert rows[1]["DLC"] < rows[0]["DLC"]  # the stronger skyhook gain holds the road better
+    rig = sweep.from_dict({"scenario": "rig", "seed": 3, "grid": {"air_fraction": [0.01, 0.04]}})
+    low, high = sweep.run_sweep(rig, tmp_path / "rig", paths).rows
+    for r in (low, high):  # the paper's bands (docs/rig-validation.md): 15-35 ms, compression slower
+        assert not r["error"] and 0.015 < r["extension_t90"] < 0.035 and r["compression_to_extension_t90"] > 1
+    assert high["compression_t90"] > low["compression_t90"]  # more air, a softer oil column
