@@ -12,12 +12,13 @@ plugin, like the sweep's FMUs: a worker needs no shared file system and no Rust)
 and returns summary.json and report.html, which the client writes to OUT/reports/<record>/. A record
 that fails (unreadable, refused by the program, a crash) is a row with its error, never the end of
 the campaign. The table, one row per record (record, status, verdict, effects named, fitted values
-with their standard errors, NRMSE before/after and the floor, seconds, error), is written as
+with their standard errors, NRMSE before/after the named effects and the floor, seconds, error), is
+written as
 OUT/campaign.csv, OUT/campaign.md and OUT/index.html (each record linked to its report). A record
 whose row is in OUT/rows/ with the same bytes is not diagnosed again (resume).
 
 With truth files (`damper generate --truth`, one <record>.json per record) each row also gets the
-expected effects and whether the verdict is right: a hidden effect must be named with the verdict
+expected effects, their hidden values and whether the verdict is right: a hidden effect must be named with the verdict
 `effect`; a clean record must get `none` with nothing named (the rules of scripts/blind_score.py).
 
 Nothing here prints; scripts/campaign.py is the command.
@@ -47,7 +48,7 @@ DAMPER = REPO / "target" / "release" / "damper"
 PLUGIN_NAME = "damper-campaign-program"
 OUT = REPO / "out" / "campaign"
 COLUMNS = ("record", "status", "verdict", "effects", "best_effect", "fitted", "nrmse_baseline", "nrmse_after",
-           "nrmse_floor", "reduction", "expected", "right", "seconds", "error", "report")
+           "nrmse_floor", "reduction", "expected", "hidden", "right", "seconds", "error", "report")
 # The effects damper generate hides in the demonstration set (the catalog of docs/effects.md).
 DEMO_EFFECTS = ("seal_friction", "piston_leakage", "viscous_friction", "amplifier_delay", "check_valve_cracking",
                 "compressibility", "mount_compliance", "flow_forces")
@@ -120,6 +121,11 @@ def expected_effects(truth: dict[str, Any]) -> list[str]:
     return [e["key"] for e in truth.get("effects") or []]
 
 
+def hidden_values(truth: dict[str, Any]) -> str:
+    """The hidden effects' parameter values of a truth file, as the fitted column writes them."""
+    return "; ".join(f"{k}={v:.4g}" for e in truth.get("effects") or [] for k, v in (e.get("params") or {}).items())
+
+
 def judge(expected: list[str] | None, verdict: str | None, named: list[str]) -> bool | None:
     """Right or not (module docstring); None when there is no truth."""
     if expected is None:
@@ -143,6 +149,7 @@ def row_of(result: dict[str, Any], truth: dict[str, Any] | None = None) -> dict[
             "nrmse_floor": s.get("nrmse_noise_floor"),
             "reduction": (1.0 - after / base) if base and after is not None else None,
             "expected": None if expected is None else (";".join(expected) or "none"),
+            "hidden": None if truth is None else hidden_values(truth),
             "right": judge(expected, s.get("verdict") if s else "error", named) if result["status"] == "ok"
             else (None if expected is None else False),
             "seconds": round(result["seconds"], 2), "error": result["error"],
@@ -227,25 +234,30 @@ def run_campaign(records: Sequence[Path], out: str | Path, options: Options | No
     if len(set(Path(n).stem for n in names)) != len(names):
         raise ValueError("two records share a name; give the campaign one folder of uniquely named records")
     rows: dict[str, dict[str, Any]] = {}
-    todo = []
-    for p in records:
-        digest = hashlib.sha256(p.read_bytes()).hexdigest()
-        row_path = _row_file(out, p.name)
-        if row_path.is_file():
-            row = json.loads(row_path.read_text(encoding="utf-8"))
-            if row.get("sha256") == digest and row["status"] == "ok":
-                rows[p.name] = row
-                if on_row:
-                    on_row(row)
-                continue
-        todo.append((p, digest))
-    skipped = len(rows)
 
     def truth_of(name: str) -> dict[str, Any] | None:
         if truth_dir is None:
             return None
         path = Path(truth_dir) / f"{Path(name).stem}.json"
         return json.loads(path.read_text(encoding="utf-8")) if path.is_file() else None
+
+    todo = []
+    for p in records:
+        digest = hashlib.sha256(p.read_bytes()).hexdigest()
+        row_path, summary_path = _row_file(out, p.name), out / "reports" / p.stem / "summary.json"
+        if row_path.is_file() and summary_path.is_file():
+            old = json.loads(row_path.read_text(encoding="utf-8"))
+            if old.get("sha256") == digest and old["status"] == "ok":
+                # diagnosed before: the row again from its summary (and today's truth files)
+                result = {"record": p.name, "status": "ok", "error": "", "seconds": old["seconds"], "sha256": digest,
+                          "summary": json.loads(summary_path.read_text(encoding="utf-8")),
+                          "report_html": old.get("report")}
+                rows[p.name] = row_of(result, truth_of(p.name))
+                if on_row:
+                    on_row(rows[p.name])
+                continue
+        todo.append((p, digest))
+    skipped = len(rows)
 
     def accept(result: dict[str, Any], digest: str) -> None:
         result["sha256"] = digest
@@ -306,7 +318,7 @@ def score(rows: Sequence[dict[str, Any]]) -> tuple[int, int]:
 
 
 def markdown(rows: Sequence[dict[str, Any]]) -> str:
-    cols = [c for c in COLUMNS if c != "report" and (c not in ("expected", "right") or
+    cols = [c for c in COLUMNS if c != "report" and (c not in ("expected", "hidden", "right") or
                                                       any(r.get(c) is not None for r in rows))]
     lines = ["| " + " | ".join(cols) + " |", "|" + "---|" * len(cols)]
     for r in rows:
@@ -320,7 +332,7 @@ def markdown(rows: Sequence[dict[str, Any]]) -> str:
 
 def write_index(path: Path, rows: Sequence[dict[str, Any]], title: str, note: str = "") -> Path:
     esc = html.escape
-    cols = [c for c in COLUMNS if c != "report" and (c not in ("expected", "right") or
+    cols = [c for c in COLUMNS if c != "report" and (c not in ("expected", "hidden", "right") or
                                                       any(r.get(c) is not None for r in rows))]
     right, judged = score(rows)
     failed = sum(1 for r in rows if r["status"] != "ok")
@@ -438,7 +450,7 @@ def main(argv: list[str] | None = None) -> int:
     bar = tqdm(total=len(records), unit="record", desc="diagnose")
     cluster, client = _client(args)
     try:
-        workers = len(client.nthreads()) if client else "serial"
+        workers = f"{len(client.nthreads())} workers" if client else "serially"
         outcome = run_campaign(records, args.out, options, client, args.damper, args.truth,
                                on_row=lambda _r: bar.update(1))
     except KeyboardInterrupt:
@@ -451,7 +463,7 @@ def main(argv: list[str] | None = None) -> int:
             client.close()
         if cluster is not None:
             cluster.close()
-    note = (f"{outcome.ran} diagnosed now, {outcome.skipped} from earlier runs; {workers} workers, "
+    note = (f"{outcome.ran} diagnosed now, {outcome.skipped} from earlier runs; {workers}, "
             f"{outcome.wall_s:.0f} s.")
     write_tables(args.out, outcome.rows, f"Campaign diagnosis of {args.records}", note)
     print(markdown(outcome.rows))
