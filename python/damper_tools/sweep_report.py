@@ -95,9 +95,11 @@ def first_order_index(x: Any, y: np.ndarray) -> tuple[float, float]:
     return float(((means - y.mean()) ** 2).mean() / y.var(ddof=0)), (x.nunique() - 1) / (y.size - 1)
 
 
-def sensitivity(df: Any, params: list[str], metrics: list[str]) -> Any:
-    """One row per (metric, parameter): index and no_effect_level (first_order_index), spearman (nan
-    for a category)."""
+def sensitivity(df: Any, params: list[str], metrics: list[str], random: Sequence[str] = ()) -> Any:
+    """One row per (metric, parameter): index, spearman (nan for a category), and for the Monte-Carlo
+    parameters (`random`) the no_effect_level of first_order_index. (A grid axis of a full grid is
+    balanced against the other axes: their variance does not leak into its group means, and there
+    is no such chance level to show.)"""
     import pandas as pd
 
     rows = []
@@ -105,7 +107,8 @@ def sensitivity(df: Any, params: list[str], metrics: list[str]) -> Any:
         for p in params:
             rho = (float(df[p].corr(df[m], method="spearman")) if _numeric(df, p) else math.nan)
             index, level = first_order_index(df[p], df[m].to_numpy())
-            rows.append({"metric": m, "parameter": p, "index": index, "no_effect_level": level, "spearman": rho})
+            rows.append({"metric": m, "parameter": p, "index": index,
+                         "no_effect_level": level if p in random else math.nan, "spearman": rho})
     return pd.DataFrame(rows, columns=["metric", "parameter", "index", "no_effect_level", "spearman"])
 
 
@@ -233,7 +236,7 @@ def plot_sensitivity(sens: Any, path: Path) -> Path:
         ax.set_xlabel("first-order index Var(E[Y|X]) / Var(Y)")
     fig.suptitle("Sensitivity: share of each metric's variance explained by one parameter alone\n"
                  "(red: the metric rises with the parameter, blue: it falls, grey: a category; "
-                 "black tick: the level a parameter without effect reaches by chance)", fontsize=10)
+                 "black tick: the level a Monte-Carlo parameter without effect reaches by chance)", fontsize=10)
     fig.tight_layout()
     path.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(path, dpi=110)
@@ -281,7 +284,7 @@ def draw(spec: sweep.Sweep, df: Any, out: Path) -> dict[str, Any]:
                                         plots["parameters"])))
     sens = None
     if plots["parameters"] and plots["sensitivity"] and len(ok) > 2:
-        sens = sensitivity(ok, plots["parameters"], list(plots["sensitivity"]))
+        sens = sensitivity(ok, plots["parameters"], list(plots["sensitivity"]), list(spec.random))
         sens.to_csv(out / "sensitivity.csv", index=False)
         images.append(("Sensitivity", plot_sensitivity(sens, out / "plots" / "sensitivity.png")))
     return {"images": images, "sensitivity": sens}
@@ -388,7 +391,7 @@ def main(argv: list[str] | None = None) -> int:
     if not args.no_plots:
         drawn = draw(spec, df, out)
         write_html(out / "index.html", spec, df, drawn["images"], drawn["sensitivity"], run)
-    where = f"on {workers} workers" if workers else "serially"
+    where = (f"on {workers} worker" + ("s" if workers > 1 else "")) if workers else "serially"
     print(f"sweep: {spec.name}: {n} points ({outcome.ran} run, {outcome.skipped} resumed, {outcome.failed} failed) "
           f"{where} in {run['wall_s']:.1f} s; wrote {out / 'results.parquet'}"
           + ("" if args.no_plots else f" and {out / 'index.html'}"))
