@@ -43,6 +43,7 @@ from typing import Any
 from distributed.diagnostics.plugin import WorkerPlugin
 
 from damper_tools import REPO
+from damper_tools.sweep import dask_client
 
 DAMPER = REPO / "target" / "release" / "damper"
 PLUGIN_NAME = "damper-campaign-program"
@@ -391,18 +392,6 @@ def generate(case: GenCase, records: Path, truths: Path, duration: float, damper
 
 # --------------------------------------------------------------------------- the command
 
-def _client(args: argparse.Namespace) -> tuple[Any, Any]:
-    if args.serial:
-        return None, None
-    from distributed import Client, LocalCluster
-
-    if args.scheduler:
-        return None, Client(args.scheduler)
-    cluster = LocalCluster(n_workers=args.workers or os.cpu_count() or 1, threads_per_worker=1, processes=True,
-                           dashboard_address=None)
-    return cluster, Client(cluster)
-
-
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--damper", type=Path, default=DAMPER, help="the damper program (target/release/damper)")
@@ -448,21 +437,17 @@ def main(argv: list[str] | None = None) -> int:
     options = Options(load_cell_lowpass=args.load_cell_lowpass or None, tare_load_cell=args.tare_load_cell,
                       threads=args.threads, extra=list(args.extra))
     bar = tqdm(total=len(records), unit="record", desc="diagnose")
-    cluster, client = _client(args)
     try:
-        workers = f"{len(client.nthreads())} workers" if client else "serially"
-        outcome = run_campaign(records, args.out, options, client, args.damper, args.truth,
-                               on_row=lambda _r: bar.update(1))
+        with dask_client(args.scheduler, args.workers, args.serial) as client:
+            workers = f"{len(client.nthreads())} workers" if client else "serially"
+            outcome = run_campaign(records, args.out, options, client, args.damper, args.truth,
+                                   on_row=lambda _r: bar.update(1))
     except KeyboardInterrupt:
         print(f"campaign: interrupted; finished records are kept in {args.out / 'rows'}: run the same command "
               "again to resume", file=sys.stderr)
         return 130
     finally:
         bar.close()
-        if client is not None:
-            client.close()
-        if cluster is not None:
-            cluster.close()
     note = (f"{outcome.ran} diagnosed now, {outcome.skipped} from earlier runs; {workers}, "
             f"{outcome.wall_s:.0f} s.")
     write_tables(args.out, outcome.rows, f"Campaign diagnosis of {args.records}", note)

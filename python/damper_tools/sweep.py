@@ -40,6 +40,7 @@ each worker's local directory, extracted once per worker process (damper_tools.f
 the extraction). Nothing here prints.
 """
 
+import contextlib
 import hashlib
 import itertools
 import json
@@ -49,7 +50,7 @@ import tempfile
 import time
 import tomllib
 import zlib
-from collections.abc import Callable, Iterable, Sequence
+from collections.abc import Callable, Iterable, Iterator, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -534,3 +535,22 @@ def local_cluster(workers: int | None = None) -> Any:
 
     return LocalCluster(n_workers=workers or os.cpu_count() or 1, threads_per_worker=1, processes=True,
                         dashboard_address=None)
+
+
+@contextlib.contextmanager
+def dask_client(scheduler: str | None = None, workers: int | None = None, serial: bool = False) -> Iterator[Any]:
+    """The commands' client: None when serial, else a client of the scheduler at `scheduler`, else
+    of a new LocalCluster (local_cluster(workers)); closed (with its cluster) on leaving."""
+    if serial:
+        yield None
+        return
+    from distributed import Client
+
+    cluster = None if scheduler else local_cluster(workers)
+    client = Client(scheduler or cluster)
+    try:
+        yield client
+    finally:
+        client.close()
+        if cluster is not None:
+            cluster.close()

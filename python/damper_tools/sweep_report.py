@@ -354,19 +354,11 @@ def main(argv: list[str] | None = None) -> int:
     n = len(sweep.points(spec))
     bar = tqdm(total=n, unit="point", desc=spec.name, disable=args.quiet, smoothing=0.1)
     start = time.perf_counter()
-    cluster = client = None
     try:
-        if not args.serial:
-            from distributed import Client
-
-            if args.scheduler:
-                client = Client(args.scheduler)
-            else:
-                cluster = sweep.local_cluster(args.workers)
-                client = Client(cluster)
-        workers = len(client.nthreads()) if client else 0
-        outcome = sweep.run_sweep(spec, out / "work", fmus, client, on_result=lambda _row: bar.update(1),
-                                  retries=args.retries)
+        with sweep.dask_client(args.scheduler, args.workers, args.serial) as client:
+            workers = len(client.nthreads()) if client else 0
+            outcome = sweep.run_sweep(spec, out / "work", fmus, client, on_result=lambda _row: bar.update(1),
+                                      retries=args.retries)
     except KeyboardInterrupt:
         bar.close()
         done = len(list((out / "work" / "points").glob("*.json")))
@@ -375,13 +367,10 @@ def main(argv: list[str] | None = None) -> int:
         return 130
     finally:
         bar.close()
-        if client is not None:
-            client.close()
-        if cluster is not None:
-            cluster.close()
     df = sweep.table(spec, outcome.rows)
     sweep.write_parquet(df, out / "results.parquet")
-    run = {"sweep": str(args.sweep_file), "points": n, "ran": outcome.ran, "skipped": outcome.skipped,
+    run = {"sweep": str(args.sweep_file), "spec": spec.to_dict(), "points": n, "ran": outcome.ran,
+           "skipped": outcome.skipped,
            "failed": outcome.failed, "workers": workers or "serial", "scheduler": args.scheduler or "local",
            "wall_s": round(time.perf_counter() - start, 2), "sweep_wall_s": round(outcome.wall_s, 2),
            "cpu_s_of_runs": round(float(df["wall_s"].sum()), 2)}

@@ -8,25 +8,13 @@ import csv
 import json
 
 import pytest
-from distributed import Client, LocalCluster
 
-from damper_tools import REPO, campaign
-
-DAMPER = REPO / "target" / "release" / "damper"
+from damper_tools import campaign
 
 
 @pytest.fixture(scope="module")
-def damper():
-    if not DAMPER.is_file():
-        pytest.skip(f"{DAMPER} is missing: cargo build --release -p damper_cli")
-    return DAMPER
-
-
-@pytest.fixture(scope="module")
-def client():
-    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster, \
-            Client(cluster) as c:
-        yield c
+def client(dask_client):
+    return dask_client
 
 
 @pytest.fixture(scope="module")

@@ -10,7 +10,6 @@ import signal
 import numpy as np
 import pandas as pd
 import pytest
-from distributed import Client, LocalCluster
 
 from damper_tools import REPO, sweep, sweep_report
 
@@ -18,10 +17,8 @@ TINY = REPO / "sweeps" / "tiny.toml"
 
 
 @pytest.fixture(scope="module")
-def client():
-    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster, \
-            Client(cluster) as c:
-        yield c
+def client(dask_client):
+    return dask_client
 
 
 @pytest.fixture(scope="module")
