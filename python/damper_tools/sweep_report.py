@@ -299,11 +299,11 @@ def write_html(path: Path, spec: sweep.Sweep, df: Any, images: list[tuple[str, P
              "font-size:12px}td,th{border:1px solid #ccc;padding:2px 6px;text-align:right}img{max-width:100%}"
              "</style></head><body>",
              f"<h1>Sweep {esc(spec.name)}: {esc(spec.scenario)}, {len(df)} points</h1>",
-             f"<p>Seed {spec.seed}; grid {esc(', '.join(f'{k} ({len(v)})' for k, v in spec.grid.items()) or '-')}; "
-             f"Monte-Carlo {esc(', '.join(spec.random) or '-')}"
-             f"{f' ({spec.samples} samples)' if spec.random else ''}. "
-             f"{run['ran']} points run now, {run['skipped']} taken from earlier runs, {len(failed)} failed; "
-             f"{run['workers']} workers, {run['wall_s']:.1f} s. "
+             f"<p>Seed {spec.seed}; grid {esc(', '.join(f'{k} ({len(v)})' for k, v in spec.grid.items()) or '-')}"
+             + (f"; Monte-Carlo {esc(', '.join(spec.random))} ({spec.samples} samples). " if spec.random else ". ")
+             + f"This run: {run['ran']} points run, {run['skipped']} taken from earlier runs, {len(failed)} failed; "
+             + (f"{run['workers']} workers" if run["workers"] != "serial" else "serially")
+             + f", {run['wall_s']:.1f} s. "
              "Results: <a href='results.parquet'>results.parquet</a>"
              + (", <a href='sensitivity.csv'>sensitivity.csv</a>" if sens is not None else "") + ".</p>"]
     for title, img in images:
