@@ -404,16 +404,16 @@ def main(argv: list[str] | None = None) -> int:
     d.add_argument("--tare-load-cell", action="store_true")
     d.add_argument("--threads", type=int, default=1, help="threads of each diagnose (one task per worker core)")
     d.add_argument("--extra", action="append", default=[], help="one more argument for diagnose; repeatable")
-    g = sub.add_parser("generate", help="records with known hidden effects (damper generate), for a demonstration")
+    g = sub.add_parser("generate", help="records with known hidden effects (damper generate, here: a few "
+                       "hundredths of a second each), for a demonstration")
     g.add_argument("--out", type=Path, required=True, help="writes OUT/records/*.csv and OUT/truth/*.json")
     g.add_argument("--per-effect", type=int, default=2)
     g.add_argument("--clean", type=int, default=6)
     g.add_argument("--duration", type=float, default=4.0, help="s per record")
-    for p in (d, g):
-        where = p.add_mutually_exclusive_group()
-        where.add_argument("--scheduler", default=None, help="address of a running scheduler")
-        where.add_argument("--workers", type=int, default=None, help="LocalCluster workers (default: one per core)")
-        where.add_argument("--serial", action="store_true", help="no Dask: one record after the other here")
+    where = d.add_mutually_exclusive_group()
+    where.add_argument("--scheduler", default=None, help="address of a running scheduler")
+    where.add_argument("--workers", type=int, default=None, help="LocalCluster workers (default: one per core)")
+    where.add_argument("--serial", action="store_true", help="no Dask: one record after the other here")
     args = parser.parse_args(argv)
     if not args.damper.is_file():
         print(f"campaign: {args.damper}: no such program (cargo build --release -p damper_cli)", file=sys.stderr)
