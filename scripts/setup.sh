@@ -19,7 +19,7 @@ cd "$(dirname "$0")/.."
 
 PYTHON=${PYTHON:-python3}
 REQUIREMENTS=tests/python/requirements.txt
-IMPORTS="import fmpy, fmu_manipulation_toolbox, libcosimpy, numpy, scipy, matplotlib, pytest, ruff, setuptools"
+IMPORTS="import fmpy, fmu_manipulation_toolbox, libcosimpy, numpy, scipy, matplotlib, pytest, ruff, setuptools, dask, distributed, pandas, pyarrow, tqdm"
 importer=false
 for arg in "$@"; do
     case "$arg" in

@@ -2,8 +2,9 @@
 
 Modules: `fmu` (one FMU instance through fmpy's FMU2Slave), `cosim` (the Jacobi master), `roads`
 (ISO 8608 and OpenCRG road inputs), `ssp` (the SSP of the coupled system, run with fmpy.ssp and
-libcosim), `rig_tests` and `paper_tests` (the paper's rig tests), `hil_scenarios` (the HiL runs)
-and `full_truck` (six dampers as a three-axle truck). The commands in scripts/ run their `main`.
+libcosim), `rig_tests` and `paper_tests` (the paper's rig tests), `hil_scenarios` (the HiL runs),
+`full_truck` (six dampers as a three-axle truck), `sweep` and `sweep_report` (sweeps on Dask) and
+`campaign` (`damper diagnose` over a folder on Dask). The commands in scripts/ run their `main`.
 """
 
 from pathlib import Path

@@ -4,7 +4,9 @@ The FMUs under test are built (cargo build --release of the two FMU packages) an
 once per session into tests/python/work/ by the packaging commands a user runs
 (python3 scripts/package_fmu.py, scripts/package_truck.py), or taken from `--fmu PATH` (the damper)
 and `--truck-fmu PATH` (the quarter truck). The tests import the scenario and metric code of the
-scripts from the installed package damper_tools (scripts/setup.sh installs it).
+scripts from the installed package damper_tools (scripts/setup.sh installs it). `damper` is the
+`damper` program (target/release/damper, built by cargo), `dask_client` a Dask client of a real
+LocalCluster of two single-threaded worker processes (the sweep and campaign tests).
 """
 
 import shutil
@@ -19,6 +21,7 @@ from damper_tools import REPO
 from damper_tools.fmu import FmuUnit
 
 WORK = Path(__file__).resolve().parent / "work"
+DAMPER = REPO / "target" / "release" / "damper"
 
 
 def package(script: str, output: Path, build: bool) -> Path:
@@ -88,3 +91,21 @@ def work_dir(request):
     shutil.rmtree(path, ignore_errors=True)
     path.mkdir(parents=True)
     return path
+
+
+@pytest.fixture(scope="module")
+def damper():
+    """The `damper` program (skips when it has not been built)."""
+    if not DAMPER.is_file():
+        pytest.skip(f"{DAMPER} is missing: cargo build --release -p damper_cli")
+    return DAMPER
+
+
+@pytest.fixture(scope="module")
+def dask_client():
+    """A client of a LocalCluster(n_workers=2, threads_per_worker=1, processes=True), per test module."""
+    from distributed import Client, LocalCluster
+
+    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster, \
+            Client(cluster) as client:
+        yield client

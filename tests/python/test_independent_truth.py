@@ -16,15 +16,6 @@ import pytest
 from damper_tools import REPO, blind_score
 from damper_tools import independent as ind
 
-DAMPER = REPO / "target" / "release" / "damper"
-
-
-@pytest.fixture(scope="module")
-def damper():
-    if not DAMPER.is_file():
-        pytest.skip(f"{DAMPER} is missing: cargo build --release -p damper_cli")
-    return DAMPER
-
 
 def make(case, directory, fmu, truck_fmu, keep=None):
     record, truth = directory / f"{case.name}.csv", directory / f"{case.name}.truth.json"
