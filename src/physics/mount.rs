@@ -44,7 +44,8 @@ impl CubicMount {
             let slope = k1 + 3.0 * k3 * delta * delta;
             let step = 2.0 * g * slope / (2.0 * slope * slope - g * 6.0 * k3 * delta);
             delta -= step;
-            if !(step.abs() > 4.0 * f64::EPSILON * delta.abs()) {
+            // also stops on a NaN step
+            if step.abs().partial_cmp(&(4.0 * f64::EPSILON * delta.abs())) != Some(std::cmp::Ordering::Greater) {
                 break;
             }
         }

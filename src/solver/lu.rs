@@ -68,15 +68,15 @@ impl<const N: usize> Lu<N> {
         }
         for j in 0..N {
             let xj = x[j];
-            for i in j + 1..N {
-                x[i] -= self.rows[i][j] * xj;
+            for (xi, row) in x.iter_mut().zip(&self.rows).skip(j + 1) {
+                *xi -= row[j] * xj;
             }
         }
         for j in (0..N).rev() {
             x[j] *= self.inverse_diagonal[j];
             let xj = x[j];
-            for i in 0..j {
-                x[i] -= self.rows[i][j] * xj;
+            for (xi, row) in x.iter_mut().zip(&self.rows).take(j) {
+                *xi -= row[j] * xj;
             }
         }
         SVector::from(x)

@@ -108,12 +108,12 @@ pub fn rosenbrock_step_from<const N: usize>(
         k[i] = lu.solve(&b);
     }
     let (mut y1, mut error) = (*y, SVector::<f64, N>::zeros());
-    for i in 0..4 {
-        if method.m[i] != 0.0 {
-            y1 += k[i] * method.m[i];
+    for ((ki, m), e) in k.iter().zip(method.m).zip(method.e) {
+        if m != 0.0 {
+            y1 += ki * m;
         }
-        if method.e[i] != 0.0 {
-            error += k[i] * method.e[i];
+        if e != 0.0 {
+            error += ki * e;
         }
     }
     if y1.iter().all(|v| v.is_finite()) {
