@@ -208,18 +208,9 @@ pub fn fit_effects(
         .collect::<Result<_, _>>()?;
     let bounds: Vec<Bound> = fitted.iter().map(bound).collect();
     let mut flags = Vec::new();
-    let (x, errors, evaluations) = match fitted {
-        [p @ FittedParameter { grid: Some(step), .. }] => {
-            let bound = bound(p);
-            let sse = |k: usize| {
-                let x = bound.lo + k as f64 * step;
-                residuals(&[x]).map_or(f64::INFINITY, |r| r.iter().map(|v| v * v).sum())
-            };
-            let n = ((bound.hi - bound.lo) / step).round() as usize;
-            let (best, runs) = grid_minimum(sse, n);
-            (vec![bound.lo + best as f64 * step], vec![Some(0.5 * step)], runs)
-        }
-        _ => match lm::solve(&residuals, &x0, &bounds, pool, FIT_OPTIONS) {
+    let grid = fitted.iter().position(|f| f.grid.is_some());
+    let (x, errors, evaluations) = match grid {
+        None => match lm::solve(&residuals, &x0, &bounds, pool, FIT_OPTIONS) {
             Ok(solution) => {
                 let errors = (0..fitted.len()).map(|i| solution.std_error(i)).collect();
                 (solution.x, errors, solution.model_runs)
@@ -230,6 +221,58 @@ pub fn fit_effects(
                 (x0.clone(), vec![None; fitted.len()], 0)
             }
         },
+        // a quantised parameter (a delay in samples) on its grid, the others (if any) fitted by
+        // Levenberg–Marquardt at each grid point tried: a derivative cannot see a staircase
+        Some(g) => {
+            let step = fitted[g].grid.expect("a grid parameter");
+            let value_at = |k: usize| bounds[g].lo + k as f64 * step;
+            let others: Vec<usize> = (0..fitted.len()).filter(|&i| i != g).collect();
+            let full_x = |k: usize, rest: &[f64]| -> Vec<f64> {
+                let mut x = x0.clone();
+                x[g] = value_at(k);
+                for (&i, &v) in others.iter().zip(rest) {
+                    x[i] = v;
+                }
+                x
+            };
+            let tried = std::sync::Mutex::new(std::collections::BTreeMap::new());
+            let sse = |k: usize| {
+                let fit = if others.is_empty() {
+                    residuals(&full_x(k, &[]))
+                        .map(|r| (r.iter().map(|v| v * v).sum(), x0.clone(), vec![None; fitted.len()], 1))
+                } else {
+                    let rest = |x: &[f64]| residuals(&full_x(k, x));
+                    let start: Vec<f64> = others.iter().map(|&i| x0[i]).collect();
+                    let scales: Vec<Bound> = others.iter().map(|&i| bounds[i]).collect();
+                    lm::solve(&rest, &start, &scales, pool, FIT_OPTIONS).map(|s| {
+                        let mut errors = vec![None; fitted.len()];
+                        for (j, &i) in others.iter().enumerate() {
+                            errors[i] = s.std_error(j);
+                        }
+                        (s.cost, full_x(k, &s.x), errors, s.model_runs)
+                    })
+                };
+                let cost = fit.as_ref().map_or(f64::INFINITY, |f| f.0);
+                tried.lock().expect("no fit panicked").insert(k, fit.ok());
+                cost
+            };
+            let n = ((bounds[g].hi - bounds[g].lo) / step).round() as usize;
+            let (best, _) = grid_minimum(sse, n);
+            let tried = tried.into_inner().expect("no fit panicked");
+            let runs =
+                tried.values().flatten().map(|f| f.3).sum::<usize>() + tried.values().filter(|f| f.is_none()).count();
+            match tried.get(&best).cloned().flatten() {
+                Some((_, mut x, mut errors, _)) => {
+                    x[g] = value_at(best);
+                    errors[g] = Some(0.5 * step);
+                    (x, errors, runs)
+                }
+                None => {
+                    flags.push("the fit failed at every grid point".to_string());
+                    (x0.clone(), vec![None; fitted.len()], runs)
+                }
+            }
+        }
     };
     let model = with(&x)?;
     let full = simulate(&model, measured.len())?;
