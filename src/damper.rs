@@ -285,8 +285,8 @@ impl Damper {
             let last = h >= (span - done) * (1.0 - 1e-9);
             let step = if last { span - done } else { h };
             // a rejected step is tried again from the same state: its linearisation stands
-            let linearised = *start.get_or_insert_with(|| self.plant_at(done).evaluate_linearised(&self.state.y));
-            let (y, error) = self.rodas3(&linearised, step, done)?;
+            let linearised = start.get_or_insert_with(|| self.plant_at(done).evaluate_linearised(&self.state.y));
+            let (y, error) = self.rodas3(linearised, step, done)?;
             let norm = (0..7)
                 .map(|i| {
                     let w = p.rtol * (STATE_SCALE[i] + self.state.y[i].abs().max(y[i].abs()));

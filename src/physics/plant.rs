@@ -168,10 +168,11 @@ impl Plant<'_> {
 
         let orifice = |cd: f64, area: f64, dp: f64| orifice_flow_partials(cd, area, dp, p.rho, p.p_transition);
         let a_valve = d.ports.area(x_s);
+        let d_a_valve = grad::<JAC>(|| unit(X_SPOOL) * d.ports.area_slope(x_s));
         let dp_valve = p_a - p_r;
         let d_dp_valve = grad::<JAC>(|| unit(P_A) - d_pr);
         let (q_valve, dqv_da, dqv_ddp) = orifice(p.cd_valve, a_valve + p.a_valve_leak, dp_valve);
-        let d_q_valve = grad::<JAC>(|| unit(X_SPOOL) * (dqv_da * d.ports.area_slope(x_s)) + d_dp_valve * dqv_ddp);
+        let d_q_valve = grad::<JAC>(|| d_a_valve * dqv_da + d_dp_valve * dqv_ddp);
         let check_valve = |dp: f64| {
             let (q, dq_da, dq_ddp) =
                 orifice(p.cd_cv, check_valve_area(p.a_cv_leak, p.a_cv_max, d.p_cv_crack, p.p_cv_full, dp), dp);
@@ -224,7 +225,7 @@ impl Plant<'_> {
         let f_flow = if flow_force_on { d.flow_force_gain * a_valve * dp_valve } else { 0.0 };
         let d_f_flow = grad::<JAC>(|| {
             if flow_force_on {
-                (unit(X_SPOOL) * (d.ports.area_slope(x_s) * dp_valve) + d_dp_valve * a_valve) * d.flow_force_gain
+                (d_a_valve * dp_valve + d_dp_valve * a_valve) * d.flow_force_gain
             } else {
                 Grad::zeros()
             }

@@ -138,11 +138,13 @@ impl FitSetup<'_> {
     }
 }
 
-/// Model runs a fit of `spec` takes, about: its grid, or a few Levenberg–Marquardt iterations of
-/// a Jacobian and a trial step.
+/// Model runs a fit of `spec` takes, about: [`grid_minimum`]'s coarse points and the ones around
+/// the best, or a few Levenberg–Marquardt iterations of a Jacobian and a trial step.
 fn model_runs(spec: &EffectInfo) -> usize {
     match spec.fitted {
-        [FittedParameter { search, grid: Some(step), .. }] => ((search.1 - search.0) / step).round() as usize + 1,
+        [FittedParameter { search, grid: Some(step), .. }] => {
+            ((search.1 - search.0) / step).round() as usize / GRID_COARSE + 2 * GRID_COARSE
+        }
         p => 5 * (p.len() + 1),
     }
 }
