@@ -8,8 +8,9 @@
 //! it. All state is plain `Copy` data.
 
 use crate::control::{Controller, Demands, Measurements};
+use crate::physics::iteration_matrix::PlantIterationMatrix;
 use crate::physics::params::{Derived, Parameters};
-use crate::physics::plant::{idx, rest_current, Linearisation, Plant, PlantOutputs, State};
+use crate::physics::plant::{idx, rest_current, Linearisation, Plant, PlantOutputs, State, N_STATES};
 use crate::solver::{rosenbrock_step_from, SolverError, StepStart, RODAS3};
 use crate::step_error::{StepError, GRID_RESOLUTION, MAX_SAMPLES_PER_STEP, MAX_STEPS_PER_SAMPLE, MIN_STEP};
 
@@ -263,7 +264,7 @@ impl Damper {
         // ∂f/∂t = ∂f/∂v · a
         let f_t = (a != 0.0).then(|| lin.df_dv * a);
         let start = StepStart { f0: out.dydt, jacobian: lin.jacobian, f_t };
-        rosenbrock_step_from(
+        rosenbrock_step_from::<N_STATES, PlantIterationMatrix>(
             &RODAS3,
             &start,
             |alpha, y| self.plant_at(from + alpha * step).evaluate(y).dydt,

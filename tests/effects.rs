@@ -5,7 +5,7 @@
 //! names the function that holds its equation, and the effect table of the docs is rendered from
 //! the catalog, so neither can drift from the code.
 
-use semi_active_damper::effects::{PlantSignals, CATALOG};
+use semi_active_damper::effects::{ActiveEffects, PlantSignals, CATALOG};
 use semi_active_damper::model_description::{BooleanVar, Causality, RealVar};
 use semi_active_damper::variables::{boolean_parameter, default_parameters};
 
@@ -62,13 +62,46 @@ fn switched_off_effects_add_nothing() {
         let var = BooleanVar::ALL.into_iter().find(|v| v.name() == format!("effect_{}", e.info().key)).unwrap();
         *boolean_parameter(&mut p, var).unwrap() = false;
     }
-    assert_eq!(semi_active_damper::effects::total_force(&p, &s), 0.0);
-    assert_eq!(semi_active_damper::effects::total_bypass_flow(&p, &s), 0.0);
+    assert_eq!(ActiveEffects::of(&p).force(&p, &s), 0.0);
+    assert_eq!(ActiveEffects::of(&p).bypass_flow(&p, &s), 0.0);
     // friction opposes the motion: in tension when extending
     p.effect_seal_friction = true;
     p.effect_viscous_friction = true;
-    let f = semi_active_damper::effects::total_force(&p, &s);
+    let f = ActiveEffects::of(&p).force(&p, &s);
     assert!((f - (p.f_coulomb * (0.4 / p.v_friction).tanh() + p.c_viscous * 0.4)).abs() < 1e-9, "{f}");
+}
+
+/// The plant calls an effect's force or bypass flow only when its `terms` say it adds one: an
+/// effect that writes either must declare it, or the plant would drop it.
+#[test]
+fn an_effect_adds_only_the_terms_it_declares() {
+    let mut p = default_parameters();
+    let signals = [
+        PlantSignals { v_damper: 0.4, x_damper: 0.01, p_ext: 40e5, p_comp: 5e5, p_reservoir: 5e5, x_spool: 1e-3 },
+        PlantSignals { v_damper: -0.7, x_damper: -0.03, p_ext: 3e5, p_comp: 90e5, p_reservoir: 6e5, x_spool: 3e-3 },
+    ];
+    for e in CATALOG {
+        let var = BooleanVar::ALL.into_iter().find(|v| v.name() == format!("effect_{}", e.info().key)).unwrap();
+        *boolean_parameter(&mut p, var).unwrap() = true;
+        let terms = e.terms();
+        let active = ActiveEffects::of(&p);
+        for s in &signals {
+            let key = e.info().key;
+            if terms.force {
+                assert_ne!(e.force(&p, s), 0.0, "{key} declares a force");
+            } else {
+                assert_eq!(e.force(&p, s), 0.0, "{key} adds a force but its terms() do not say so");
+            }
+            if terms.bypass_flow {
+                assert_ne!(e.bypass_flow(&p, s), 0.0, "{key} declares a bypass flow");
+            } else {
+                assert_eq!(e.bypass_flow(&p, s), 0.0, "{key} adds a flow but its terms() do not say so");
+            }
+        }
+        let listed = format!("{active:?}");
+        assert_eq!(listed.contains(&format!("\"{}\"", e.info().key)), terms.force || terms.bypass_flow, "{listed}");
+        *boolean_parameter(&mut p, var).unwrap() = false;
+    }
 }
 
 #[test]

@@ -106,6 +106,13 @@ pub trait Effect: Sync {
     fn info(&self) -> &'static EffectInfo;
     /// Whether its switch `effect_<key>` is on.
     fn is_on(&self, p: &Parameters) -> bool;
+    /// Which of the plant's sums it adds to: none for a structural effect (its law lives in its
+    /// component). The plant calls only the effects that add something, so an effect that
+    /// writes [`Effect::force`] or [`Effect::bypass_flow`] says so here (`tests/effects.rs`
+    /// checks that the others add nothing).
+    fn terms(&self) -> Terms {
+        Terms::NONE
+    }
     /// Force (N) in parallel with the piston, tension (extension) positive; the load cell
     /// measures it and the mount carries it.
     fn force(&self, _p: &Parameters, _s: &PlantSignals) -> f64 {
@@ -184,32 +191,97 @@ pub fn find(key: &str) -> Option<&'static dyn Effect> {
     CATALOG.into_iter().find(|e| e.info().key == key)
 }
 
-// Two sums, not one loop returning both: over the constant CATALOG the compiler resolves each
-// iterator chain statically, and a single loop calling both hooks ran the model 30 % slower
-// (`cargo bench --bench realtime`: 153x against 214x real time).
-
-/// Sum of the switched-on effects' forces (N).
-#[inline]
-pub fn total_force(p: &Parameters, s: &PlantSignals) -> f64 {
-    CATALOG.iter().filter(|e| e.is_on(p)).map(|e| e.force(p, s)).sum()
+/// Which of the plant's sums an effect adds to (see [`Effect::terms`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Terms {
+    /// A force in parallel with the piston ([`Effect::force`]).
+    pub force: bool,
+    /// A flow past the valve ([`Effect::bypass_flow`]).
+    pub bypass_flow: bool,
 }
 
-/// Sum of the switched-on effects' bypass flows (m³/s).
-#[inline]
-pub fn total_bypass_flow(p: &Parameters, s: &PlantSignals) -> f64 {
-    CATALOG.iter().filter(|e| e.is_on(p)).map(|e| e.bypass_flow(p, s)).sum()
+impl Terms {
+    /// Neither (a structural effect).
+    pub const NONE: Terms = Terms { force: false, bypass_flow: false };
+    /// A force only.
+    pub const FORCE: Terms = Terms { force: true, bypass_flow: false };
+    /// A bypass flow only.
+    pub const BYPASS_FLOW: Terms = Terms { force: false, bypass_flow: true };
 }
 
-/// Gradient of [`total_force`] with respect to the signals.
-#[inline]
-pub fn total_force_gradient(p: &Parameters, s: &PlantSignals) -> PlantSignals {
-    CATALOG.iter().filter(|e| e.is_on(p)).map(|e| e.force_gradient(p, s)).fold(PlantSignals::ZERO, sum)
+/// The switched-on effects that add a force or a bypass flow, listed once from the parameters, so
+/// that an evaluation of the plant calls these alone (with the default parameters, none): asking
+/// every effect of the catalog at each evaluation, and differencing the structural effects'
+/// zero forces for the Jacobian, had cost a tenth of the model's instructions.
+#[derive(Clone, Copy)]
+pub struct ActiveEffects {
+    force: EffectList,
+    bypass_flow: EffectList,
 }
 
-/// Gradient of [`total_bypass_flow`] with respect to the signals.
-#[inline]
-pub fn total_bypass_flow_gradient(p: &Parameters, s: &PlantSignals) -> PlantSignals {
-    CATALOG.iter().filter(|e| e.is_on(p)).map(|e| e.bypass_flow_gradient(p, s)).fold(PlantSignals::ZERO, sum)
+/// Up to the whole catalog, in catalog order.
+#[derive(Clone, Copy)]
+struct EffectList {
+    items: [&'static dyn Effect; CATALOG.len()],
+    len: usize,
+}
+
+impl EffectList {
+    fn of(p: &Parameters, adds: impl Fn(Terms) -> bool) -> Self {
+        let mut list = EffectList { items: CATALOG, len: 0 };
+        for e in CATALOG {
+            if e.is_on(p) && adds(e.terms()) {
+                list.items[list.len] = e;
+                list.len += 1;
+            }
+        }
+        list
+    }
+
+    fn iter(&self) -> impl Iterator<Item = &'static dyn Effect> + '_ {
+        self.items[..self.len].iter().copied()
+    }
+}
+
+impl std::fmt::Debug for ActiveEffects {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let keys = |l: &EffectList| l.iter().map(|e| e.info().key).collect::<Vec<_>>();
+        f.debug_struct("ActiveEffects")
+            .field("force", &keys(&self.force))
+            .field("bypass_flow", &keys(&self.bypass_flow))
+            .finish()
+    }
+}
+
+impl ActiveEffects {
+    /// The effects that `p` switches on and that add to a sum.
+    pub fn of(p: &Parameters) -> Self {
+        ActiveEffects { force: EffectList::of(p, |t| t.force), bypass_flow: EffectList::of(p, |t| t.bypass_flow) }
+    }
+
+    /// Sum of their forces (N).
+    #[inline]
+    pub fn force(&self, p: &Parameters, s: &PlantSignals) -> f64 {
+        self.force.iter().map(|e| e.force(p, s)).sum()
+    }
+
+    /// Sum of their bypass flows (m³/s).
+    #[inline]
+    pub fn bypass_flow(&self, p: &Parameters, s: &PlantSignals) -> f64 {
+        self.bypass_flow.iter().map(|e| e.bypass_flow(p, s)).sum()
+    }
+
+    /// Gradient of [`ActiveEffects::force`] with respect to the signals.
+    #[inline]
+    pub fn force_gradient(&self, p: &Parameters, s: &PlantSignals) -> PlantSignals {
+        self.force.iter().map(|e| e.force_gradient(p, s)).fold(PlantSignals::ZERO, sum)
+    }
+
+    /// Gradient of [`ActiveEffects::bypass_flow`] with respect to the signals.
+    #[inline]
+    pub fn bypass_flow_gradient(&self, p: &Parameters, s: &PlantSignals) -> PlantSignals {
+        self.bypass_flow.iter().map(|e| e.bypass_flow_gradient(p, s)).fold(PlantSignals::ZERO, sum)
+    }
 }
 
 #[inline]

@@ -1,6 +1,6 @@
 //! Laminar leakage through the gap between piston and bore, bypassing the valve.
 
-use super::{CodeRef, Effect, EffectInfo, FittedParameter, PlantSignals};
+use super::{CodeRef, Effect, EffectInfo, FittedParameter, PlantSignals, Terms};
 use crate::physics::params::Parameters;
 
 pub struct PistonLeakage;
@@ -30,6 +30,9 @@ impl Effect for PistonLeakage {
     }
     fn is_on(&self, p: &Parameters) -> bool {
         p.effect_piston_leakage
+    }
+    fn terms(&self) -> Terms {
+        Terms::BYPASS_FLOW
     }
     /// Q = G·(p_ext − p_comp): a narrow gap's laminar (Poiseuille) flow is linear in Δp.
     fn bypass_flow(&self, p: &Parameters, s: &PlantSignals) -> f64 {

@@ -1,6 +1,6 @@
 //! Coulomb friction of the rod and piston seals, smoothed through zero velocity.
 
-use super::{CodeRef, Effect, EffectInfo, FittedParameter, PlantSignals};
+use super::{CodeRef, Effect, EffectInfo, FittedParameter, PlantSignals, Terms};
 use crate::physics::params::Parameters;
 
 pub struct SealFriction;
@@ -27,6 +27,9 @@ impl Effect for SealFriction {
     }
     fn is_on(&self, p: &Parameters) -> bool {
         p.effect_seal_friction
+    }
+    fn terms(&self) -> Terms {
+        Terms::FORCE
     }
     /// F = F_c·tanh(v/v_f): a friction that opposes the motion, so in tension when extending.
     fn force(&self, p: &Parameters, s: &PlantSignals) -> f64 {

@@ -2,7 +2,7 @@
 //! a user-written effect (docs/effects.md, "Writing a new effect"); together with
 //! `seal_friction` it makes the Coulomb + viscous seal friction of the catalog.
 
-use super::{CodeRef, Effect, EffectInfo, FittedParameter, PlantSignals};
+use super::{CodeRef, Effect, EffectInfo, FittedParameter, PlantSignals, Terms};
 use crate::physics::params::Parameters;
 
 pub struct ViscousFriction;
@@ -31,6 +31,9 @@ impl Effect for ViscousFriction {
     }
     fn is_on(&self, p: &Parameters) -> bool {
         p.effect_viscous_friction
+    }
+    fn terms(&self) -> Terms {
+        Terms::FORCE
     }
     /// F = c·v, opposing the motion: in tension when extending.
     fn force(&self, p: &Parameters, s: &PlantSignals) -> f64 {

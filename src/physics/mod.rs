@@ -1,6 +1,7 @@
 //! Physics of the damper, in plain safe Rust with SI units: one file per component.
 pub mod fluid;
 pub mod hydraulics;
+pub mod iteration_matrix;
 pub mod mount;
 pub mod params;
 pub mod plant;

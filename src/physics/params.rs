@@ -6,6 +6,7 @@ use super::hydraulics::Cylinder;
 use super::mount::CubicMount;
 use super::valve::{flow_force_gain, ValvePorts};
 use crate::control::A_FEEDFORWARD_MIN;
+use crate::effects::ActiveEffects;
 
 /// Longest amplifier delay line, in controller samples.
 pub const MAX_DELAY_SAMPLES: usize = 200;
@@ -143,6 +144,8 @@ pub struct Derived {
     pub control_mode: ControlMode,
     pub force_controller: ForceController,
     pub fc_mode: FlowForceCompensation,
+    /// The switched-on effects that add a force or a bypass flow to the plant.
+    pub effects: ActiveEffects,
 }
 
 impl Parameters {
@@ -216,6 +219,7 @@ impl Parameters {
                 1 => FlowForceCompensation::FixedGain,
                 _ => FlowForceCompensation::Scheduled,
             },
+            effects: ActiveEffects::of(self),
         }
     }
 }

@@ -13,14 +13,14 @@
 //! ```
 //! The effect switches (`effect_*` parameters) remove terms: air in the oil (α₀ → 0), the mount
 //! (rigid: δ = 0), flow force, check-valve cracking pressure; or add them through the
-//! [`effects`] catalog: the force F_e in parallel with the piston (seal friction, viscous
+//! [`crate::effects`] catalog: the force F_e in parallel with the piston (seal friction, viscous
 //! friction) and the bypass flow Q_l (piston leakage). The amplifier delay is the controller's.
 
 use super::fluid::{effective_bulk_modulus_and_slope, orifice_flow_partials, smoothstep, smoothstep_slope};
 use super::hydraulics::{check_valve_area, check_valve_area_slope, reservoir_pressure, reservoir_pressure_and_slope};
 use super::params::{Derived, Parameters};
 use super::valve::solenoid_force;
-use crate::effects::{self, PlantSignals};
+use crate::effects::PlantSignals;
 use nalgebra::{SMatrix, SVector};
 
 /// Number of continuous states.
@@ -147,9 +147,9 @@ impl Plant<'_> {
             out
         };
 
-        let force = p_a * cyl.a_annulus - p_b * cyl.a_piston + effects::total_force(p, &signals);
+        let force = p_a * cyl.a_annulus - p_b * cyl.a_piston + d.effects.force(p, &signals);
         let d_force = grad::<JAC>(|| {
-            chain(effects::total_force_gradient(p, &signals)) + unit(P_A) * cyl.a_annulus - unit(P_B) * cyl.a_piston
+            chain(d.effects.force_gradient(p, &signals)) + unit(P_A) * cyl.a_annulus - unit(P_B) * cyl.a_piston
         });
         let (delta, mount_stiffness) = match d.mount {
             Some(m) => {
@@ -189,8 +189,8 @@ impl Plant<'_> {
         } else {
             (0.0, Grad::zeros())
         };
-        let q_leak = effects::total_bypass_flow(p, &signals);
-        let d_q_leak = grad::<JAC>(|| chain(effects::total_bypass_flow_gradient(p, &signals)));
+        let q_leak = d.effects.bypass_flow(p, &signals);
+        let d_q_leak = grad::<JAC>(|| chain(d.effects.bypass_flow_gradient(p, &signals)));
         let r_a = q_cv1 - q_valve - q_relief - q_leak;
         let d_r_a = grad::<JAC>(|| d_q_cv1 - d_q_valve - d_q_relief - d_q_leak);
         let r_b = -q_cv1 + q_cv2 + q_leak;

@@ -20,16 +20,13 @@ pub struct Lu<const N: usize> {
 impl<const N: usize> Lu<N> {
     /// Factorises `a`; None when a pivot is zero or not finite (singular or overflowed matrix).
     pub fn factor(a: &SMatrix<f64, N, N>) -> Option<Self> {
-        let mut rows = [[0.0; N]; N];
-        for (i, row) in rows.iter_mut().enumerate() {
-            for (j, x) in row.iter_mut().enumerate() {
-                *x = a[(i, j)];
-            }
-        }
-        let mut perm = [0; N];
-        for (i, p) in perm.iter_mut().enumerate() {
-            *p = i;
-        }
+        Self::factor_rows(std::array::from_fn(|i| std::array::from_fn(|j| a[(i, j)])))
+    }
+
+    /// Factorises the matrix whose row `i` is `rows[i]`, as [`Lu::factor`].
+    #[inline]
+    pub fn factor_rows(mut rows: [[f64; N]; N]) -> Option<Self> {
+        let mut perm: [usize; N] = std::array::from_fn(|i| i);
         let mut inverse_diagonal = [0.0; N];
         for k in 0..N {
             let mut pivot = k;
@@ -45,41 +42,39 @@ impl<const N: usize> Lu<N> {
             perm.swap(k, pivot);
             let inverse = 1.0 / rows[k][k];
             inverse_diagonal[k] = inverse;
-            let pivot_row = rows[k];
-            for row in rows.iter_mut().skip(k + 1) {
-                let factor = row[k] * inverse;
-                row[k] = factor;
-                if factor != 0.0 {
-                    for j in k + 1..N {
-                        row[j] -= factor * pivot_row[j];
-                    }
+            for i in k + 1..N {
+                let factor = rows[i][k] * inverse;
+                rows[i][k] = factor;
+                for j in k + 1..N {
+                    rows[i][j] -= factor * rows[k][j];
                 }
             }
         }
         Some(Lu { rows, inverse_diagonal, perm })
     }
 
-    /// The solution x of A x = b. Column by column: each x_j, once known, updates the rows
-    /// below (above) it independently, which keeps the dependency chain N long, not N²/2.
+    /// The solution x of A x = b.
     pub fn solve(&self, b: &SVector<f64, N>) -> SVector<f64, N> {
-        let mut x = [0.0; N];
-        for (i, xi) in x.iter_mut().enumerate() {
-            *xi = b[self.perm[i]];
-        }
+        SVector::from(self.solve_array(&b.data.0[0]))
+    }
+
+    /// [`Lu::solve`] on arrays. Column by column: each x_j, once known, updates the rows below
+    /// (above) it independently, which keeps the dependency chain N long, not N²/2.
+    #[inline]
+    pub fn solve_array(&self, b: &[f64; N]) -> [f64; N] {
+        let mut x: [f64; N] = std::array::from_fn(|i| b[self.perm[i]]);
         for j in 0..N {
-            let xj = x[j];
-            for (xi, row) in x.iter_mut().zip(&self.rows).skip(j + 1) {
-                *xi -= row[j] * xj;
+            for i in j + 1..N {
+                x[i] -= self.rows[i][j] * x[j];
             }
         }
         for j in (0..N).rev() {
             x[j] *= self.inverse_diagonal[j];
-            let xj = x[j];
-            for (xi, row) in x.iter_mut().zip(&self.rows).take(j) {
-                *xi -= row[j] * xj;
+            for i in 0..j {
+                x[i] -= self.rows[i][j] * x[j];
             }
         }
-        SVector::from(x)
+        x
     }
 }
 

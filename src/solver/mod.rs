@@ -3,6 +3,7 @@
 mod lu;
 mod rosenbrock;
 
+pub use lu::Lu;
 pub use rosenbrock::{rosenbrock_step, rosenbrock_step_from, StepStart, Tableau, RODAS3};
 
 use nalgebra::{SMatrix, SVector};
@@ -23,6 +24,26 @@ pub trait OdeSystem<const N: usize> {
             j.set_column(col, &((self.rhs(&yp) - f0) / step));
         }
         j
+    }
+}
+
+/// The linear algebra of a Rosenbrock step: the iteration matrix I/(γh) − J, factorised once per
+/// step and solved once per stage. [`Lu`] is the dense one; a system whose Jacobian has rows of a
+/// known form can eliminate them first (the damper's plant does:
+/// `crate::physics::iteration_matrix`).
+pub trait IterationMatrix<const N: usize>: Sized {
+    /// Factorises I/(γh) − J for `inv_gamma_h` = 1/(γh); None when it is singular or not finite.
+    fn factor(jacobian: &SMatrix<f64, N, N>, inv_gamma_h: f64) -> Option<Self>;
+    /// The solution x of (I/(γh) − J) x = b.
+    fn solve(&self, b: &SVector<f64, N>) -> SVector<f64, N>;
+}
+
+impl<const N: usize> IterationMatrix<N> for Lu<N> {
+    fn factor(jacobian: &SMatrix<f64, N, N>, inv_gamma_h: f64) -> Option<Self> {
+        Lu::factor(&(SMatrix::<f64, N, N>::identity() * inv_gamma_h - jacobian))
+    }
+    fn solve(&self, b: &SVector<f64, N>) -> SVector<f64, N> {
+        Lu::solve(self, b)
     }
 }
 

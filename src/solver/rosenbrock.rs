@@ -16,7 +16,7 @@
 //! (as used in KPP); Hairer & Wanner, Solving ODEs II, §IV.7 for the method class.
 
 use super::lu::Lu;
-use super::{OdeSystem, SolverError};
+use super::{IterationMatrix, OdeSystem, SolverError};
 use nalgebra::{SMatrix, SVector};
 
 /// The coefficients of a four-stage Rosenbrock method in the transformed form above.
@@ -70,20 +70,19 @@ pub fn rosenbrock_step<const N: usize, S: OdeSystem<N>>(
 ) -> Result<(SVector<f64, N>, SVector<f64, N>), SolverError> {
     let f0 = sys.rhs(y);
     let start = StepStart { f0, jacobian: sys.jacobian(y, &f0), f_t: None };
-    rosenbrock_step_from(method, &start, |_, y| sys.rhs(y), y, h)
+    rosenbrock_step_from::<N, Lu<N>>(method, &start, |_, y| sys.rhs(y), y, h)
 }
 
 /// One step from a prepared start: `rhs_at(α, y)` is the right-hand side at the fraction α of the
-/// step (the stages sit at the method's α_i).
-pub fn rosenbrock_step_from<const N: usize>(
+/// step (the stages sit at the method's α_i); `M` factorises and solves the iteration matrix.
+pub fn rosenbrock_step_from<const N: usize, M: IterationMatrix<N>>(
     method: &Tableau,
     start: &StepStart<N>,
     rhs_at: impl Fn(f64, &SVector<f64, N>) -> SVector<f64, N>,
     y: &SVector<f64, N>,
     h: f64,
 ) -> Result<(SVector<f64, N>, SVector<f64, N>), SolverError> {
-    let matrix = SMatrix::<f64, N, N>::identity() / (method.gamma * h) - start.jacobian;
-    let lu = Lu::factor(&matrix).ok_or(SolverError::Singular)?;
+    let lu = M::factor(&start.jacobian, 1.0 / (method.gamma * h)).ok_or(SolverError::Singular)?;
     let mut k = [SVector::<f64, N>::zeros(); 4];
     let mut f = start.f0;
     for i in 0..4 {
@@ -154,7 +153,7 @@ mod tests {
             let f_t = with_f_t.then(|| SVector::<f64, 1>::new(-t.sin()));
             let start = StepStart { f0, jacobian: s0.jacobian(&y, &f0), f_t };
             let at = |alpha: f64, y: &SVector<f64, 1>| Forced { t: t + alpha * h, lambda }.rhs(y);
-            y = rosenbrock_step_from(method, &start, at, &y, h).unwrap().0;
+            y = rosenbrock_step_from::<1, Lu<1>>(method, &start, at, &y, h).unwrap().0;
         }
         let exact = (lambda * 1f64.cos() + 1f64.sin() - lambda * (-lambda).exp()) / (1.0 + lambda * lambda);
         (y[0] - exact).abs()
