@@ -296,7 +296,8 @@ impl Damper {
                 .sum::<f64>()
                 .sqrt()
                 / 7f64.sqrt();
-            let factor = (0.9 / norm.max(1e-12).cbrt()).clamp(0.2, 4.0);
+            // 0.9/∛norm ≥ 4 below 0.0113: the growth limit, without the cube root
+            let factor = if norm >= 0.0113 { (0.9 / norm.cbrt()).clamp(0.2, 4.0) } else { 4.0 };
             attempts += 1;
             if norm <= 1.0 {
                 if !last && step < MIN_STEP {

@@ -50,35 +50,40 @@ impl ValvePorts {
         }
     }
 
-    /// Spool position (m) that opens `area` (m²); `area` is clamped to [0, nπr²].
-    /// Safeguarded Newton on the monotone port law: a fixed small number of iterations, so the
-    /// controller's cost per sample is bounded and deterministic.
+    /// Spool position (m) that opens `area` (m²); `area` is clamped to [0, nπr²]. The controller
+    /// inverts the port law at every sample, so this is written for speed: with φ = 2θ the law
+    /// is A = (n r²/2)(φ − sin φ) and h = 2r sin²(φ/4), so φ solves Kepler's equation
+    /// φ − sin φ = M = 2A/(n r²) (eccentricity 1), odd about M = π. From the inverse series
+    /// φ ≈ s (1 + s²/60 + s⁴/1400 + s⁶/25200), s = (6M)^(1/3), within 1.1 % of the root up to
+    /// M = π, two Halley iterations (cubic convergence, error constant ≤ 1/12 there) reach
+    /// rounding: a fixed cost, about a third of the safeguarded Newton iteration on A(h) it
+    /// replaced.
     pub fn position_for_area(&self, area: f64) -> f64 {
         let r = self.r_port;
-        let a_max = self.n_ports * PI * r * r;
-        let target = area.clamp(0.0, a_max);
-        let (mut lo, mut hi) = (0.0, 2.0 * r);
-        // small-opening law A ≈ n (4/3) sqrt(2r) h^(3/2) gives the first guess
-        let mut h = (target / (self.n_ports * 4.0 / 3.0 * (2.0 * r).sqrt())).powf(2.0 / 3.0).clamp(lo, hi);
-        for _ in 0..50 {
-            let f = self.area(self.x_lap + h) - target;
-            if f > 0.0 {
-                hi = h;
-            } else {
-                lo = h;
-            }
-            let slope = self.area_slope(self.x_lap + h);
-            let mut next = if slope > 0.0 { h - f / slope } else { 0.5 * (lo + hi) };
-            if !(next > lo && next < hi) {
-                next = 0.5 * (lo + hi);
-            }
-            if (next - h).abs() < 1e-13 {
-                h = next;
-                break;
-            }
-            h = next;
+        let scale = self.n_ports * r * r;
+        let m = (2.0 * area / scale).clamp(0.0, 2.0 * PI);
+        if m.is_nan() || m <= 0.0 {
+            return self.x_lap;
         }
-        self.x_lap + h
+        // the upper half by symmetry: φ(2π − M) = 2π − φ(M)
+        let upper = m > PI;
+        let m_half = if upper { 2.0 * PI - m } else { m };
+        let s = (6.0 * m_half).cbrt();
+        let s2 = s * s;
+        let mut phi = s * (1.0 + s2 * (1.0 / 60.0 + s2 * (1.0 / 1400.0 + s2 / 25_200.0)));
+        for _ in 0..2 {
+            let (sin, cos) = phi.sin_cos();
+            let (f, slope) = (phi - sin - m_half, 1.0 - cos);
+            let denominator = 2.0 * slope * slope - f * sin;
+            if denominator > 0.0 {
+                phi -= 2.0 * f * slope / denominator;
+            }
+        }
+        if upper {
+            phi = 2.0 * PI - phi;
+        }
+        let quarter = (0.25 * phi).sin();
+        self.x_lap + 2.0 * r * quarter * quarter
     }
 }
 
@@ -138,6 +143,22 @@ mod tests {
             let x = PORTS.position_for_area(a);
             assert!((PORTS.area(x) - a).abs() < 1e-12, "A {a}");
         }
+        // over the whole range, from a micron of opening to the last micron before full open, on
+        // the opening h (where A is flat, at the ends, the opening is the meaningful accuracy)
+        let full = 2.0 * PI * 9e-6;
+        for k in 0..=2000 {
+            let h = 1e-6 + (6e-3 - 2e-6) * k as f64 / 2000.0;
+            let a = PORTS.area(0.3e-3 + h);
+            let x = PORTS.position_for_area(a);
+            let slope = PORTS.area_slope(x).max(1e-12);
+            // the area's own rounding (its two terms cancel at small openings) over its slope
+            let resolution = 4.0 * f64::EPSILON * (PORTS.n_ports * 9e-6 * PI) / slope;
+            assert!((x - (0.3e-3 + h)).abs() <= resolution.max(1e-15), "h {h}: x {x}, area {a} of {full}");
+        }
+        assert_eq!(PORTS.position_for_area(0.0), 0.3e-3);
+        assert_eq!(PORTS.position_for_area(-1.0), 0.3e-3);
+        assert!((PORTS.position_for_area(full) - 6.3e-3).abs() < 1e-15);
+        assert!((PORTS.position_for_area(1.0) - 6.3e-3).abs() < 1e-15);
     }
 
     #[test]

@@ -42,11 +42,12 @@ impl<const N: usize> Lu<N> {
             perm.swap(k, pivot);
             let inverse = 1.0 / rows[k][k];
             inverse_diagonal[k] = inverse;
-            for i in k + 1..N {
-                let factor = rows[i][k] * inverse;
-                rows[i][k] = factor;
-                for j in k + 1..N {
-                    rows[i][j] -= factor * rows[k][j];
+            let pivot_row = rows[k];
+            for row in rows.iter_mut().skip(k + 1) {
+                let factor = row[k] * inverse;
+                row[k] = factor;
+                for (x, p) in row.iter_mut().zip(&pivot_row).skip(k + 1) {
+                    *x -= factor * p;
                 }
             }
         }
