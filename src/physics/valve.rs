@@ -68,7 +68,7 @@ impl ValvePorts {
         // the upper half by symmetry: φ(2π − M) = 2π − φ(M)
         let upper = m > PI;
         let m_half = if upper { 2.0 * PI - m } else { m };
-        let s = (6.0 * m_half).cbrt();
+        let s = cube_root_estimate(6.0 * m_half);
         let s2 = s * s;
         let mut phi = s * (1.0 + s2 * (1.0 / 60.0 + s2 * (1.0 / 1400.0 + s2 / 25_200.0)));
         for _ in 0..2 {
@@ -85,6 +85,15 @@ impl ValvePorts {
         let quarter = (0.25 * phi).sin();
         self.x_lap + 2.0 * r * quarter * quarter
     }
+}
+
+/// ∛x (x > 0) within 1e-4 relative, enough for the series' start, at a fraction of `f64::cbrt`'s
+/// cost: a third of the exponent from the bits (within 3.2 %), then one Halley step
+/// y (y³ + 2x)/(2y³ + x), which cubes the relative error.
+fn cube_root_estimate(x: f64) -> f64 {
+    let y = f64::from_bits(x.to_bits() / 3 + 0x2a9f_7893_782d_a1ce);
+    let y3 = y * y * y;
+    y * (y3 + 2.0 * x) / (2.0 * y3 + x)
 }
 
 /// Force (N) of the proportional solenoid with force constant `k_sol` (N/A) at current `i` (A),
@@ -159,6 +168,15 @@ mod tests {
         assert_eq!(PORTS.position_for_area(-1.0), 0.3e-3);
         assert!((PORTS.position_for_area(full) - 6.3e-3).abs() < 1e-15);
         assert!((PORTS.position_for_area(1.0) - 6.3e-3).abs() < 1e-15);
+    }
+
+    #[test]
+    fn cube_root_estimate_is_within_its_bound() {
+        for k in 0..=4000 {
+            let x = 10f64.powf(-12.0 + 24.0 * k as f64 / 4000.0);
+            let e = (cube_root_estimate(x) / x.cbrt() - 1.0).abs();
+            assert!(e < 1e-4, "x {x}: {e}");
+        }
     }
 
     #[test]
