@@ -1,6 +1,6 @@
 //! The damper as a co-simulation unit, with no FMI types. The controller is sampled every
 //! `T_sample` on the grid `t_start + k·T_sample`, whatever the communication steps are; between
-//! samples the plant is integrated by Rodas3 with step-size control (embedded error estimate,
+//! samples the plant is integrated by Ros3 with step-size control (embedded error estimate,
 //! steps ≤ `h_max`), so a smooth stretch costs one step per sample and a check valve switching
 //! gets small steps. The step sequence depends only on the sample grid and the inputs, so results
 //! are deterministic and do not depend on the communication step when it is a multiple of
@@ -11,7 +11,7 @@ use crate::control::{Controller, Demands, Measurements};
 use crate::physics::iteration_matrix::PlantIterationMatrix;
 use crate::physics::params::{Derived, Parameters};
 use crate::physics::plant::{idx, rest_current, Linearisation, Plant, PlantOutputs, State, N_STATES};
-use crate::solver::{rosenbrock_step_from, SolverError, StepStart, RODAS3};
+use crate::solver::{rosenbrock_step_from, SolverError, StepStart, ROS3};
 use crate::step_error::{StepError, GRID_RESOLUTION, MAX_SAMPLES_PER_STEP, MAX_STEPS_PER_SAMPLE, MIN_STEP};
 
 /// Typical magnitude of each state, for the error weights: p_A, p_B (Pa), V_g (m³), x_s (m),
@@ -59,7 +59,7 @@ pub struct DamperState {
 pub struct StepStats {
     /// Controller samples taken.
     pub samples: u32,
-    /// Rodas3 steps taken.
+    /// Rosenbrock steps taken.
     pub substeps: u32,
 }
 
@@ -257,15 +257,15 @@ impl Damper {
         Plant { v_damper: self.inputs.v_damper + self.inputs.a_damper * from, ..self.plant() }
     }
 
-    /// One Rodas3 step of `step` (s) from the present state, `from` (s) into the velocity's ramp,
+    /// One Ros3 step of `step` (s) from the present state, `from` (s) into the velocity's ramp,
     /// from the plant linearised there.
-    fn rodas3(&self, (out, lin): &Linearised, step: f64, from: f64) -> Result<(State, State), SolverError> {
+    fn rosenbrock(&self, (out, lin): &Linearised, step: f64, from: f64) -> Result<(State, State), SolverError> {
         let a = self.inputs.a_damper;
         // ∂f/∂t = ∂f/∂v · a
         let f_t = (a != 0.0).then(|| lin.df_dv * a);
         let start = StepStart { f0: out.dydt, jacobian: lin.jacobian, f_t };
         rosenbrock_step_from::<N_STATES, PlantIterationMatrix>(
-            &RODAS3,
+            &ROS3,
             &start,
             |alpha, y| self.plant_at(from + alpha * step).evaluate(y).dydt,
             &self.state.y,
@@ -287,7 +287,7 @@ impl Damper {
             let step = if last { span - done } else { h };
             // a rejected step is tried again from the same state: its linearisation stands
             let linearised = start.get_or_insert_with(|| self.plant_at(done).evaluate_linearised(&self.state.y));
-            let (y, error) = self.rodas3(linearised, step, done)?;
+            let (y, error) = self.rosenbrock(linearised, step, done)?;
             let norm = (0..7)
                 .map(|i| {
                     let w = p.rtol * (STATE_SCALE[i] + self.state.y[i].abs().max(y[i].abs()));

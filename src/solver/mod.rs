@@ -4,7 +4,7 @@ mod lu;
 mod rosenbrock;
 
 pub use lu::Lu;
-pub use rosenbrock::{rosenbrock_step, rosenbrock_step_from, StepStart, Tableau, RODAS3};
+pub use rosenbrock::{rosenbrock_step, rosenbrock_step_from, StepStart, Tableau, RODAS3, ROS3};
 
 use nalgebra::{SMatrix, SVector};
 

@@ -1,25 +1,30 @@
-//! A four-stage Rosenbrock method with an embedded error estimate, one Jacobian, one LU
-//! factorisation and three right-hand-side evaluations per step, its coefficients as data:
+//! Rosenbrock methods of up to four stages with an embedded error estimate, one Jacobian and one
+//! LU factorisation per step, their coefficients as data:
 //!
 //! ```text
-//! (I/(γh) − J) k_i = f(t + α_i h, y + Σ_j a_ij k_j) + Σ_j (c_ij/h) k_j + γ_i h ∂f/∂t ,   i = 1..4
+//! (I/(γh) − J) k_i = f(t + α_i h, y + Σ_j a_ij k_j) + Σ_j (c_ij/h) k_j + γ_i h ∂f/∂t ,   i = 1..s
 //! y₁ = y₀ + Σ m_i k_i ,   error estimate e = Σ e_i k_i
 //! ```
-//! [`RODAS3`]: order 3, L-stable and stiffly accurate, embedded order 2. Hairer & Wanner's
-//! L-stable ROS4 (order 4, the same cost per step) was tried on the damper: no better in force
-//! error per CPU time at any tolerance (`cargo bench --bench realtime`, 2026-11: 1.9 N at 160×
-//! against Rodas3's 2 N at about 165×), so the stiffly accurate method stays.
+//! - [`ROS3`], the damper's: order 3, L-stable, embedded order 2; three stages and two
+//!   right-hand-side evaluations (the first with the Jacobian).
+//! - [`RODAS3`]: order 3, L-stable and stiffly accurate; four stages and three evaluations.
+//!
+//! On the damper (`cargo bench --bench realtime`, docs/performance.md) Ros3 is the cheaper for
+//! the same force error at every tolerance: at rtol 1e-3, where the 2 kHz controller sets the steps
+//! (two per millisecond), 18.9 N RMS against Rodas3's 24.1 N for one evaluation and one solve
+//! fewer per step; at 3e-5, 0.60 N against 0.88 N. Hairer & Wanner's L-stable ROS4 (order 4, the
+//! cost of Rodas3) was no better than Rodas3 (1.9 N at 160× against 2 N at about 165×).
 //!
 //! # References
 //! Sandu, Verwer, Blom, Spee, Carmichael, Potra: "Benchmarking stiff ODE solvers for atmospheric
-//! chemistry problems II: Rosenbrock solvers", Atmos. Environ. 31 (1997), Rodas3 coefficients
-//! (as used in KPP); Hairer & Wanner, Solving ODEs II, §IV.7 for the method class.
+//! chemistry problems II: Rosenbrock solvers", Atmos. Environ. 31 (1997): the Ros3 and Rodas3
+//! coefficients (as used in KPP); Hairer & Wanner, Solving ODEs II, §IV.7 for the method class.
 
 use super::lu::Lu;
 use super::{IterationMatrix, OdeSystem, SolverError};
 use nalgebra::{SMatrix, SVector};
 
-/// The coefficients of a four-stage Rosenbrock method in the transformed form above.
+/// The coefficients of a Rosenbrock method of up to four stages in the transformed form above.
 #[derive(Clone, Copy, Debug)]
 pub struct Tableau {
     pub gamma: f64,
@@ -35,6 +40,8 @@ pub struct Tableau {
     pub gamma_i: [f64; 4],
     /// Whether stage i evaluates f anew (else it reuses the previous stage's).
     pub new_f: [bool; 4],
+    /// Number of stages, s ≤ 4.
+    pub stages: usize,
 }
 
 /// Rodas3 (Sandu et al. 1997).
@@ -47,6 +54,34 @@ pub const RODAS3: Tableau = Tableau {
     alpha: [0.0, 0.0, 1.0, 1.0],
     gamma_i: [0.5, 1.5, 0.0, 0.0],
     new_f: [true, false, true, true],
+    stages: 4,
+};
+
+// the coefficients with the digits they are published with
+#[allow(clippy::excessive_precision)]
+const ROS3_GAMMA: f64 = 0.435_866_521_508_458_999_416_019_451_193_56;
+/// Ros3 (Sandu et al. 1997). Stage 3 reuses stage 2's evaluation (same point, a32 = 0).
+#[allow(clippy::excessive_precision)]
+pub const ROS3: Tableau = Tableau {
+    gamma: ROS3_GAMMA,
+    a: [[0.0; 4], [1.0, 0.0, 0.0, 0.0], [1.0, 0.0, 0.0, 0.0], [0.0; 4]],
+    c: [
+        [0.0; 4],
+        [-1.015_617_108_387_770_209_197_560_011_554_5, 0.0, 0.0, 0.0],
+        [4.075_995_645_253_769_982_480_583_535_806_7, 9.207_679_429_833_079_124_215_681_847_400_3, 0.0, 0.0],
+        [0.0; 4],
+    ],
+    m: [1.0, 6.169_794_704_382_824_559_255_361_568_973, -0.427_722_565_432_185_733_262_383_738_065_14, 0.0],
+    e: [0.5, -2.907_955_871_680_546_982_171_823_620_801_7, 0.223_540_698_978_115_696_273_609_092_761_99, 0.0],
+    alpha: [0.0, ROS3_GAMMA, ROS3_GAMMA, 0.0],
+    gamma_i: [
+        ROS3_GAMMA,
+        0.242_919_964_548_168_043_665_922_496_833_14,
+        2.185_138_002_766_405_851_151_316_948_583_2,
+        0.0,
+    ],
+    new_f: [true, true, false, false],
+    stages: 3,
 };
 
 /// What a Rosenbrock step needs at its start: f(y₀), the Jacobian ∂f/∂y at y₀, and, for a
@@ -85,7 +120,7 @@ pub fn rosenbrock_step_from<const N: usize, M: IterationMatrix<N>>(
     let lu = M::factor(&start.jacobian, 1.0 / (method.gamma * h)).ok_or(SolverError::Singular)?;
     let mut k = [SVector::<f64, N>::zeros(); 4];
     let mut f = start.f0;
-    for i in 0..4 {
+    for i in 0..method.stages {
         if i > 0 && method.new_f[i] {
             let mut stage = *y;
             for (a, kj) in method.a[i].iter().zip(&k).take(i) {
@@ -161,7 +196,12 @@ mod tests {
 
     #[test]
     fn a_time_dependent_right_hand_side_converges_at_third_order() {
-        let method = &RODAS3;
+        for method in [&ROS3, &RODAS3] {
+            third_order(method);
+        }
+    }
+
+    fn third_order(method: &Tableau) {
         let (coarse, fine) = (error_at_one(method, 20, 1.0, true), error_at_one(method, 40, 1.0, true));
         let order = (coarse / fine).log2();
         assert!(order > 2.8, "errors {coarse:e} → {fine:e}, order {order:.2}");
