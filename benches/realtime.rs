@@ -65,7 +65,8 @@ fn step(d: &mut Damper, (v, f): (f64, f64)) -> f64 {
     d.inputs.v_damper = v;
     d.inputs.force_demand = f;
     d.do_step(H).expect("step");
-    d.outputs().plant.force
+    // what a master reading F_damper gets (the FMU's fmi2GetReal computes the load cell alone)
+    d.load_cell()
 }
 
 /// Minor and major page faults of this process so far (/proc/self/stat fields 10 and 12).

@@ -13,6 +13,7 @@ use crate::physics::params::{Derived, Parameters};
 use crate::physics::plant::{idx, rest_current, Linearisation, Plant, PlantOutputs, State, N_STATES};
 use crate::solver::{rosenbrock_step_from, SolverError, StepStart, ROS3};
 use crate::step_error::{StepError, GRID_RESOLUTION, MAX_SAMPLES_PER_STEP, MAX_STEPS_PER_SAMPLE, MIN_STEP};
+use std::cell::Cell;
 
 /// Typical magnitude of each state, for the error weights: p_A, p_B (Pa), V_g (m³), x_s (m),
 /// v_s (m/s), i (A), x (m). The spool crosses its 4.5 mm in 3–5 ms, so 1 m/s is its typical
@@ -96,15 +97,17 @@ impl Outputs {
 }
 
 /// A damper with validated parameters.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug)]
 pub struct Damper {
     params: Parameters,
     derived: Derived,
     pub state: DamperState,
     pub inputs: Inputs,
-    /// The plant's outputs at the end of the last step, with what they were computed from: a
-    /// master reads several outputs after each step, and each would evaluate the plant again.
-    last: Option<Evaluated>,
+    /// The plant's outputs at the present state, once a master has asked for one, with what they
+    /// were computed from: a master reads several outputs after a step, and each would evaluate
+    /// the plant again. Not computed by the step itself: a master that reads only the force
+    /// (the load cell, [`Damper::load_cell`]) does not pay for an evaluation per step.
+    last: Cell<Option<Evaluated>>,
 }
 
 /// The plant evaluated at `y` with the velocity `v_damper` and the coil command `i_command`.
@@ -134,13 +137,13 @@ impl Damper {
         }
         let h_next = params.h_max.min(params.t_sample);
         let state = DamperState { y, controller, i_command: i0, time: start_time, start_time, next_sample: 0, h_next };
-        Ok(Damper { params, derived, state, inputs, last: None })
+        Ok(Damper { params, derived, state, inputs, last: Cell::new(None) })
     }
 
     /// Rebuilds a damper from a saved state (for FMU state restore).
     pub fn from_state(params: Parameters, inputs: Inputs, state: DamperState) -> Result<Self, String> {
         params.validate()?;
-        Ok(Damper { params, derived: params.derive(), state, inputs, last: None })
+        Ok(Damper { params, derived: params.derive(), state, inputs, last: Cell::new(None) })
     }
 
     pub fn params(&self) -> &Parameters {
@@ -161,11 +164,15 @@ impl Damper {
     /// force (seal and viscous friction): the model's one direct feedthrough.
     pub fn outputs_with(&self, inputs: &Inputs) -> Outputs {
         let (y, i_command) = (self.state.y, self.state.i_command);
-        let plant = match self.last {
+        let plant = match self.last.get() {
             Some(e) if e.y == y && e.v_damper.to_bits() == inputs.v_damper.to_bits() && e.i_command == i_command => {
                 e.plant
             }
-            _ => Plant { v_damper: inputs.v_damper, ..self.plant() }.evaluate(&y),
+            _ => {
+                let plant = Plant { v_damper: inputs.v_damper, ..self.plant() }.evaluate(&y);
+                self.last.set(Some(Evaluated { y, v_damper: inputs.v_damper, i_command, plant }));
+                plant
+            }
         };
         Outputs {
             plant,
@@ -174,6 +181,17 @@ impl Damper {
             x_spool_ref: self.state.controller.x_spool_demand,
             force_demand_clipped: self.state.controller.force_demand_clipped,
         }
+    }
+
+    /// The load-cell reading (N) at the present state: [`Outputs::load_cell`] without the rest of
+    /// the plant's evaluation.
+    pub fn load_cell(&self) -> f64 {
+        self.load_cell_with(&self.inputs)
+    }
+
+    /// [`Damper::load_cell`] with `inputs` applied (see [`Damper::outputs_with`]).
+    pub fn load_cell_with(&self, inputs: &Inputs) -> f64 {
+        Plant { v_damper: inputs.v_damper, ..self.plant() }.force(&self.state.y) - self.state.controller.force_tare
     }
 
     /// Refuses a step of `h` (s) that spans more than [`MAX_SAMPLES_PER_STEP`] samples or whose
@@ -192,16 +210,14 @@ impl Damper {
         Ok(())
     }
 
-    /// Advances from the present time by `h` (s) > 0. On failure, including a non-finite output
-    /// at the new time, the state is left as it was.
+    /// Advances from the present time by `h` (s) > 0. On failure, including a state or a force
+    /// that is not finite at the new time, the state is left as it was. (With a finite state
+    /// and force every other output is finite: the gas volume is floored, the rest follows from
+    /// the force and the pressures.)
     pub fn do_step(&mut self, h: f64) -> Result<StepStats, StepError> {
         let (saved, inputs) = (self.state, self.inputs);
-        self.last = None;
         let result = self.check_step(h).and_then(|()| self.advance(h)).and_then(|stats| {
-            let plant = self.plant().evaluate(&self.state.y);
-            let (y, v_damper, i_command) = (self.state.y, self.inputs.v_damper, self.state.i_command);
-            self.last = Some(Evaluated { y, v_damper, i_command, plant });
-            if self.outputs().all_finite() {
+            if self.state.y.iter().all(|x| x.is_finite()) && self.load_cell().is_finite() {
                 Ok(stats)
             } else {
                 Err(StepError::NonFiniteOutput)
@@ -210,7 +226,6 @@ impl Damper {
         if result.is_err() {
             self.state = saved;
             self.inputs = inputs;
-            self.last = None;
         }
         result
     }

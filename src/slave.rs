@@ -2,7 +2,7 @@
 //! generated enums, range checks from the XML's min/max, initialisation, stepping and state
 //! save/restore. `fmi2_slave` adds the C boundary and the FMI state machine on top.
 
-use crate::damper::{Damper, DamperState, Inputs, Outputs};
+use crate::damper::{Damper, DamperState, Inputs};
 use crate::model_description::{BooleanVar, Causality, IntegerVar, RealVar, GUID};
 use crate::physics::params::Parameters;
 use crate::snapshot::{check_restored, MAGIC};
@@ -41,11 +41,14 @@ fn unknown(vr: u32) -> String {
 }
 
 impl Slave {
-    fn outputs(&self) -> Result<Outputs, String> {
+    /// The value of output `v`; before initialisation, of the damper at rest with the present
+    /// parameters.
+    fn output(&self, v: RealVar) -> Result<f64, String> {
+        // with the inputs set last: the force feeds through from v_damper (friction effects)
+        let value = |d: &Damper| real_output(d, &self.inputs, v).expect("every output is mapped (tested)");
         match &self.damper {
-            // with the inputs set last: the force feeds through from v_damper (friction effects)
-            Some(d) => Ok(d.outputs_with(&self.inputs)),
-            None => Ok(Damper::new(self.params, self.inputs, 0.0)?.outputs()),
+            Some(d) => Ok(value(d)),
+            None => Ok(value(&Damper::new(self.params, self.inputs, 0.0)?)),
         }
     }
 }
@@ -75,7 +78,7 @@ impl Model for Slave {
         if let Some(x) = real_parameter(&mut params, v).or(real_input(&mut inputs, v)) {
             return Ok(*x);
         }
-        let x = real_output(&self.outputs()?, v).expect("every output is mapped (tested)");
+        let x = self.output(v)?;
         if !x.is_finite() {
             return Err(format!("{} = {x} is not finite (inputs out of the model's reach)", v.name()));
         }

@@ -2,7 +2,7 @@
 //! the enums that `build.rs` generates from the XML, so a variable added to the XML, or removed
 //! from it, does not compile until it is mapped here.
 
-use crate::damper::{Inputs, Outputs};
+use crate::damper::{Damper, Inputs};
 use crate::model_description::{BooleanVar, Causality, IntegerVar, RealVar};
 use crate::physics::params::Parameters;
 use crate::physics::plant::idx;
@@ -149,22 +149,27 @@ pub fn real_input(inputs: &mut Inputs, v: RealVar) -> Option<&mut f64> {
     }
 }
 
-/// The value of a Real output.
-pub fn real_output(o: &Outputs, v: RealVar) -> Option<f64> {
+/// The value of a Real output of `d` with `inputs` applied: from the state, from the load cell
+/// alone ([`Damper::load_cell_with`]), or, for four of them, from the plant's evaluation, which
+/// the damper keeps for the next read.
+pub fn real_output(d: &Damper, inputs: &Inputs, v: RealVar) -> Option<f64> {
     use RealVar::*;
+    let y = &d.state.y;
+    // the four outputs of the plant's full evaluation (cached for the others' reads)
+    let plant = || d.outputs_with(inputs).plant;
     Some(match v {
-        FDamper => o.load_cell,
-        XSpool => o.y[idx::X_SPOOL],
-        ISol => o.y[idx::I_COIL],
-        PExt => o.y[idx::P_A],
-        PComp => o.y[idx::P_B],
-        PReservoir => o.plant.p_reservoir,
-        QValve => o.plant.q_valve,
-        XSpoolRef => o.x_spool_ref,
-        XDamper => o.y[idx::X_DAMPER],
-        FDemandClipped => o.force_demand_clipped,
-        FFlow => o.plant.flow_force,
-        DeltaMount => o.plant.delta_mount,
+        FDamper => d.load_cell_with(inputs),
+        XSpool => y[idx::X_SPOOL],
+        ISol => y[idx::I_COIL],
+        PExt => y[idx::P_A],
+        PComp => y[idx::P_B],
+        PReservoir => plant().p_reservoir,
+        QValve => plant().q_valve,
+        XSpoolRef => d.state.controller.x_spool_demand,
+        XDamper => y[idx::X_DAMPER],
+        FDemandClipped => d.state.controller.force_demand_clipped,
+        FFlow => plant().flow_force,
+        DeltaMount => plant().delta_mount,
         _ if v.causality() == Causality::Output => unreachable!("output {} is not mapped", v.name()),
         _ => return None,
     })

@@ -259,6 +259,11 @@ impl ActiveEffects {
         ActiveEffects { force: EffectList::of(p, |t| t.force), bypass_flow: EffectList::of(p, |t| t.bypass_flow) }
     }
 
+    /// Whether any effect adds a force.
+    pub fn adds_force(&self) -> bool {
+        self.force.len > 0
+    }
+
     /// Sum of their forces (N).
     #[inline]
     pub fn force(&self, p: &Parameters, s: &PlantSignals) -> f64 {

@@ -109,6 +109,31 @@ impl Plant<'_> {
         self.evaluate_with::<false>(y).0
     }
 
+    /// The load-cell force (N) at state `y`: [`PlantOutputs::force`] alone, which the hydraulic
+    /// pressures and the effects' forces give without the rest of the evaluation.
+    pub fn force(&self, y: &State) -> f64 {
+        let (p, d) = (self.p, self.d);
+        let hydraulic = y[idx::P_A] * d.cylinder.a_annulus - y[idx::P_B] * d.cylinder.a_piston;
+        if !d.effects.adds_force() {
+            return hydraulic;
+        }
+        let p_r = reservoir_pressure(p.p_reservoir0, p.v_gas0, p.n_polytropic, y[idx::V_GAS]);
+        hydraulic + d.effects.force(p, &self.signals(y, p_r))
+    }
+
+    /// What the effects see at state `y` with the reservoir at `p_r` (Pa).
+    fn signals(&self, y: &State, p_r: f64) -> PlantSignals {
+        use idx::*;
+        PlantSignals {
+            v_damper: self.v_damper,
+            x_damper: y[X_DAMPER],
+            p_ext: y[P_A],
+            p_comp: y[P_B],
+            p_reservoir: p_r,
+            x_spool: y[X_SPOOL],
+        }
+    }
+
     /// Derivatives and outputs at state `y`, and the plant linearised there. The derivatives are
     /// written out with the values (chain rule through every intermediate), so the Jacobian costs
     /// about one more evaluation instead of five finite differences, and it is exact.
@@ -129,14 +154,7 @@ impl Plant<'_> {
 
         let (p_r, dpr_dvg) = reservoir_pressure_and_slope(p.p_reservoir0, p.v_gas0, p.n_polytropic, v_gas);
         let d_pr = grad::<JAC>(|| unit(V_GAS) * dpr_dvg);
-        let signals = PlantSignals {
-            v_damper: v,
-            x_damper: y[X_DAMPER],
-            p_ext: p_a,
-            p_comp: p_b,
-            p_reservoir: p_r,
-            x_spool: x_s,
-        };
+        let signals = self.signals(y, p_r);
         // a signal gradient (∂/∂ each signal) as a gradient over the states and v
         let chain = |g: PlantSignals| {
             let mut out = unit(DV) * g.v_damper + d_pr * g.p_reservoir;

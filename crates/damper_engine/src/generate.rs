@@ -567,14 +567,14 @@ fn hil_run(
                 d
             }
         };
-        let od = d.outputs();
+        let load_cell = d.load_cell();
         v.push(v_measured);
         v_true.push(v_rel);
         demand.push(f_dem);
         if k + 1 < n {
             let h = t[k + 1] - t[k];
             let z_next = z_road(t[k + 1]);
-            let u = TruckInputs { z_road: z_now, v_road: (z_next - z_now) / h, f_damper: od.load_cell };
+            let u = TruckInputs { z_road: z_now, v_road: (z_next - z_now) / h, f_damper: load_cell };
             truck.advance(&u, &mut y, h);
             z_now = z_next;
         }

@@ -18,7 +18,7 @@
 use crate::dsp::Lowpass;
 use crate::measurement::Measurement;
 use crate::units::Column;
-use semi_active_damper::damper::{Damper, Inputs, Outputs};
+use semi_active_damper::damper::{Damper, Inputs};
 use semi_active_damper::physics::params::Parameters;
 use semi_active_damper::physics::plant::idx;
 use std::path::Path;
@@ -201,21 +201,22 @@ impl Model {
             return Ok(out);
         }
         let mut d = Damper::new(self.params, drive.inputs(0), t[0]).map_err(|e| format!("model parameters: {e}"))?;
-        let mut filter = self.load_cell_lowpass_hz.map(|fc| Lowpass::new(fc, d.outputs().load_cell));
-        let push = |o: &Outputs, load_cell: f64, out: &mut Prediction| {
+        let mut filter = self.load_cell_lowpass_hz.map(|fc| Lowpass::new(fc, d.load_cell()));
+        // the force from the load cell alone; the rest from the state (no evaluation of the plant)
+        let push = |d: &Damper, load_cell: f64, out: &mut Prediction| {
             out.f_damper.push(load_cell);
             if all {
-                out.x_spool.push(o.y[idx::X_SPOOL]);
-                out.x_spool_ref.push(o.x_spool_ref);
-                out.i_sol.push(o.y[idx::I_COIL]);
-                out.p_ext.push(o.y[idx::P_A]);
-                out.p_comp.push(o.y[idx::P_B]);
-                out.x_damper.push(o.y[idx::X_DAMPER]);
-                out.f_demand_clipped.push(o.force_demand_clipped);
+                let (y, c) = (&d.state.y, &d.state.controller);
+                out.x_spool.push(y[idx::X_SPOOL]);
+                out.x_spool_ref.push(c.x_spool_demand);
+                out.i_sol.push(y[idx::I_COIL]);
+                out.p_ext.push(y[idx::P_A]);
+                out.p_comp.push(y[idx::P_B]);
+                out.x_damper.push(y[idx::X_DAMPER]);
+                out.f_demand_clipped.push(c.force_demand_clipped);
             }
         };
-        let o = d.outputs();
-        push(&o, o.load_cell, &mut out);
+        push(&d, d.load_cell(), &mut out);
         for k in 1..n {
             let m = substeps(t[k] - t[k - 1], self.params.t_sample);
             let h = (t[k] - t[k - 1]) / m as f64;
@@ -224,13 +225,13 @@ impl Model {
                 d.do_step(h).map_err(|e| format!("the model failed between t = {} s and {} s: {e}", t[k - 1], t[k]))?;
                 if j + 1 < m {
                     if let Some(f) = filter.as_mut() {
-                        f.step(h, d.outputs().load_cell);
+                        f.step(h, d.load_cell());
                     }
                 }
             }
             d.inputs = drive.inputs(k);
-            let o = d.outputs();
-            push(&o, filter.as_mut().map_or(o.load_cell, |f| f.step(h, o.load_cell)), &mut out);
+            let load_cell = d.load_cell();
+            push(&d, filter.as_mut().map_or(load_cell, |f| f.step(h, load_cell)), &mut out);
         }
         Ok(out)
     }
