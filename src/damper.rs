@@ -1,6 +1,6 @@
 //! The damper as a co-simulation unit, with no FMI types. The controller is sampled every
 //! `T_sample` on the grid `t_start + k·T_sample`, whatever the communication steps are; between
-//! samples the plant is integrated by Ros3 with step-size control (embedded error estimate,
+//! samples the plant is integrated by Rodas3 with step-size control (embedded error estimate,
 //! steps ≤ `h_max`), so a smooth stretch costs one step per sample and a check valve switching
 //! gets small steps. The step sequence depends only on the sample grid and the inputs, so results
 //! are deterministic and do not depend on the communication step when it is a multiple of
@@ -11,7 +11,7 @@ use crate::control::{Controller, Demands, Measurements};
 use crate::physics::iteration_matrix::PlantIterationMatrix;
 use crate::physics::params::{Derived, Parameters};
 use crate::physics::plant::{idx, rest_current, Linearisation, Plant, PlantOutputs, State, N_STATES};
-use crate::solver::{rosenbrock_step_from, SolverError, StepStart, ROS3};
+use crate::solver::{cube_root_estimate, rosenbrock_step_from, SolverError, StepStart, RODAS3};
 use crate::step_error::{StepError, GRID_RESOLUTION, MAX_SAMPLES_PER_STEP, MAX_STEPS_PER_SAMPLE, MIN_STEP};
 use std::cell::Cell;
 
@@ -272,15 +272,15 @@ impl Damper {
         Plant { v_damper: self.inputs.v_damper + self.inputs.a_damper * from, ..self.plant() }
     }
 
-    /// One Ros3 step of `step` (s) from the present state, `from` (s) into the velocity's ramp,
+    /// One Rodas3 step of `step` (s) from the present state, `from` (s) into the velocity's ramp,
     /// from the plant linearised there.
     fn rosenbrock(&self, (out, lin): &Linearised, step: f64, from: f64) -> Result<(State, State), SolverError> {
         let a = self.inputs.a_damper;
         // ∂f/∂t = ∂f/∂v · a
         let f_t = (a != 0.0).then(|| lin.df_dv * a);
-        let start = StepStart { f0: out.dydt, jacobian: lin.jacobian, f_t };
+        let start = StepStart { f0: &out.dydt, jacobian: &lin.jacobian, f_t };
         rosenbrock_step_from::<N_STATES, PlantIterationMatrix>(
-            &ROS3,
+            &RODAS3,
             &start,
             |alpha, y| self.plant_at(from + alpha * step).evaluate(y).dydt,
             &self.state.y,
@@ -312,7 +312,7 @@ impl Damper {
                 .sqrt()
                 / 7f64.sqrt();
             // 0.9/∛norm ≥ 4 below 0.0113: the growth limit, without the cube root
-            let factor = if norm >= 0.0113 { (0.9 / norm.cbrt()).clamp(0.2, 4.0) } else { 4.0 };
+            let factor = if norm >= 0.0113 { (0.9 / cube_root_estimate(norm)).clamp(0.2, 4.0) } else { 4.0 };
             attempts += 1;
             if norm <= 1.0 {
                 if !last && step < MIN_STEP {

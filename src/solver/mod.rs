@@ -4,7 +4,7 @@ mod lu;
 mod rosenbrock;
 
 pub use lu::Lu;
-pub use rosenbrock::{rosenbrock_step, rosenbrock_step_from, StepStart, Tableau, RODAS3, ROS3};
+pub use rosenbrock::{rosenbrock_step, rosenbrock_step_from, StepStart, Tableau, RODAS3};
 
 use nalgebra::{SMatrix, SVector};
 
@@ -47,6 +47,15 @@ impl<const N: usize> IterationMatrix<N> for Lu<N> {
     }
 }
 
+/// ∛x (x > 0) within 1e-4 relative, for starting values and step-size factors, at a fraction of
+/// `f64::cbrt`'s cost (compiler-builtins' cube root had been 3–4 % of the damper's time): a third of the exponent from the bits (within 3.2 %), then one Halley step
+/// y (y³ + 2x)/(2y³ + x), which cubes the relative error.
+pub fn cube_root_estimate(x: f64) -> f64 {
+    let y = f64::from_bits(x.to_bits() / 3 + 0x2a9f_7893_782d_a1ce);
+    let y3 = y * y * y;
+    y * (y3 + 2.0 * x) / (2.0 * y3 + x)
+}
+
 /// Why an integration step failed.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum SolverError {
@@ -64,6 +73,20 @@ impl std::fmt::Display for SolverError {
             SolverError::Singular => write!(f, "singular iteration matrix"),
             SolverError::NonFinite => write!(f, "non-finite state"),
             SolverError::StepSizeTooSmall => write!(f, "step size too small for the tolerance rtol"),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn cube_root_estimate_is_within_its_bound() {
+        for k in 0..=4000 {
+            let x = 10f64.powf(-12.0 + 24.0 * k as f64 / 4000.0);
+            let e = (cube_root_estimate(x) / x.cbrt() - 1.0).abs();
+            assert!(e < 1e-4, "x {x}: {e}");
         }
     }
 }
