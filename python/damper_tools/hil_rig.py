@@ -401,9 +401,9 @@ def plot_sweep(path: Path, base: dict[str, Any], points: Sequence[SweepPoint]) -
     ax.set_yticks(range(len(lats)), [f"{1e3 * x:g}" for x in lats])
     ax.set_xlabel("actuator bandwidth f_act (Hz), 2nd order, ζ = 0.71")
     ax.set_ylabel("actuator pure delay (ms)")
-    ax.set_title(f"Rig between truck and damper, minor road 14 m/s: force-spectrum peak (5–30 Hz)\n"
-                 f"no rig: {base['peak_Hz']:.1f} Hz; E+: extension above the demand (mean and majority), "
-                 f"C−: compression below; boxed: 15 ± 2 Hz and both", fontsize=9)
+    ax.set_title(f"Rig model, minor road 14 m/s: force-spectrum peak 5–30 Hz (no rig: {base['peak_Hz']:.1f} Hz)\n"
+                 "E+: extension above the demand (mean and majority), C−: compression below;\n"
+                 "boxed: 15 ± 2 Hz with E+ C− (the paper's Fig. 7)", fontsize=9)
     fig.colorbar(im, ax=ax, label="force peak (Hz)")
     fig.tight_layout()
     fig.savefig(path, dpi=110)

@@ -391,3 +391,243 @@ def orifice_law_deviation(points: Sequence[dict[str, float]], p: dict[str, float
 
 def load(fmu: str | Path) -> FmuUnit:
     return FmuUnit.load(fmu)
+
+
+# ----------------------------------------------------------------------------- report (plots, tables)
+
+def _plt() -> Any:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    return plt
+
+
+def _bode(axes: Any, frf: Frf, label: str, scale: float = 1.0, **style: Any) -> None:
+    a0, a1 = axes
+    a0.loglog(frf.f, scale * frf.magnitude, marker="o", ms=2.5, lw=1, label=label, **style)
+    a1.semilogx(frf.f, frf.phase_deg, marker="o", ms=2.5, lw=1, **style)
+
+
+def _finish_bode(fig: Any, axes: Any, ylabel: str, title: str, path: Path) -> None:
+    for row in axes.T if axes.ndim == 2 else [axes]:
+        a0, a1 = row
+        a0.set_ylabel(ylabel)
+        a0.grid(alpha=0.3, which="both")
+        a1.grid(alpha=0.3, which="both")
+        a1.axhline(-90, color="0.4", lw=0.7, ls=":")
+        a1.set_ylabel("phase (deg)")
+        a1.set_xlabel("frequency (Hz)")
+        a0.legend(fontsize=7, loc="lower left")
+    fig.suptitle(title, fontsize=10)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt_close(fig)
+
+
+def plt_close(fig: Any) -> None:
+    _plt().close(fig)
+
+
+def plot_valve_bode(path: Path, cases: Sequence[ValveCase]) -> None:
+    plt = _plt()
+    fig, axes = plt.subplots(2, 2, figsize=(12, 7.5), sharex=True)
+    for i, c in enumerate(cases):
+        style = {"color": f"C{i}", "ls": "--" if "large" in c.label else "-"}
+        m = c.metrics
+        _bode(axes[:, 0], c.valve, f"{c.label}: −3 dB {m['valve']['f_3dB']:.0f} Hz, −90° "
+              f"{m['valve']['f_90deg']:.0f} Hz", 1e3, **style)
+        _bode(axes[:, 1], c.closed_loop, f"{c.label}: −3 dB {m['closed_loop']['f_3dB']:.0f} Hz, "
+              f"delay {1e3 * m['closed_loop']['delay']:.1f} ms", 1.0, **style)
+    axes[0, 0].set_title("solenoid current i_sol → spool position x_spool (inside the loop)", fontsize=9)
+    axes[0, 1].set_title("spool demand → spool position (closed inner loop, control_mode = 1)", fontsize=9)
+    axes[0, 1].axhline(1 / math.sqrt(2), color="0.4", lw=0.7, ls=":")
+    axes[0, 0].set_ylabel("|x_spool / i_sol| (mm/A)")
+    axes[0, 1].set_ylabel("|x_spool / x_demand| (–)")
+    for a in axes[1]:
+        a.axhline(-90, color="0.4", lw=0.7, ls=":")
+        a.set_ylabel("phase (deg)")
+        a.set_xlabel("frequency (Hz)")
+    for a in axes.flat:
+        a.grid(alpha=0.3, which="both")
+    axes[0, 0].legend(fontsize=6.5, loc="lower left")
+    axes[0, 1].legend(fontsize=6.5, loc="lower left")
+    axes[1, 1].set_ylim(-720, 10)
+    fig.suptitle("Valve transfer functions, multisine about three mean openings, small (solid) and large (dashed) "
+                 f"amplitude; damper extending at {V_VALVE} m/s unless marked", fontsize=10)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def plot_force_bode(path: Path, cases: Sequence[ForceCase]) -> None:
+    plt = _plt()
+    fig, axes = plt.subplots(2, 1, figsize=(8.5, 7.5), sharex=True)
+    big = [c for c in cases if c.amplitude == max(x.amplitude for x in cases)]
+    speeds = sorted({abs(c.velocity) for c in big})
+    for c in big:
+        i = speeds.index(abs(c.velocity))
+        style = {"color": f"C{i}", "ls": "-" if c.velocity > 0 else "--"}
+        m = c.metrics
+        _bode(axes, c.frf, f"{c.direction} {abs(c.velocity):g} m/s: −3 dB {m['f_3dB']:.0f} Hz, −90° "
+              f"{m['f_90deg']:.0f} Hz", 1.0, **style)
+    axes[0].axhline(1 / math.sqrt(2), color="0.4", lw=0.7, ls=":")
+    axes[0].set_ylabel("|F_damper / F_demand| (–)")
+    axes[1].axhline(-90, color="0.4", lw=0.7, ls=":")
+    axes[1].set_ylabel("phase (deg)")
+    axes[1].set_xlabel("frequency (Hz)")
+    axes[1].set_ylim(-400, 10)
+    for a in axes:
+        a.grid(alpha=0.3, which="both")
+    axes[0].legend(fontsize=7, loc="lower left")
+    fig.suptitle(f"Force loop (control_mode = 0, feedforward + PI): demand {FORCE_MEAN / 1e3:g} ± "
+                 f"{max(FORCE_AMPLITUDES) / 1e3:g} kN multisine at constant velocities\n"
+                 "solid: extension, dashed: compression", fontsize=10)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def plot_flow_map(path: Path, points: Sequence[dict[str, float]], p: dict[str, float]) -> None:
+    plt = _plt()
+    fig, ax = plt.subplots(figsize=(8.5, 5.5))
+    spools = sorted({q["x_spool_demand"] for q in points})
+    dp = np.geomspace(1e3, 2e7, 200)
+    for i, x in enumerate(spools):
+        ext = [q for q in points if q["x_spool_demand"] == x and q["velocity"] > 0]
+        com = [q for q in points if q["x_spool_demand"] == x and q["velocity"] < 0]
+        ax.loglog(dp / 1e5, 1e3 * orifice_flow(x, dp, p) * 60, color=f"C{i}", lw=1,
+                  label=f"orifice law, x = {1e3 * x:.1f} mm (A = {1e6 * port_area(x, p):.1f} mm²)")
+        ax.loglog([q["dp"] / 1e5 for q in ext], [1e3 * 60 * q["Q_valve"] for q in ext], "o", color=f"C{i}", ms=5)
+        ax.loglog([q["dp"] / 1e5 for q in com], [1e3 * 60 * q["Q_valve"] for q in com], "x", color=f"C{i}", ms=6)
+    ax.plot([], [], "ko", ms=5, label="FMU, steady, extension")
+    ax.plot([], [], "kx", ms=6, label="FMU, steady, compression")
+    ax.axvline(p["p_transition"] / 1e5, color="0.5", ls=":", lw=0.8, label="p_transition (laminar below)")
+    ax.set_xlabel("valve pressure drop p_ext − p_reservoir (bar)")
+    ax.set_ylabel("valve flow Q_valve (l/min)")
+    ax.set_xlim(5e-3, 200)
+    ax.grid(alpha=0.3, which="both")
+    ax.legend(fontsize=7, loc="upper left")
+    ax.set_title(f"Valve flow map: steady points at constant velocity and fixed spool demand, against\n"
+                 f"Q = C_d A(x) sqrt(2 Δp / ρ) (C_d {p['Cd_valve']:g}, ρ {p['rho']:g} kg/m³, "
+                 f"{p['n_ports']:g} ports r {1e3 * p['r_port']:g} mm, lap {1e3 * p['x_lap']:g} mm)", fontsize=10)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def plot_force_velocity(path: Path, points: Sequence[dict[str, float]]) -> None:
+    plt = _plt()
+    fig, ax = plt.subplots(figsize=(8.5, 5.5))
+    spools = sorted({q["x_spool_demand"] for q in points})
+    for i, x in enumerate(spools):
+        pts = sorted((q for q in points if q["x_spool_demand"] == x), key=lambda q: q["velocity"])
+        ax.plot([q["velocity"] for q in pts], [q["F_damper"] / 1e3 for q in pts], "o-", color=f"C{i}", ms=4,
+                label=f"spool {1e3 * x:.1f} mm")
+    ax.axhline(0, color="k", lw=0.6)
+    ax.axvline(0, color="k", lw=0.6)
+    ax.set_xlabel("damper velocity (m/s), extension +")
+    ax.set_ylabel("load-cell force F_damper (kN), tension +")
+    ax.set_title("Force–velocity map at fixed spool positions (control_mode = 1, steady values, raw load cell:\n"
+                 "includes the reservoir gas force ≈ −1 kN; points above 150 bar valve drop left out)", fontsize=10)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8, loc="upper left")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def _ms(x: float) -> str:
+    return "n/a" if math.isnan(x) else f"{1e3 * x:.1f}"
+
+
+def _hz(x: float) -> str:
+    return "> lines" if math.isnan(x) else f"{x:.0f}"
+
+
+def valve_table(cases: Sequence[ValveCase]) -> str:
+    rows = ["| run | i_sol range (A) | i → x: gain at 4 Hz (mm/A) | i → x: −3 dB (Hz) | i → x: −90° (Hz) | "
+            "i → x: delay (ms) | closed loop: −3 dB (Hz) | closed loop: −90° (Hz) | closed loop: delay (ms) | "
+            "min coherence |", "|---|---|---|---|---|---|---|---|---|---|"]
+    for c in cases:
+        v, cl = c.metrics["valve"], c.metrics["closed_loop"]
+        lo, hi = c.metrics["i_sol_range"]
+        rows.append(f"| {c.label} | {lo:.2f}–{hi:.2f} | {1e3 * v['gain_low']:.2f} | {_hz(v['f_3dB'])} | "
+                    f"{_hz(v['f_90deg'])} | {_ms(v['delay'])} | {_hz(cl['f_3dB'])} | {_hz(cl['f_90deg'])} | "
+                    f"{_ms(cl['delay'])} | {min(v['coherence_min'], cl['coherence_min']):.3f} |")
+    return "\n".join(rows)
+
+
+def force_table(cases: Sequence[ForceCase]) -> str:
+    rows = ["| direction | velocity (m/s) | demand (kN) | gain at 4 Hz | −3 dB (Hz) | −90° (Hz) | "
+            "delay (ms; phase at 4 Hz if 1 line) | min coherence |", "|---|---|---|---|---|---|---|---|"]
+    for c in cases:
+        m = c.metrics
+        rows.append(f"| {c.direction} | {c.velocity:+g} | {c.mean / 1e3:g} ± {c.amplitude / 1e3:g} | "
+                    f"{m['gain_low']:.2f} | {_hz(m['f_3dB'])} | {_hz(m['f_90deg'])} | {_ms(m['delay'])} "
+                    f"({m['delay_fit_lines']} lines) | {m['coherence_min']:.2f} |")
+    return "\n".join(rows)
+
+
+def flow_summary(points: Sequence[dict[str, float]], p: dict[str, float]) -> dict[str, float]:
+    dev = orifice_law_deviation(points, p)
+    return {"points": len(points), "turbulent_points": int(dev.size), "max_abs_deviation": float(np.abs(dev).max()),
+            "dp_min_turbulent": TURBULENT_DP}
+
+
+def main(argv: list[str] | None = None) -> None:
+    import argparse
+    import json
+    import time
+
+    from damper_tools import REPO
+
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--fmu", type=Path, default=REPO / "target" / "fmu" / "SemiActiveDamper.fmu")
+    parser.add_argument("--out", type=Path, default=REPO / "out" / "valve")
+    args = parser.parse_args(argv)
+    t0 = time.perf_counter()
+    args.out.mkdir(parents=True, exist_ok=True)
+    unit = load(args.fmu)
+    p = parameters(unit)
+    vcases = valve_cases(unit)
+    fcases = force_cases(unit)
+    points = flow_map(unit)
+    plot_valve_bode(args.out / "valve_bode.png", vcases)
+    plot_force_bode(args.out / "force_loop_bode.png", fcases)
+    plot_flow_map(args.out / "flow_map.png", points, p)
+    plot_force_velocity(args.out / "force_velocity.png", points)
+    fs = flow_summary(points, p)
+    text = "\n\n".join([
+        "# Valve and force-loop frequency responses, valve flow map (SemiActiveDamper.fmu)",
+        f"Multisine: {len(multisine_lines())} log-spaced lines {F_MIN:g}–{F_MAX:g} Hz (force loop up to "
+        f"{FORCE_F_MAX:g} Hz), period {PERIOD:g} s, H1 over whole periods after the first; communication step "
+        f"{1e3 * STEP:g} ms. Delay: phase slope over the lines with at most {DELAY_FIT_MAX_DEG:g}° lag.",
+        "## Valve (control_mode = 1)", valve_table(vcases),
+        "## Force loop (control_mode = 0, raw load cell, feedforward + PI)", force_table(fcases),
+        f"## Flow map\n\n{fs['points']} steady points; the {fs['turbulent_points']} with a drop above "
+        f"{fs['dp_min_turbulent'] / 1e5:g} bar lie on the orifice law (at the measured spool position) within "
+        f"{100 * fs['max_abs_deviation']:.3f} %.",
+    ]) + "\n"
+    (args.out / "table.md").write_text(text, encoding="utf-8")
+
+    def clean(x: Any) -> Any:
+        if isinstance(x, dict):
+            return {k: clean(v) for k, v in x.items()}
+        if isinstance(x, (list, tuple)):
+            return [clean(v) for v in x]
+        return None if isinstance(x, float) and math.isnan(x) else x
+
+    results = {"valve": [{"label": c.label, "mean": c.mean, "amplitude": c.amplitude, "velocity": c.velocity,
+                          **c.metrics} for c in vcases],
+               "force_loop": [{"velocity": c.velocity, "mean": c.mean, "amplitude": c.amplitude, **c.metrics}
+                              for c in fcases],
+               "flow_map": points, "flow_summary": fs, "wall_time_s": time.perf_counter() - t0}
+    (args.out / "results.json").write_text(json.dumps(clean(results), indent=1), encoding="utf-8")
+    print(text)
+    print(f"valve_response: wrote {args.out} in {time.perf_counter() - t0:.0f} s")
+
+
+if __name__ == "__main__":
+    main()
