@@ -1,5 +1,5 @@
 """The valve's and the force loop's frequency responses, the valve's flow map and the damper's
-force-velocity map, measured on the packaged FMU (issue 14).
+force-velocity map, measured on the packaged FMU.
 
 Kitching, Cole and Cebon validated their valve model "against measured step responses and transfer
 functions (solenoid current to spool position)" and their orifice model with "measurements of
