@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # Builds the FMUs, reproduces the paper's rig tests (Figs. 4 and 6) into out/paper/ and runs the HiL
-# scenarios (quarter truck + damper FMU on random roads and the Belgian block, Fig. 7) into out/hil/.
+# scenarios (quarter truck + damper FMU on random roads and the Belgian block, Fig. 7) into out/hil/, the
+# valve and force-loop transfer functions, flow map and force-velocity map into out/valve/ (about 10 s) and
+# the HiL rig model sweep and the Fig. 7 robustness table into out/rig/ (about 1.5 min).
 #
 #   bash scripts/main.sh [paper_tests.py options, e.g. --out DIR]
 set -euo pipefail
@@ -18,3 +20,7 @@ echo "+ .venv/bin/python scripts/paper_tests.py $*"
 .venv/bin/python scripts/paper_tests.py "$@"
 echo "+ .venv/bin/python scripts/hil_scenarios.py"
 .venv/bin/python scripts/hil_scenarios.py
+echo "+ .venv/bin/python scripts/valve_response.py"
+.venv/bin/python scripts/valve_response.py
+echo "+ .venv/bin/python scripts/hil_rig.py"
+.venv/bin/python scripts/hil_rig.py

@@ -60,6 +60,10 @@ class Car:
     # replaces them, e.g. damper_tools.independent. An optional third value is the damper's a_damper
     # over the step (the velocity's ramp; 0 holds it).
     damper_inputs: Callable[[int, float, float], tuple[float, ...]] | None = None
+    # What the truck is given at step k from the damper's load-cell force F_damper(t_k): by default
+    # that force; a rig's force path (load-cell filter, the real-time computer's latency and sample,
+    # damper_tools.hil_rig) replaces it.
+    truck_force: Callable[[int, float], float] | None = None
 
     @property
     def has_damper(self) -> bool:
@@ -113,6 +117,8 @@ def simulate(cars: Sequence[Car], step: float, n_steps: int, truck_fmu: str | Pa
             t = times[k]
             for j, car in enumerate(cars):
                 force = rec_d[j][k, i_f] if dampers[j] else 0.0
+                if dampers[j] and car.truck_force is not None:
+                    force = car.truck_force(k, force)
                 trucks[j].set(z_road=car.z_road[k], v_road=car.v_road[k], F_damper=force)
                 if dampers[j]:
                     v_in, f_in = rec_t[j][k, i_v], rec_t[j][k, i_fd]
