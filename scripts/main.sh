@@ -2,7 +2,7 @@
 # Builds the FMUs, reproduces the paper's rig tests (Figs. 4 and 6) into out/paper/ and runs the HiL
 # scenarios (quarter truck + damper FMU on random roads and the Belgian block, Fig. 7) into out/hil/, the
 # valve and force-loop transfer functions, flow map and force-velocity map into out/valve/ (about 10 s) and
-# the HiL rig model sweep and the Fig. 7 robustness table into out/rig/ (about 1.5 min).
+# the HiL rig model sweep and the Fig. 7 robustness table into out/rig/ (about 1–2 min).
 #
 #   bash scripts/main.sh [paper_tests.py options, e.g. --out DIR]
 set -euo pipefail
