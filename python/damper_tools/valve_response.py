@@ -20,10 +20,12 @@ the same quantities on the FMU, as a rig would:
   Q = C_d A(x) sqrt(2 dp / rho) of the start values in modelDescription.xml drawn over it; the same
   runs give the steady load-cell force against velocity (the catalogue force-velocity map).
 
-Estimator: the multisine is periodic; the first TRANSIENT_PERIODS periods are discarded and the
-cross- and auto-spectra are averaged over the remaining periods (Welch, rectangular window, one
-period per segment: no leakage at the excited lines). H1 = S_uy / S_uu, coherence
-|S_uy|^2 / (S_uu S_yy), both at the excited lines only. From H:
+Estimator: the multisine is periodic; REALIZATIONS runs with different random phases are made, the
+first TRANSIENT_PERIODS periods of each are discarded and the cross- and auto-spectra are averaged
+over the remaining periods of all runs (Welch, rectangular window, one period per segment: no
+leakage at the excited lines). H1 is then the best linear approximation at this amplitude, and the
+coherence falls below 1 where the nonlinear distortions (which change with the phases) are large.
+H1 = S_uy / S_uu, coherence |S_uy|^2 / (S_uu S_yy), both at the excited lines only. From H:
     -3 dB bandwidth   first frequency where |H| / |H(f_lowest line)| falls below 1/sqrt(2)
                       (interpolated linearly in log f between lines); nan if not within the lines
     -90 deg frequency first frequency where the unwrapped phase reaches -90 deg (interpolated)
@@ -34,7 +36,7 @@ Sampling: inputs are held over each communication step (the FMU does not interpo
 are read at the communication points; u[k] is the input over [t_k, t_k + h], y[k] the output at t_k.
 The zero-order hold adds h/2 to every delay measured against the input (0.25 ms at h = 0.5 ms).
 
-Computing functions here print nothing; damper_tools.valve_report (scripts/valve_response.py) plots
+Computing functions here print nothing; `main` (scripts/valve_response.py) plots
 and tabulates. SI units throughout (m, s, N, Pa, m3/s, A).
 """
 
@@ -55,7 +57,8 @@ TRANSIENT_PERIODS = 1    # periods discarded before averaging (the valve settles
 F_MIN, F_MAX = 4.0, 400.0   # Hz, band of the excited lines (f_max < Nyquist 1 kHz / 2.5) [A]
 N_LINES = 32             # excited lines, log-spaced bins of 1/PERIOD within [F_MIN, F_MAX] [A]
 DELAY_FIT_MAX_DEG = 30.0  # deg, largest phase lag of the lines used for the delay slope [A]
-SEED = 14                # random phases of the multisine (Schroeder-like crest factor not needed)
+SEED = 14                # random phases of the first multisine realization (crest factor not optimised)
+REALIZATIONS = 3         # multisine realizations (random phases SEED, SEED + 1, ...) per case [A]
 
 # Valve (control_mode = 1)
 V_VALVE = 0.15           # m/s, extension: the paper's Fig. 4 valve test velocity [P]
@@ -132,18 +135,32 @@ def estimate_frf(u: np.ndarray, y: np.ndarray, step: float, period: float, bins:
                  skip_periods: int = TRANSIENT_PERIODS) -> Frf:
     """H1 = S_uy / S_uu and the coherence at the excited bins, averaged over the whole periods of
     u and y after skip_periods (rectangular window, one period per segment)."""
+    return pooled_frf([(u, y)], step, period, bins, skip_periods)
+
+
+def pooled_frf(records: Sequence[tuple[np.ndarray, np.ndarray]], step: float, period: float, bins: np.ndarray,
+               skip_periods: int = TRANSIENT_PERIODS) -> Frf:
+    """H1 and coherence from the periods of several records (u, y), each after its own skip_periods.
+
+    Records of multisines with different random phases (realizations) give the best linear
+    approximation of a nonlinear system, and a coherence below 1 where its nonlinear distortions
+    (which change with the phases) are large; the periods of one realization repeat exactly in a
+    simulation, so their coherence shows only what is not periodic (drift)."""
     n = int(round(period / step))
-    u, y = np.asarray(u, float), np.asarray(y, float)
-    m = (min(u.size, y.size) // n) - skip_periods
-    if m < 1:
-        raise ValueError(f"need more than {skip_periods} periods of {n} samples (got {u.size})")
-    seg = slice(skip_periods * n, (skip_periods + m) * n)
-    U = np.fft.rfft((u[seg] - u[seg].mean()).reshape(m, n), axis=1)[:, bins]
-    Y = np.fft.rfft((y[seg] - y[seg].mean()).reshape(m, n), axis=1)[:, bins]
+    us, ys = [], []
+    for u, y in records:
+        u, y = np.asarray(u, float), np.asarray(y, float)
+        m = (min(u.size, y.size) // n) - skip_periods
+        if m < 1:
+            raise ValueError(f"need more than {skip_periods} periods of {n} samples (got {u.size})")
+        seg = slice(skip_periods * n, (skip_periods + m) * n)
+        us.append(np.fft.rfft((u[seg] - u[seg].mean()).reshape(m, n), axis=1)[:, bins])
+        ys.append(np.fft.rfft((y[seg] - y[seg].mean()).reshape(m, n), axis=1)[:, bins])
+    U, Y = np.concatenate(us), np.concatenate(ys)
     suu = np.mean(np.abs(U) ** 2, axis=0)
     syy = np.mean(np.abs(Y) ** 2, axis=0)
     suy = np.mean(np.conj(U) * Y, axis=0)
-    coh = np.abs(suy) ** 2 / (suu * syy) if m > 1 else np.ones(bins.size)
+    coh = np.abs(suy) ** 2 / (suu * syy) if U.shape[0] > 1 else np.ones(bins.size)
     return Frf(f=bins / period, H=suy / suu, coherence=np.minimum(coh, 1.0))
 
 
@@ -231,23 +248,27 @@ def large_amplitude(mean: float) -> float:
 
 
 def valve_run(unit: FmuUnit, mean: float, amplitude: float, velocity: float = V_VALVE, step: float = STEP,
-              period: float = PERIOD, periods: int = VALVE_PERIODS, seed: int = SEED) -> ValveCase:
+              period: float = PERIOD, periods: int = VALVE_PERIODS, seed: int = SEED,
+              realizations: int = REALIZATIONS) -> ValveCase:
     """Spool-position control (control_mode = 1), x_spool_demand = mean + amplitude * multisine,
-    at a constant damper velocity; both transfer functions and their metrics."""
+    at a constant damper velocity, one run per multisine realization; both transfer functions and
+    their metrics (`result`: the first realization's run)."""
     bins = multisine_lines(period)
-    shape = multisine(step, period, bins, seed)
-    n_per = shape.size
-    n = (TRANSIENT_PERIODS + periods) * n_per
     x_start = X_DAMPER_START if velocity >= 0 else -X_DAMPER_START
-    res = _run(unit, {"control_mode": 1, "x_damper_start": x_start, "x_spool_start": mean},
-               lambda k: {"v_damper": velocity, "x_spool_demand": mean + amplitude * shape[k % n_per]},
-               n, VALVE_OUTPUTS, step)
-    case = ValveCase(mean, amplitude, velocity, result=res)
-    case.closed_loop = estimate_frf(res["x_spool_demand"], res["x_spool"], step, period, bins)
-    case.valve = estimate_frf(res["i_sol"], res["x_spool"], step, period, bins)
+    runs = []
+    for r in range(realizations):
+        shape = multisine(step, period, bins, seed + r)
+        n_per = shape.size
+        runs.append(_run(unit, {"control_mode": 1, "x_damper_start": x_start, "x_spool_start": mean},
+                         lambda k, shape=shape, n_per=n_per: {"v_damper": velocity,
+                                                             "x_spool_demand": mean + amplitude * shape[k % n_per]},
+                         (TRANSIENT_PERIODS + periods) * n_per, VALVE_OUTPUTS, step))
+    case = ValveCase(mean, amplitude, velocity, result=runs[0])
+    case.closed_loop = pooled_frf([(r["x_spool_demand"], r["x_spool"]) for r in runs], step, period, bins)
+    case.valve = pooled_frf([(r["i_sol"], r["x_spool"]) for r in runs], step, period, bins)
     case.metrics = {"closed_loop": bode_metrics(case.closed_loop, 1.0), "valve": bode_metrics(case.valve),
-                    "i_sol_range": [float(res["i_sol"].min()), float(res["i_sol"].max())],
-                    "x_spool_range": [float(res["x_spool"].min()), float(res["x_spool"].max())]}
+                    **{f"{name}_range": [float(min(r[name].min() for r in runs)),
+                                         float(max(r[name].max() for r in runs))] for name in ("i_sol", "x_spool")}}
     return case
 
 
@@ -285,34 +306,38 @@ class ForceCase:
 
 def force_run(unit: FmuUnit, velocity: float, mean: float = FORCE_MEAN, amplitude: float = FORCE_AMPLITUDES[-1],
               force_controller: int = 0, step: float = STEP, period: float = PERIOD,
-              periods: int = FORCE_PERIODS, seed: int = SEED) -> ForceCase:
+              periods: int = FORCE_PERIODS, seed: int = SEED, realizations: int = REALIZATIONS) -> ForceCase:
     """Force control (control_mode = 0, raw load cell as on the paper's rig) at a constant velocity;
-    F_demand = sign(v) (mean + amplitude * multisine) after FORCE_SETTLE s at the mean; F_demand ->
-    F_damper. The settling part counts as the transient: the estimator skips it."""
+    F_demand = sign(v) (mean + amplitude * multisine) after FORCE_SETTLE s at the mean, one run per
+    multisine realization; F_demand -> F_damper. The settling part counts as the transient: the
+    estimator skips it. `result`: the first realization's run."""
     if velocity == 0 or amplitude >= mean:
         raise ValueError("need a nonzero velocity and amplitude < mean (the demand must keep the velocity's sign)")
     s = 1.0 if velocity > 0 else -1.0
     bins = multisine_lines(period, F_MIN, FORCE_F_MAX, N_LINES // 2)
-    shape = multisine(step, period, bins, seed)
-    n_per = shape.size
+    n_per = int(round(period / step))
     n_settle = int(round(FORCE_SETTLE / step))
     n = n_settle + periods * n_per
-
-    def inputs(k: int) -> dict[str, float]:
-        x = 0.0 if k < n_settle else shape[(k - n_settle) % n_per]
-        return {"v_damper": velocity, "F_demand": s * (mean + amplitude * x)}
-
     start = {"control_mode": 0, "x_damper_start": -s * FORCE_X_START, "tare_load_cell": False,
              "force_controller": force_controller}
-    res = _run(unit, start, inputs, n, FORCE_OUTPUTS, step)
     # The same run at the constant mean demand: the gas force and the chamber volumes change with
     # the stroke, a slow drift that is not periodic; it is subtracted before the estimate.
     base = _run(unit, start, lambda k: {"v_damper": velocity, "F_demand": s * mean}, n, ("F_damper",), step)
-    res["F_damper_baseline"] = base["F_damper"]
-    case = ForceCase(velocity, mean, amplitude, force_controller, result=res)
+    runs = []
+    for r in range(realizations):
+        shape = multisine(step, period, bins, seed + r)
+
+        def inputs(k: int, shape: np.ndarray = shape) -> dict[str, float]:
+            x = 0.0 if k < n_settle else shape[(k - n_settle) % n_per]
+            return {"v_damper": velocity, "F_demand": s * (mean + amplitude * x)}
+
+        res = _run(unit, start, inputs, n, FORCE_OUTPUTS, step)
+        res["F_damper_baseline"] = base["F_damper"]
+        runs.append(res)
+    case = ForceCase(velocity, mean, amplitude, force_controller, result=runs[0])
     # the estimator's segments start after the settling part
-    case.frf = estimate_frf(res["F_demand"][n_settle:], (res["F_damper"] - base["F_damper"])[n_settle:], step,
-                            period, bins, skip_periods=0)
+    case.frf = pooled_frf([(r["F_demand"][n_settle:], (r["F_damper"] - base["F_damper"])[n_settle:]) for r in runs],
+                          step, period, bins, skip_periods=0)
     case.metrics = bode_metrics(case.frf, 1.0)
     return case
 
@@ -566,7 +591,8 @@ def force_table(cases: Sequence[ForceCase]) -> str:
         m = c.metrics
         rows.append(f"| {c.direction} | {c.velocity:+g} | {c.mean / 1e3:g} ± {c.amplitude / 1e3:g} | "
                     f"{m['gain_low']:.2f} | {_hz(m['f_3dB'])} | {_hz(m['f_90deg'])} | {_ms(m['delay'])} "
-                    f"({m['delay_fit_lines']} lines) | {m['coherence_min']:.2f} |")
+                    f"({m['delay_fit_lines']} line{'s' if m['delay_fit_lines'] != 1 else ''}) | "
+                    f"{m['coherence_min']:.2f} |")
     return "\n".join(rows)
 
 
@@ -602,7 +628,8 @@ def main(argv: list[str] | None = None) -> None:
     text = "\n\n".join([
         "# Valve and force-loop frequency responses, valve flow map (SemiActiveDamper.fmu)",
         f"Multisine: {len(multisine_lines())} log-spaced lines {F_MIN:g}–{F_MAX:g} Hz (force loop up to "
-        f"{FORCE_F_MAX:g} Hz), period {PERIOD:g} s, H1 over whole periods after the first; communication step "
+        f"{FORCE_F_MAX:g} Hz), period {PERIOD:g} s, H1 and coherence pooled over {REALIZATIONS} realizations "
+        f"(random phases), whole periods after the first of each; communication step "
         f"{1e3 * STEP:g} ms. Delay: phase slope over the lines with at most {DELAY_FIT_MAX_DEG:g}° lag.",
         "## Valve (control_mode = 1)", valve_table(vcases),
         "## Force loop (control_mode = 0, raw load cell, feedforward + PI)", force_table(fcases),

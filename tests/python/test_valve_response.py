@@ -42,6 +42,20 @@ def test_estimator_recovers_a_known_lag_and_delay():
     assert m["delay"] == pytest.approx(TAU_LAG + DELAY + H / 2, rel=0.08)
 
 
+def test_pooled_coherence_sees_a_nonlinearity():
+    """Over multisine realizations with different phases, a linear system keeps coherence 1 and its
+    exact response, while a static nonlinearity (a saturation, computed here, not by the FMU) lowers
+    the coherence at the excited lines; one realization's repeated periods could not tell them apart."""
+    bins = vr.multisine_lines()
+    shapes = [np.tile(vr.multisine(H, vr.PERIOD, bins, vr.SEED + r), 3) for r in range(3)]
+    linear = vr.pooled_frf([(u, lag_with_delay(u)) for u in shapes], H, vr.PERIOD, bins)
+    assert linear.coherence.min() > 0.999999
+    saturated = vr.pooled_frf([(u, lag_with_delay(np.tanh(2.0 * u))) for u in shapes], H, vr.PERIOD, bins)
+    assert saturated.coherence.min() < 0.99
+    one = vr.estimate_frf(shapes[0], lag_with_delay(np.tanh(2.0 * shapes[0])), H, vr.PERIOD, bins)
+    assert one.coherence.min() > 0.999999  # the periods of one realization repeat exactly
+
+
 @pytest.fixture(scope="module")
 def valve_mid(damper_unit):
     return vr.valve_run(damper_unit, 2.5e-3, vr.SPOOL_SMALL)
