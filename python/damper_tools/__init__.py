@@ -8,8 +8,28 @@ transfer functions, flow map), `hil_scenarios` (the HiL runs), `hil_rig` (the Hi
 `campaign` (`damper diagnose` over a folder on Dask). The commands in scripts/ run their `main`.
 """
 
+import math
+from collections.abc import Collection
 from pathlib import Path
+from typing import Any
+
+import numpy as np
 
 # The repository the package is installed from (editable install): the FMUs are built under its
 # target/, the outputs go to its out/ and the road data are in its data/.
 REPO = Path(__file__).resolve().parents[2]
+
+
+def jsonable(x: Any, drop: Collection[str] = ()) -> Any:
+    """`x` (dicts, lists, tuples, floats, numpy scalars) as plain JSON values for a results.json: NaN
+    becomes null and an infinity the string "inf" or "-inf" (JSON has neither); dict keys in `drop`
+    are left out at every depth."""
+    if isinstance(x, dict):
+        return {k: jsonable(v, drop) for k, v in x.items() if k not in drop}
+    if isinstance(x, (list, tuple)):
+        return [jsonable(v, drop) for v in x]
+    if isinstance(x, np.generic):
+        x = x.item()
+    if isinstance(x, float) and not math.isfinite(x):
+        return None if math.isnan(x) else ("inf" if x > 0 else "-inf")
+    return x

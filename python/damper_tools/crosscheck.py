@@ -38,8 +38,7 @@ OFF_EFFECTS = ("effect_seal_friction", "effect_piston_leakage", "effect_viscous_
 
 def parameters(unit: FmuUnit, **overrides: float) -> SimpleNamespace:
     """Every parameter's start value from the FMU's modelDescription.xml, then `overrides`."""
-    cast = {"Boolean": lambda s: s == "true", "Integer": int, "Real": float}
-    p = {v.name: cast[v.type](v.start) for v in unit.md.modelVariables if v.causality == "parameter"} | overrides
+    p = unit.parameters() | overrides
     bad = [k for k in OFF_EFFECTS if p[k]] + (["tare_load_cell"] if p["tare_load_cell"] else [])
     if bad or p["control_mode"] != 1:
         raise ValueError(f"the cross-check ports spool-position control (control_mode 1) only, without {bad}")

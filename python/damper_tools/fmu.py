@@ -80,6 +80,11 @@ class FmuUnit:
         """Names of the Real outputs, in the order of modelDescription.xml."""
         return [v.name for v in self.md.modelVariables if v.causality == "output" and v.type == "Real"]
 
+    def parameters(self) -> dict[str, float | int | bool]:
+        """Every parameter's start value from modelDescription.xml, typed (Real, Integer, Boolean)."""
+        cast = {"Boolean": lambda s: s == "true", "Integer": int, "Real": float}
+        return {v.name: cast[v.type](v.start) for v in self.md.modelVariables if v.causality == "parameter"}
+
 
 class Slave:
     """One FMU2Slave instance of a unit, with a logger that keeps the messages in `messages` as

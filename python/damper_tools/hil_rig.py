@@ -38,7 +38,7 @@ from typing import Any
 import numpy as np
 from fmpy.fmi1 import FMICallException
 
-from damper_tools import REPO, cosim, roads
+from damper_tools import REPO, cosim, jsonable, roads
 from damper_tools.hil_scenarios import FADE_IN, SETTLE, STEP, force_spectrum, spectral_peaks, tracking_metrics
 
 OUT = REPO / "out" / "rig"
@@ -457,18 +457,6 @@ def plot_spectra(path: Path, base: dict[str, Any], curves: Sequence[tuple[str, d
     plt.close(fig)
 
 
-def _jsonable(x: Any) -> Any:
-    if isinstance(x, dict):
-        return {k: _jsonable(v) for k, v in x.items() if k != "psd"}
-    if isinstance(x, (list, tuple)):
-        return [_jsonable(v) for v in x]
-    if isinstance(x, float) and (math.isnan(x) or math.isinf(x)):
-        return None if math.isnan(x) else "inf"
-    if isinstance(x, np.generic):
-        return _jsonable(x.item())
-    return x
-
-
 def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--truck-fmu", type=Path, default=cosim.TRUCK_FMU)
@@ -510,7 +498,7 @@ def main(argv: list[str] | None = None) -> None:
                "sweep": [{"actuator_delay": p.actuator_delay, "f_actuator": p.f_actuator, **p.metrics} for p in points],
                "force_path": [{"load_cell_delay": d, **m} for d, m in force_path],
                "robustness": rows, "wall_time_s": time.perf_counter() - t0}
-    (args.out / "results.json").write_text(json.dumps(_jsonable(results), indent=1), encoding="utf-8")
+    (args.out / "results.json").write_text(json.dumps(jsonable(results, drop=("psd",)), indent=1), encoding="utf-8")
     print(text)
     print(f"hil_rig: wrote {args.out} in {time.perf_counter() - t0:.0f} s")
 

@@ -44,7 +44,7 @@ from typing import Any
 
 import numpy as np
 
-from damper_tools import REPO, cosim, roads
+from damper_tools import REPO, cosim, jsonable, roads
 from damper_tools.fmu import FmuUnit
 
 OUT = REPO / "out" / "hil"
@@ -501,18 +501,6 @@ def natural_frequencies(consts: dict[str, float]) -> tuple[float, ...]:
     return tuple(float(x) for x in np.sqrt(w2) / (2 * np.pi))
 
 
-def _jsonable(x: Any) -> Any:
-    if isinstance(x, dict):
-        return {k: _jsonable(v) for k, v in x.items()}
-    if isinstance(x, (list, tuple)):
-        return [_jsonable(v) for v in x]
-    if isinstance(x, float) and math.isnan(x):
-        return None
-    if isinstance(x, np.generic):
-        return _jsonable(x.item())
-    return x
-
-
 def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--truck-fmu", type=Path, default=cosim.TRUCK_FMU)
@@ -568,7 +556,7 @@ def main(argv: list[str] | None = None) -> None:
                "natural_frequencies_Hz": nat, "paper_sign_pattern_reproduced": bool(sign_ok),
                "scenarios": summaries, "belgian_block": crg_summary,
                "wall_time_s": time.perf_counter() - t_start}
-    (args.out / "results.json").write_text(json.dumps(_jsonable(results), indent=1), encoding="utf-8")
+    (args.out / "results.json").write_text(json.dumps(jsonable(results), indent=1), encoding="utf-8")
     print(text)
     print(f"hil_scenarios: wrote {args.out} in {time.perf_counter() - t_start:.0f} s")
 

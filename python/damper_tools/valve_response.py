@@ -48,6 +48,7 @@ from typing import Any
 
 import numpy as np
 
+from damper_tools import jsonable
 from damper_tools.fmu import FmuUnit, Slave
 
 # ----------------------------------------------------------------------------- parameters
@@ -350,12 +351,6 @@ def force_cases(unit: FmuUnit, velocities: Sequence[float] = FORCE_VELOCITIES,
 
 # ----------------------------------------------------------------------------- flow map
 
-def parameters(unit: FmuUnit) -> dict[str, float]:
-    """Start values of the FMU's Real and Integer parameters (modelDescription.xml)."""
-    return {v.name: float(v.start) for v in unit.md.modelVariables
-            if v.causality == "parameter" and v.type in ("Real", "Integer") and v.start is not None}
-
-
 def port_area(x_spool: np.ndarray | float, p: dict[str, float]) -> np.ndarray:
     """Open area (m^2) of n_ports circular ports of radius r_port uncovered by the spool edge at
     x_spool (opening h = x_spool - x_lap): n [r^2 acos((r-h)/r) - (r-h) sqrt(2rh - h^2)] (0 below,
@@ -616,7 +611,7 @@ def main(argv: list[str] | None = None) -> None:
     t0 = time.perf_counter()
     args.out.mkdir(parents=True, exist_ok=True)
     unit = load(args.fmu)
-    p = parameters(unit)
+    p = unit.parameters()
     vcases = valve_cases(unit)
     fcases = force_cases(unit)
     points = flow_map(unit)
@@ -639,19 +634,12 @@ def main(argv: list[str] | None = None) -> None:
     ]) + "\n"
     (args.out / "table.md").write_text(text, encoding="utf-8")
 
-    def clean(x: Any) -> Any:
-        if isinstance(x, dict):
-            return {k: clean(v) for k, v in x.items()}
-        if isinstance(x, (list, tuple)):
-            return [clean(v) for v in x]
-        return None if isinstance(x, float) and math.isnan(x) else x
-
     results = {"valve": [{"label": c.label, "mean": c.mean, "amplitude": c.amplitude, "velocity": c.velocity,
                           **c.metrics} for c in vcases],
                "force_loop": [{"velocity": c.velocity, "mean": c.mean, "amplitude": c.amplitude, **c.metrics}
                               for c in fcases],
                "flow_map": points, "flow_summary": fs, "wall_time_s": time.perf_counter() - t0}
-    (args.out / "results.json").write_text(json.dumps(clean(results), indent=1), encoding="utf-8")
+    (args.out / "results.json").write_text(json.dumps(jsonable(results), indent=1), encoding="utf-8")
     print(text)
     print(f"valve_response: wrote {args.out} in {time.perf_counter() - t0:.0f} s")
 

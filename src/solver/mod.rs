@@ -48,8 +48,9 @@ impl<const N: usize> IterationMatrix<N> for Lu<N> {
 }
 
 /// ∛x (x > 0) within 1e-4 relative, for starting values and step-size factors, at a fraction of
-/// `f64::cbrt`'s cost (compiler-builtins' cube root had been 3–4 % of the damper's time): a third of the exponent from the bits (within 3.2 %), then one Halley step
-/// y (y³ + 2x)/(2y³ + x), which cubes the relative error.
+/// `f64::cbrt`'s cost (compiler-builtins' cube root had been 3–4 % of the damper's time): a third
+/// of the exponent from the bits (within 3.2 %), then one Halley step y (y³ + 2x)/(2y³ + x), which
+/// cubes the relative error.
 pub fn cube_root_estimate(x: f64) -> f64 {
     let y = f64::from_bits(x.to_bits() / 3 + 0x2a9f_7893_782d_a1ce);
     let y3 = y * y * y;

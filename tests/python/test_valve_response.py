@@ -87,7 +87,7 @@ def test_closed_spool_loop_bandwidth_is_set_by_the_amplifier_delay(valve_mid):
 
 
 def test_flow_map_points_lie_on_the_orifice_law(damper_unit):
-    p = vr.parameters(damper_unit)
+    p = damper_unit.parameters()
     points = vr.flow_map(damper_unit, spools=(1.2e-3, 2.8e-3), velocities=(0.05, 0.1, 0.25, 0.6))
     dev = vr.orifice_law_deviation(points, p)
     assert dev.size >= 8
