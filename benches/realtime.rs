@@ -20,7 +20,7 @@ const T_END: f64 = 10.0;
 const LOAD_CELL_SIGMA: f64 = 20.0;
 /// The FMU's default tolerance and the diagnosis's (`ANALYSIS_RTOL`).
 const DEFAULT_RTOL: f64 = 1e-3;
-const DIAGNOSIS_RTOL: f64 = 5e-5;
+const DIAGNOSIS_RTOL: f64 = 3e-5;
 
 struct Lcg(u64);
 impl Lcg {

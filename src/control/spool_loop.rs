@@ -53,7 +53,7 @@ pub fn flow_force_compensation(p: &Parameters, d: &Derived, m: Measurements) -> 
         FlowForceCompensation::FixedGain => p.dp_fc_nominal,
         FlowForceCompensation::Scheduled => m.force.abs() / if v >= 0.0 { cyl.a_annulus } else { cyl.a_rod },
     };
-    p.cv_compensation * p.theta_jet.cos() * (2.0 * p.rho * dp_est).sqrt() * q_est / p.k_sol
+    d.compensation_gain * dp_est.sqrt() * q_est
 }
 
 #[cfg(test)]

@@ -141,6 +141,9 @@ pub struct Derived {
     pub delay_samples: usize,
     /// Flow-force gain 2 C_d C_v cos θ (-), see [`crate::physics::valve::flow_force`].
     pub flow_force_gain: f64,
+    /// The flow-force compensation's current per unit of √Δp̂·Q̂ (A/(m³/s·√Pa)):
+    /// C_v,nom cos θ sqrt(2ρ)/K_sol, the spool loop's flow-force compensation.
+    pub compensation_gain: f64,
     pub control_mode: ControlMode,
     pub force_controller: ForceController,
     pub fc_mode: FlowForceCompensation,
@@ -203,6 +206,7 @@ impl Parameters {
             x_demand_max,
             a_demand_max: ports.area(x_demand_max),
             flow_force_gain: flow_force_gain(self.cd_valve, self.cv_valve, self.theta_jet),
+            compensation_gain: self.cv_compensation * self.theta_jet.cos() * (2.0 * self.rho).sqrt() / self.k_sol,
             delay_samples: if self.effect_amplifier_delay {
                 (self.tau_amp / self.t_sample).round() as usize
             } else {

@@ -68,7 +68,7 @@ p_reservoir0, K_sol, tau_coil (--fit NAME replaces the list; --fit-controller ad
 Kp_x, Ki_x, Kd_x). A parameter the records cannot pin (relative standard uncertainty above
 --max-relative-uncertainty, |correlation| above 0.95 with another, or a singular JᵀJ) is held at
 its start value and the fit is redone without it; the table says which and why. The model runs at
-rtol 5e-5 unless --set rtol=VALUE.
+rtol 3e-5 unless --set rtol=VALUE.
 
 ",
     columns!(),

@@ -10,7 +10,7 @@
 //!           parameter, JᵀJ not singular; otherwise the worst offender is held at its start value
 //!           and the fit is redone without it, until every fitted parameter is pinned
 //! ```
-//! The model runs at `rtol` = 5e-5 (unless `--set rtol=…`): at the default 1e-3 the numerical error
+//! The model runs at `rtol` = 3e-5 (unless `--set rtol=…`): at the default 1e-3 the numerical error
 //! is about 0.3 sensor-noise standard deviations, and it would also blur the finite differences.
 
 use crate::comparison::{build_model, CompareOptions, ANALYSIS_RTOL};

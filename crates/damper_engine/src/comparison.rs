@@ -48,9 +48,9 @@ pub struct CompareOptions {
 
 /// The tolerance `diagnose` and `calibrate` run the model at, unless the user sets one: the FMU's
 /// default, 1e-3, leaves a numerical error of about 0.3 load-cell noise sigmas at fast transients
-/// (a candidate fitted it and was named); 5e-5 leaves 1.5 N RMS against a converged run, 0.07 of
-/// the rig's 20 N sigma, at 168× real time (`cargo bench --bench realtime`, docs/performance.md).
-pub const ANALYSIS_RTOL: f64 = 5e-5;
+/// (a candidate fitted it and was named); 3e-5 leaves 1.5 N RMS against a converged run, 0.08 of
+/// the rig's 20 N sigma (`cargo bench --bench realtime`, docs/performance.md).
+pub const ANALYSIS_RTOL: f64 = 3e-5;
 
 impl CompareOptions {
     pub fn new(measurement: impl Into<PathBuf>) -> CompareOptions {

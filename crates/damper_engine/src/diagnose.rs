@@ -7,7 +7,7 @@
 //! The floor the verdict judges by has two parts, both reported: the sensor noise, estimated from
 //! the residual so that the model's error cannot inflate it ([`crate::dsp::noise_floor`]), and the model's own
 //! numerical error, measured on each record as the difference between the baseline run and the
-//! same run at a hundredth of its tolerance ([`crate::floor`]). Samples whose force hangs on the
+//! same run at a tenth of its tolerance ([`crate::floor`]). Samples whose force hangs on the
 //! velocity by less than the record resolves it inform nothing and are left out of the fits and
 //! the scores ([`crate::sensitivity`]).
 

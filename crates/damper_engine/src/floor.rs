@@ -1,6 +1,6 @@
 //! The floor of a diagnosis: the validation NRMSE below which nothing can be explained, made of
 //! the sensor noise (estimated robustly from the residual, [`noise_floor`]) and the model's own
-//! numerical error (measured on each record against a run at a hundredth of the tolerance), over
+//! numerical error (measured on each record against a run at a tenth of the tolerance), over
 //! the samples that inform the diagnosis (`crate::sensitivity`).
 
 use crate::dsp::{kept, noise_floor, rms, std, NoiseEstimate};
