@@ -142,7 +142,7 @@ pub struct Derived {
     /// Flow-force gain 2 C_d C_v cos θ (-), see [`crate::physics::valve::flow_force`].
     pub flow_force_gain: f64,
     /// The flow-force compensation's current per unit of √Δp̂·Q̂ (A/(m³/s·√Pa)):
-    /// C_v,nom cos θ sqrt(2ρ)/K_sol, the spool loop's flow-force compensation.
+    /// C_v,nom cos θ sqrt(2ρ)/K_sol, for the spool loop's flow-force compensation.
     pub compensation_gain: f64,
     pub control_mode: ControlMode,
     pub force_controller: ForceController,
