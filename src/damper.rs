@@ -284,12 +284,8 @@ impl Damper {
         // ∂f/∂t = ∂f/∂v · a
         let f_t = (a != 0.0).then(|| lin.df_dv * a);
         let start = StepStart { f0: &out.dydt, jacobian: &lin.jacobian, f_t };
-        rodas3_step_from::<N_STATES, PlantIterationMatrix>(
-            &start,
-            |alpha, y| self.plant_at(from + alpha * step).evaluate(y).dydt,
-            &self.state.y,
-            step,
-        )
+        let at_end = self.plant_at(from + step);
+        rodas3_step_from::<N_STATES, PlantIterationMatrix>(&start, |y| at_end.evaluate(y).dydt, &self.state.y, step)
     }
 
     /// Integrates over `span` (s) with step-size control; returns the number of steps taken.

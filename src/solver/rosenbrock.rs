@@ -48,12 +48,12 @@ pub fn rodas3_step<const N: usize, S: OdeSystem<N>>(
     let f0 = sys.rhs(y);
     let jacobian = sys.jacobian(y, &f0);
     let start = StepStart { f0: &f0, jacobian: &jacobian, f_t: None };
-    rodas3_step_from::<N, Lu<N>>(&start, |_, y| sys.rhs(y), y, h)
+    rodas3_step_from::<N, Lu<N>>(&start, |y| sys.rhs(y), y, h)
 }
 
-/// One Rodas3 step from a prepared start: `rhs_at(α, y)` is the right-hand side at the fraction α
-/// of the step (Rodas3 evaluates at α = 1 only, besides the start); `M` factorises and solves the
-/// iteration matrix. The coefficients (Sandu et al. 1997, in the form above) are written out, not
+/// One Rodas3 step from a prepared start: `rhs_at_end(y)` is the right-hand side at the step's end
+/// (where Rodas3's two evaluations after the start sit); `M` factorises and solves the iteration
+/// matrix. The coefficients (Sandu et al. 1997, in the form above) are written out, not
 /// looped over as a tableau: the stages' zero coefficients then cost nothing.
 ///
 /// ```text
@@ -62,7 +62,7 @@ pub fn rodas3_step<const N: usize, S: OdeSystem<N>>(
 /// ```
 pub fn rodas3_step_from<const N: usize, M: IterationMatrix<N>>(
     start: &StepStart<'_, N>,
-    rhs_at: impl Fn(f64, &SVector<f64, N>) -> SVector<f64, N>,
+    rhs_at_end: impl Fn(&SVector<f64, N>) -> SVector<f64, N>,
     y: &SVector<f64, N>,
     h: f64,
 ) -> Result<(SVector<f64, N>, SVector<f64, N>), SolverError> {
@@ -75,9 +75,9 @@ pub fn rodas3_step_from<const N: usize, M: IterationMatrix<N>>(
     let k1 = lu.solve(&with_f_t(*f0, 0.5));
     let k2 = lu.solve(&with_f_t(f0 + k1 * (4.0 / h), 1.5));
     let y3 = y + k1 * 2.0;
-    let k3 = lu.solve(&(rhs_at(1.0, &y3) + k1 * (1.0 / h) + k2 * (-1.0 / h)));
+    let k3 = lu.solve(&(rhs_at_end(&y3) + k1 * (1.0 / h) + k2 * (-1.0 / h)));
     let y4 = y3 + k3;
-    let k4 = lu.solve(&(rhs_at(1.0, &y4) + k1 * (1.0 / h) + k2 * (-1.0 / h) + k3 * ((-8.0 / 3.0) / h)));
+    let k4 = lu.solve(&(rhs_at_end(&y4) + k1 * (1.0 / h) + k2 * (-1.0 / h) + k3 * ((-8.0 / 3.0) / h)));
     let y1 = y4 + k4;
     if y1.iter().all(|v| v.is_finite()) {
         Ok((y1, k4))
@@ -117,7 +117,7 @@ mod tests {
             let f_t = with_f_t.then(|| SVector::<f64, 1>::new(-t.sin()));
             let jacobian = s0.jacobian(&y, &f0);
             let start = StepStart { f0: &f0, jacobian: &jacobian, f_t };
-            let at = |alpha: f64, y: &SVector<f64, 1>| Forced { t: t + alpha * h, lambda }.rhs(y);
+            let at = |y: &SVector<f64, 1>| Forced { t: t + h, lambda }.rhs(y);
             y = rodas3_step_from::<1, Lu<1>>(&start, at, &y, h).unwrap().0;
         }
         let exact = (lambda * 1f64.cos() + 1f64.sin() - lambda * (-lambda).exp()) / (1.0 + lambda * lambda);
