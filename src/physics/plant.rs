@@ -81,11 +81,20 @@ pub struct Linearisation {
     pub df_dv: State,
 }
 
-/// Partial derivatives of one quantity: with respect to each state, then (index [`DV`]) the damper
-/// velocity.
-type Grad = SVector<f64, { N_STATES + 1 }>;
-/// Index of ∂/∂v in a [`Grad`].
-const DV: usize = N_STATES;
+/// Partial derivatives of one quantity with respect to the states it can depend on, then the
+/// damper velocity: the columns [`G_P_A`] … [`G_DV`]. The spool velocity and the coil current reach
+/// only the spool's own row of the Jacobian, written there directly; a gradient over every state
+/// would carry two zero columns through every operation of the linearisation.
+type Grad = SVector<f64, 6>;
+const G_P_A: usize = 0;
+const G_P_B: usize = 1;
+const G_V_GAS: usize = 2;
+const G_X_SPOOL: usize = 3;
+const G_X_DAMPER: usize = 4;
+/// The damper velocity's column.
+const G_DV: usize = 5;
+/// The state of each gradient column but the velocity's.
+const GRAD_STATES: [usize; 5] = [idx::P_A, idx::P_B, idx::V_GAS, idx::X_SPOOL, idx::X_DAMPER];
 
 /// `f()` when the Jacobian is asked for, else zeros (which the compiler drops).
 #[inline(always)]
@@ -153,21 +162,21 @@ impl Plant<'_> {
         let (p_a, p_b, v_gas, x_s, v_s, i_coil) = (y[P_A], y[P_B], y[V_GAS], y[X_SPOOL], y[V_SPOOL], y[I_COIL]);
 
         let (p_r, dpr_dvg) = reservoir_pressure_and_slope(p.p_reservoir0, p.v_gas0, p.n_polytropic, v_gas);
-        let d_pr = grad::<JAC>(|| unit(V_GAS) * dpr_dvg);
+        let d_pr = grad::<JAC>(|| unit(G_V_GAS) * dpr_dvg);
         let signals = self.signals(y, p_r);
         // a signal gradient (∂/∂ each signal) as a gradient over the states and v
         let chain = |g: PlantSignals| {
-            let mut out = unit(DV) * g.v_damper + d_pr * g.p_reservoir;
-            out[X_DAMPER] += g.x_damper;
-            out[P_A] += g.p_ext;
-            out[P_B] += g.p_comp;
-            out[X_SPOOL] += g.x_spool;
+            let mut out = unit(G_DV) * g.v_damper + d_pr * g.p_reservoir;
+            out[G_X_DAMPER] += g.x_damper;
+            out[G_P_A] += g.p_ext;
+            out[G_P_B] += g.p_comp;
+            out[G_X_SPOOL] += g.x_spool;
             out
         };
 
         let force = p_a * cyl.a_annulus - p_b * cyl.a_piston + d.effects.force(p, &signals);
         let d_force = grad::<JAC>(|| {
-            chain(d.effects.force_gradient(p, &signals)) + unit(P_A) * cyl.a_annulus - unit(P_B) * cyl.a_piston
+            chain(d.effects.force_gradient(p, &signals)) + unit(G_P_A) * cyl.a_annulus - unit(G_P_B) * cyl.a_piston
         });
         let (delta, mount_stiffness) = match d.mount {
             Some(m) => {
@@ -179,16 +188,16 @@ impl Plant<'_> {
         let d_delta = grad::<JAC>(|| if d.mount.is_some() { d_force / mount_stiffness } else { Grad::zeros() });
         let x_piston = y[X_DAMPER] - delta;
         let (vol_a, vol_b) = cyl.volumes(x_piston);
-        let d_xp = grad::<JAC>(|| unit(X_DAMPER) - d_delta);
+        let d_xp = grad::<JAC>(|| unit(G_X_DAMPER) - d_delta);
         // the volumes' floor (0.1 cm³) has no slope
         let d_vol_a = grad::<JAC>(|| if vol_a > 1e-7 { -d_xp * cyl.a_annulus } else { Grad::zeros() });
         let d_vol_b = grad::<JAC>(|| if vol_b > 1e-7 { d_xp * cyl.a_piston } else { Grad::zeros() });
 
         let orifice = |cd: f64, area: f64, dp: f64| orifice_flow_partials(cd, area, dp, p.rho, p.p_transition);
         let a_valve = d.ports.area(x_s);
-        let d_a_valve = grad::<JAC>(|| unit(X_SPOOL) * d.ports.area_slope(x_s));
+        let d_a_valve = grad::<JAC>(|| unit(G_X_SPOOL) * d.ports.area_slope(x_s));
         let dp_valve = p_a - p_r;
-        let d_dp_valve = grad::<JAC>(|| unit(P_A) - d_pr);
+        let d_dp_valve = grad::<JAC>(|| unit(G_P_A) - d_pr);
         let (q_valve, dqv_da, dqv_ddp) = orifice(p.cd_valve, a_valve + p.a_valve_leak, dp_valve);
         let d_q_valve = grad::<JAC>(|| d_a_valve * dqv_da + d_dp_valve * dqv_ddp);
         let check_valve = |dp: f64| {
@@ -197,9 +206,9 @@ impl Plant<'_> {
             (q, dq_ddp + dq_da * check_valve_area_slope(p.a_cv_max, d.p_cv_crack, p.p_cv_full, dp))
         };
         let (q_cv1, dq1) = check_valve(p_b - p_a);
-        let d_q_cv1 = grad::<JAC>(|| (unit(P_B) - unit(P_A)) * dq1);
+        let d_q_cv1 = grad::<JAC>(|| (unit(G_P_B) - unit(G_P_A)) * dq1);
         let (q_cv2, dq2) = check_valve(p_r - p_b);
-        let d_q_cv2 = grad::<JAC>(|| (d_pr - unit(P_B)) * dq2);
+        let d_q_cv2 = grad::<JAC>(|| (d_pr - unit(G_P_B)) * dq2);
         let (q_relief, d_q_relief) = if dp_valve > p.p_relief {
             let u = (dp_valve - p.p_relief) / p.dp_relief;
             let (q, dq_da, dq_ddp) = orifice(p.cd_valve, p.a_relief * smoothstep(u), dp_valve);
@@ -217,8 +226,8 @@ impl Plant<'_> {
         let (beta_a, dbeta_a) = effective_bulk_modulus_and_slope(p_a, p.beta_oil, d.air_fraction, p.n_polytropic);
         let (beta_b, dbeta_b) = effective_bulk_modulus_and_slope(p_b, p.beta_oil, d.air_fraction, p.n_polytropic);
         let (a, b) = (beta_a / vol_a, beta_b / vol_b);
-        let d_a = grad::<JAC>(|| unit(P_A) * (dbeta_a / vol_a) - d_vol_a * (a / vol_a));
-        let d_b = grad::<JAC>(|| unit(P_B) * (dbeta_b / vol_b) - d_vol_b * (b / vol_b));
+        let d_a = grad::<JAC>(|| unit(G_P_A) * (dbeta_a / vol_a) - d_vol_a * (a / vol_a));
+        let d_b = grad::<JAC>(|| unit(G_P_B) * (dbeta_b / vol_b) - d_vol_b * (b / vol_b));
         let (aa, ap) = (cyl.a_annulus, cyl.a_piston);
         let k_h = a * aa * aa + b * ap * ap;
         let s_flow = a * aa * r_a - b * ap * r_b;
@@ -230,14 +239,14 @@ impl Plant<'_> {
                 let d_k_h = d_a * (aa * aa) + d_b * (ap * ap);
                 let d_s = (d_a * r_a + d_r_a * a) * aa - (d_b * r_b + d_r_b * b) * ap;
                 let d_stiffness = d_delta * (6.0 * k3 * delta);
-                (d_k_h * v + unit(DV) * k_h + d_s - (d_stiffness + d_k_h) * rate) / denominator
+                (d_k_h * v + unit(G_DV) * k_h + d_s - (d_stiffness + d_k_h) * rate) / denominator
             });
             (rate, d_rate)
         } else {
             (0.0, Grad::zeros())
         };
         let v_piston = v - delta_rate;
-        let d_v_piston = grad::<JAC>(|| unit(DV) - d_delta_rate);
+        let d_v_piston = grad::<JAC>(|| unit(G_DV) - d_delta_rate);
 
         let flow_force_on = p.effect_flow_forces && dp_valve > 0.0;
         let f_flow = if flow_force_on { d.flow_force_gain * a_valve * dp_valve } else { 0.0 };
@@ -264,29 +273,31 @@ impl Plant<'_> {
             return (out, None);
         }
 
-        let rows: [Grad; N_STATES] = [
-            d_a * (aa * v_piston + r_a) + (d_v_piston * aa + d_r_a) * a,
-            d_b * (-ap * v_piston + r_b) + (-d_v_piston * ap + d_r_b) * b,
-            d_q_cv2 - d_q_valve - d_q_relief,
-            unit(V_SPOOL),
-            {
+        // the rows over the gradient's columns; x_s's and x's rows, and the spool's entries for
+        // v_s and i, are written into the Jacobian below
+        let rows: [(usize, Grad); 4] = [
+            (P_A, d_a * (aa * v_piston + r_a) + (d_v_piston * aa + d_r_a) * a),
+            (P_B, d_b * (-ap * v_piston + r_b) + (-d_v_piston * ap + d_r_b) * b),
+            (V_GAS, d_q_cv2 - d_q_valve - d_q_relief),
+            (V_SPOOL, {
                 let mut g = -d_f_flow;
-                g[X_SPOOL] += p.k_sol * i_coil * p.kappa_sol / p.x_spool_max - p.k_spool - k_stop;
-                g[V_SPOOL] -= p.c_spool + c_stop;
-                g[I_COIL] += solenoid_force(p.k_sol, p.kappa_sol, p.x_spool_max, 1.0, x_s);
+                g[G_X_SPOOL] += p.k_sol * i_coil * p.kappa_sol / p.x_spool_max - p.k_spool - k_stop;
                 g / p.m_spool
-            },
-            unit(I_COIL) * (-1.0 / p.tau_coil),
-            unit(DV),
+            }),
         ];
         let mut jacobian = SMatrix::<f64, N_STATES, N_STATES>::zeros();
         let mut df_dv = State::zeros();
-        for (r, g) in rows.iter().enumerate() {
-            for c in 0..N_STATES {
-                jacobian[(r, c)] = g[c];
+        for (r, g) in rows {
+            for (k, &c) in GRAD_STATES.iter().enumerate() {
+                jacobian[(r, c)] = g[k];
             }
-            df_dv[r] = g[DV];
+            df_dv[r] = g[G_DV];
         }
+        jacobian[(V_SPOOL, V_SPOOL)] = -(p.c_spool + c_stop) / p.m_spool;
+        jacobian[(V_SPOOL, I_COIL)] = solenoid_force(p.k_sol, p.kappa_sol, p.x_spool_max, 1.0, x_s) / p.m_spool;
+        jacobian[(X_SPOOL, V_SPOOL)] = 1.0;
+        jacobian[(I_COIL, I_COIL)] = -1.0 / p.tau_coil;
+        df_dv[X_DAMPER] = 1.0;
         (out, Some(Linearisation { jacobian, df_dv }))
     }
 
