@@ -10,26 +10,45 @@
 //! For |Δp| ≫ p_tr the orifice law is the turbulent `C_d A sqrt(2|Δp|/ρ)`; at Δp = 0 its slope is
 //! finite, `C_d A sqrt(2/ρ)/sqrt(p_tr)`, which keeps the Jacobian bounded at flow reversals.
 
+use super::fixed_power::FixedPower;
+
 /// Standard atmospheric pressure (Pa).
 pub const P_ATM: f64 = 101_325.0;
 
-/// Effective bulk modulus (Pa) of oil (bulk modulus `beta_oil` (Pa)) carrying `air_fraction`
-/// (air volume per oil volume at atmospheric pressure) of air with polytropic index `n`, at gauge
-/// pressure `p` (Pa). Below 2 % of an atmosphere absolute the air law is frozen (cavitation region)
-/// so that β_e stays positive.
-pub fn effective_bulk_modulus(p: f64, beta_oil: f64, air_fraction: f64, n: f64) -> f64 {
-    effective_bulk_modulus_and_slope(p, beta_oil, air_fraction, n).0
+/// Oil (bulk modulus `beta_oil` (Pa)) carrying `air_fraction` (air volume per oil volume at
+/// atmospheric pressure, -) of air with polytropic index `n` (-), with the air's volume ratio r(p)
+/// tabulated for its fixed exponent ([`FixedPower`]).
+#[derive(Clone, Copy, Debug)]
+pub struct Oil {
+    pub beta_oil: f64,
+    pub air_fraction: f64,
+    pub n: f64,
+    /// r = (p_atm/p_abs)^(1/n) = p_atm^(1/n)·p_abs^(−1/n), tabulated from 1 kPa absolute upwards.
+    volume_ratio: FixedPower,
+}
+
+impl Oil {
+    pub fn new(beta_oil: f64, air_fraction: f64, n: f64) -> Self {
+        Oil { beta_oil, air_fraction, n, volume_ratio: FixedPower::new(P_ATM.powf(1.0 / n), -1.0 / n, 10) }
+    }
+}
+
+/// Effective bulk modulus (Pa) of `oil` at gauge pressure `p` (Pa). Below 2 % of an atmosphere
+/// absolute the air law is frozen (cavitation region) so that β_e stays positive.
+pub fn effective_bulk_modulus(p: f64, oil: &Oil) -> f64 {
+    effective_bulk_modulus_and_slope(p, oil).0
 }
 
 /// [`effective_bulk_modulus`] (Pa) and its slope dβ_e/dp (-).
 #[inline]
-pub fn effective_bulk_modulus_and_slope(p: f64, beta_oil: f64, air_fraction: f64, n: f64) -> (f64, f64) {
+pub fn effective_bulk_modulus_and_slope(p: f64, oil: &Oil) -> (f64, f64) {
+    let Oil { beta_oil, air_fraction, n, .. } = *oil;
     if air_fraction == 0.0 {
         return (beta_oil, 0.0);
     }
     let frozen = p + P_ATM < 0.02 * P_ATM;
     let p_abs = (p + P_ATM).max(0.02 * P_ATM);
-    let r = (P_ATM / p_abs).powf(1.0 / n);
+    let r = oil.volume_ratio.of(p_abs);
     let num = 1.0 + air_fraction * r;
     let den = 1.0 / beta_oil + air_fraction * r / (n * p_abs);
     let beta = num / den;
@@ -84,7 +103,7 @@ mod tests {
         // docs/physics.md §3.2: α₀ 2.5 %, n 1.4, β_L 1.5 GPa.
         for (bar, mpa) in [(5.0, 112.0), (10.0, 277.8), (20.0, 611.1), (50.0, 1138.5), (100.0, 1366.1), (150.0, 1430.0)]
         {
-            let b = effective_bulk_modulus(bar * 1e5, 1.5e9, 0.025, 1.4) / 1e6;
+            let b = effective_bulk_modulus(bar * 1e5, &Oil::new(1.5e9, 0.025, 1.4)) / 1e6;
             assert!((b - mpa).abs() < 0.1, "{bar} bar: {b} MPa, expected {mpa}");
         }
     }
@@ -92,15 +111,16 @@ mod tests {
     #[test]
     fn bulk_modulus_limits() {
         // Without air it is the oil's; with air it rises monotonically towards it with pressure.
-        assert_eq!(effective_bulk_modulus(1e6, 1.5e9, 0.0, 1.4), 1.5e9);
+        assert_eq!(effective_bulk_modulus(1e6, &Oil::new(1.5e9, 0.0, 1.4)), 1.5e9);
+        let oil = Oil::new(1.5e9, 0.025, 1.4);
         let mut last = 0.0;
         for k in 0..200 {
-            let b = effective_bulk_modulus(-1e5 + k as f64 * 1e5, 1.5e9, 0.025, 1.4);
+            let b = effective_bulk_modulus(-1e5 + k as f64 * 1e5, &oil);
             assert!(b > last && b < 1.5e9);
             last = b;
         }
         // At atmospheric pressure a 2.5 % air fraction is soft: β ≈ n·p_atm·(1+α)/α.
-        let b0 = effective_bulk_modulus(0.0, 1.5e9, 0.025, 1.4);
+        let b0 = effective_bulk_modulus(0.0, &oil);
         let hand = (1.025) / (1.0 / 1.5e9 + 0.025 / (1.4 * P_ATM));
         assert!((b0 - hand).abs() < 1e-6 * hand);
     }
@@ -120,10 +140,11 @@ mod tests {
     #[test]
     fn slopes_are_the_derivatives() {
         let central = |f: &dyn Fn(f64) -> f64, x: f64, h: f64| (f(x + h) - f(x - h)) / (2.0 * h);
+        let oil = Oil::new(1.5e9, 0.025, 1.4);
         for bar in [-0.9, -0.5, 0.0, 1.0, 5.0, 20.0, 100.0, 300.0] {
             let p = bar * 1e5;
-            let (_, slope) = effective_bulk_modulus_and_slope(p, 1.5e9, 0.025, 1.4);
-            let fd = central(&|p| effective_bulk_modulus(p, 1.5e9, 0.025, 1.4), p, 10.0);
+            let (_, slope) = effective_bulk_modulus_and_slope(p, &oil);
+            let fd = central(&|p| effective_bulk_modulus(p, &oil), p, 10.0);
             assert!((slope - fd).abs() < 1e-6 * fd.abs().max(1.0), "{bar} bar: {slope} vs {fd}");
         }
         for dp in [-50e5, -1e4, -1e3, 0.0, 2e3, 5e3, 1e5, 80e5] {

@@ -11,6 +11,7 @@
 //! Extension squeezes A only (force ≈ p_A A_a − p_r A_p); compression squeezes A and B together
 //! through CV1 (force ≈ −p A_r) with about three times the oil volume.
 
+use super::fixed_power::FixedPower;
 use super::fluid::{smoothstep, smoothstep_slope, P_ATM};
 use std::f64::consts::PI;
 
@@ -64,18 +65,32 @@ pub fn check_valve_area_slope(a_max: f64, p_crack: f64, p_full: f64, dp: f64) ->
     a_max * smoothstep_slope((dp - p_crack) / (p_full - p_crack)) / (p_full - p_crack)
 }
 
-/// Gauge pressure (Pa) of the reservoir gas: pre-charge `p_r0` (Pa) at volume `v_g0` (m³),
-/// polytropic index `n`, present gas volume `v_gas` (m³).
-pub fn reservoir_pressure(p_r0: f64, v_g0: f64, n: f64, v_gas: f64) -> f64 {
-    reservoir_pressure_and_slope(p_r0, v_g0, n, v_gas).0
+/// The reservoir's gas charge: pre-charge `p_r0` (Pa, gauge) at volume `v_g0` (m³), polytropic
+/// index `n` (-), with its law tabulated for the fixed exponent ([`FixedPower`]).
+#[derive(Clone, Copy, Debug)]
+pub struct GasCharge {
+    pub n: f64,
+    /// (p_r0 + p_atm)(V_g0/V_g)^n = [(p_r0 + p_atm) V_g0^n]·V_g^(−n), tabulated from 2^−40 m³ up.
+    absolute_pressure: FixedPower,
+}
+
+impl GasCharge {
+    pub fn new(p_r0: f64, v_g0: f64, n: f64) -> Self {
+        GasCharge { n, absolute_pressure: FixedPower::new((p_r0 + P_ATM) * v_g0.powf(n), -n, -40) }
+    }
+}
+
+/// Gauge pressure (Pa) of the reservoir's gas `charge` at gas volume `v_gas` (m³).
+pub fn reservoir_pressure(charge: &GasCharge, v_gas: f64) -> f64 {
+    reservoir_pressure_and_slope(charge, v_gas).0
 }
 
 /// [`reservoir_pressure`] (Pa) and its slope dp_r/dV_g = −n (p_r + p_atm)/V_g (Pa/m³).
 #[inline]
-pub fn reservoir_pressure_and_slope(p_r0: f64, v_g0: f64, n: f64, v_gas: f64) -> (f64, f64) {
+pub fn reservoir_pressure_and_slope(charge: &GasCharge, v_gas: f64) -> (f64, f64) {
     let v = v_gas.max(1e-9);
-    let absolute = (p_r0 + P_ATM) * (v_g0 / v).powf(n);
-    (absolute - P_ATM, if v_gas > 1e-9 { -n * absolute / v } else { 0.0 })
+    let absolute = charge.absolute_pressure.of(v);
+    (absolute - P_ATM, if v_gas > 1e-9 { -charge.n * absolute / v } else { 0.0 })
 }
 
 #[cfg(test)]
@@ -103,9 +118,9 @@ mod tests {
 
     #[test]
     fn reservoir_follows_the_gas_law() {
-        assert!((reservoir_pressure(5e5, 1e-3, 1.4, 1e-3) - 5e5).abs() < 1e-6);
+        assert!((reservoir_pressure(&GasCharge::new(5e5, 1e-3, 1.4), 1e-3) - 5e5).abs() < 1e-6);
         // half the volume: (6.01325 bar)·2^1.4 − 1.01325 bar
-        let p = reservoir_pressure(5e5, 1e-3, 1.0, 0.5e-3);
+        let p = reservoir_pressure(&GasCharge::new(5e5, 1e-3, 1.0), 0.5e-3);
         assert!((p - (2.0 * (5e5 + P_ATM) - P_ATM)).abs() < 1e-6);
     }
 }

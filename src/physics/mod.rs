@@ -1,4 +1,5 @@
 //! Physics of the damper, in plain safe Rust with SI units: one file per component.
+pub mod fixed_power;
 pub mod fluid;
 pub mod hydraulics;
 pub mod iteration_matrix;

@@ -2,7 +2,8 @@
 //! (see `crate::variables::default_parameters`), where every value carries its unit, description
 //! and source; this struct only gives them names and the derived quantities.
 
-use super::hydraulics::Cylinder;
+use super::fluid::Oil;
+use super::hydraulics::{Cylinder, GasCharge};
 use super::mount::CubicMount;
 use super::valve::{flow_force_gain, ValvePorts};
 use crate::control::A_FEEDFORWARD_MIN;
@@ -129,8 +130,10 @@ pub struct Derived {
     pub ports: ValvePorts,
     /// The series mount, `None` when `effect_mount_compliance` is off (rigid mount).
     pub mount: Option<CubicMount>,
-    /// Entrained air fraction in effect (0 when `effect_compressibility` is off) (-).
-    pub air_fraction: f64,
+    /// The oil, with the entrained air fraction in effect (0 when `effect_compressibility` is off).
+    pub oil: Oil,
+    /// The reservoir's gas charge.
+    pub gas: GasCharge,
     /// Check-valve cracking pressure in effect (0 when `effect_check_valve_cracking` is off) (Pa).
     pub p_cv_crack: f64,
     /// Upper spool demand: 0.5 mm short of the end stop (m).
@@ -201,7 +204,12 @@ impl Parameters {
             cylinder,
             ports,
             mount: self.effect_mount_compliance.then_some(CubicMount { k1: self.k1_mount, k3: self.k3_mount }),
-            air_fraction: if self.effect_compressibility { self.air_fraction } else { 0.0 },
+            oil: Oil::new(
+                self.beta_oil,
+                if self.effect_compressibility { self.air_fraction } else { 0.0 },
+                self.n_polytropic,
+            ),
+            gas: GasCharge::new(self.p_reservoir0, self.v_gas0, self.n_polytropic),
             p_cv_crack: if self.effect_check_valve_cracking { self.p_cv_crack } else { 0.0 },
             x_demand_max,
             a_demand_max: ports.area(x_demand_max),

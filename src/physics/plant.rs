@@ -126,7 +126,7 @@ impl Plant<'_> {
         if !d.effects.adds_force() {
             return hydraulic;
         }
-        let p_r = reservoir_pressure(p.p_reservoir0, p.v_gas0, p.n_polytropic, y[idx::V_GAS]);
+        let p_r = reservoir_pressure(&d.gas, y[idx::V_GAS]);
         hydraulic + d.effects.force(p, &self.signals(y, p_r))
     }
 
@@ -161,7 +161,7 @@ impl Plant<'_> {
         let v = self.v_damper;
         let (p_a, p_b, v_gas, x_s, v_s, i_coil) = (y[P_A], y[P_B], y[V_GAS], y[X_SPOOL], y[V_SPOOL], y[I_COIL]);
 
-        let (p_r, dpr_dvg) = reservoir_pressure_and_slope(p.p_reservoir0, p.v_gas0, p.n_polytropic, v_gas);
+        let (p_r, dpr_dvg) = reservoir_pressure_and_slope(&d.gas, v_gas);
         let d_pr = grad::<JAC>(|| unit(G_V_GAS) * dpr_dvg);
         let signals = self.signals(y, p_r);
         // a signal gradient (∂/∂ each signal) as a gradient over the states and v
@@ -223,8 +223,8 @@ impl Plant<'_> {
         let r_b = -q_cv1 + q_cv2 + q_leak;
         let d_r_b = grad::<JAC>(|| -d_q_cv1 + d_q_cv2 + d_q_leak);
 
-        let (beta_a, dbeta_a) = effective_bulk_modulus_and_slope(p_a, p.beta_oil, d.air_fraction, p.n_polytropic);
-        let (beta_b, dbeta_b) = effective_bulk_modulus_and_slope(p_b, p.beta_oil, d.air_fraction, p.n_polytropic);
+        let (beta_a, dbeta_a) = effective_bulk_modulus_and_slope(p_a, &d.oil);
+        let (beta_b, dbeta_b) = effective_bulk_modulus_and_slope(p_b, &d.oil);
         let (a, b) = (beta_a / vol_a, beta_b / vol_b);
         let d_a = grad::<JAC>(|| unit(G_P_A) * (dbeta_a / vol_a) - d_vol_a * (a / vol_a));
         let d_b = grad::<JAC>(|| unit(G_P_B) * (dbeta_b / vol_b) - d_vol_b * (b / vol_b));
@@ -325,7 +325,7 @@ impl Plant<'_> {
     /// `x_spool` held by the coil current that balances the centring spring.
     pub fn rest_state(p: &Parameters, d: &Derived, x: f64, x_spool: f64) -> State {
         let v_gas = p.v_gas0 + d.cylinder.a_rod * x;
-        let p_r = reservoir_pressure(p.p_reservoir0, p.v_gas0, p.n_polytropic, v_gas);
+        let p_r = reservoir_pressure(&d.gas, v_gas);
         let i0 = rest_current(p, x_spool);
         State::from([p_r, p_r, v_gas, x_spool, 0.0, i0, x])
     }
