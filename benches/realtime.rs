@@ -169,14 +169,13 @@ fn main() {
     println!("|---|---|---|---|---|");
     for rtol in [DEFAULT_RTOL, DIAGNOSIS_RTOL] {
         // the fastest of five: the machine's other work only ever adds time
-        let alone =
-            |input: &[(f64, f64)]| (0..5).map(|_| run(rtol, 500e-6, input).seconds).fold(f64::INFINITY, f64::min);
-        let one_by_one: f64 = wheels.iter().map(|w| alone(w)).sum();
+        let alone: Vec<f64> =
+            wheels.iter().map(|w| (0..5).map(|_| run(rtol, 500e-6, w).seconds).fold(f64::INFINITY, f64::min)).collect();
         let best = |threads| (0..5).map(|_| six(rtol, &wheels, threads)).fold(0.0, f64::max);
         println!(
             "| {rtol:.0e} | {:.0}x | {:.0}x | {:.0}x | {:.0}x |",
-            T_END / alone(&wheels[0]),
-            T_END / one_by_one,
+            T_END / alone[0],
+            T_END / alone.iter().sum::<f64>(),
             best(1),
             best(2)
         );
