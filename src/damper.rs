@@ -60,6 +60,17 @@ pub struct DamperState {
     pub h_next: f64,
 }
 
+impl DamperState {
+    /// Makes this state equal to `from`, as `*self = *from` would, copying only the controller's
+    /// live delay-line entries: a step saves its starting state this way for the rollback.
+    pub fn assign(&mut self, from: &DamperState) {
+        let DamperState { y, controller, i_command, time, start_time, next_sample, h_next } = from;
+        self.controller.assign(controller);
+        (self.y, self.i_command, self.time, self.start_time) = (*y, *i_command, *time, *start_time);
+        (self.next_sample, self.h_next) = (*next_sample, *h_next);
+    }
+}
+
 /// Work done by one communication step.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct StepStats {
@@ -113,6 +124,12 @@ pub struct Damper {
     /// the plant again. Not computed by the step itself: a master that reads only the force
     /// (the load cell, [`Damper::load_cell`]) does not pay for an evaluation per step.
     last: Cell<Option<Evaluated>>,
+    /// The state at the start of the present step, restored if the step fails.
+    saved: DamperState,
+    /// The plant evaluated and linearised at the start of the next Rosenbrock step. It is made
+    /// here, in place, and `advance` tracks whether it is current: moving its 544 bytes cost a
+    /// copy per sample.
+    start: (PlantOutputs, Linearisation),
 }
 
 /// The plant evaluated at `y` with the velocity `v_damper` and the coil command `i_command`.
@@ -123,9 +140,6 @@ struct Evaluated {
     i_command: f64,
     plant: PlantOutputs,
 }
-
-/// The plant evaluated and linearised at the start of a Rosenbrock step.
-type Linearised = (PlantOutputs, Linearisation);
 
 impl Damper {
     /// A damper at rest at `x_damper_start`, its spool at `x_spool_start`, at time `start_time` (s).
@@ -142,13 +156,29 @@ impl Damper {
         }
         let h_next = params.h_max.min(params.t_sample);
         let state = DamperState { y, controller, i_command: i0, time: start_time, start_time, next_sample: 0, h_next };
-        Ok(Damper { params, derived, state, inputs, last: Cell::new(None) })
+        Ok(Damper {
+            params,
+            derived,
+            state,
+            inputs,
+            last: Cell::new(None),
+            saved: state,
+            start: (PlantOutputs::default(), Linearisation::zeros()),
+        })
     }
 
     /// Rebuilds a damper from a saved state (for FMU state restore).
     pub fn from_state(params: Parameters, inputs: Inputs, state: DamperState) -> Result<Self, String> {
         params.validate()?;
-        Ok(Damper { params, derived: params.derive(), state, inputs, last: Cell::new(None) })
+        Ok(Damper {
+            params,
+            derived: params.derive(),
+            state,
+            inputs,
+            last: Cell::new(None),
+            saved: state,
+            start: (PlantOutputs::default(), Linearisation::zeros()),
+        })
     }
 
     pub fn params(&self) -> &Parameters {
@@ -220,7 +250,8 @@ impl Damper {
     /// and force every other output is finite: the gas volume is floored, the rest follows from
     /// the force and the pressures.)
     pub fn do_step(&mut self, h: f64) -> Result<StepStats, StepError> {
-        let (saved, inputs) = (self.state, self.inputs);
+        self.saved.assign(&self.state);
+        let inputs = self.inputs;
         let result = self.check_step(h).and_then(|()| self.advance(h)).and_then(|stats| {
             if self.state.y.iter().all(|x| x.is_finite()) && self.load_cell().is_finite() {
                 Ok(stats)
@@ -229,7 +260,7 @@ impl Damper {
             }
         });
         if result.is_err() {
-            self.state = saved;
+            self.state.assign(&self.saved);
             self.inputs = inputs;
         }
         result
@@ -243,8 +274,9 @@ impl Damper {
         let v_start = self.inputs.v_damper;
         let mut t = t_start;
         let mut stats = StepStats::default();
-        // the plant linearised at the present state by the controller sample, for the next step
-        let mut start = None;
+        // whether `self.start` holds the plant linearised at the present state (by the controller
+        // sample), for the next step
+        let mut linearised = false;
         loop {
             let t_sample = self.state.start_time + self.state.next_sample as f64 * ts;
             if t_sample <= t + tol {
@@ -252,14 +284,15 @@ impl Damper {
                 if stats.samples >= MAX_SAMPLES_PER_STEP {
                     return Err(StepError::TooManySamples);
                 }
-                start = Some(self.sample_controller());
+                self.sample_controller();
+                linearised = true;
                 stats.samples += 1;
                 continue;
             }
             let t_next = if t_sample < t_end - tol { t_sample } else { t_end };
             // a whole sample interval is exactly T_sample, whatever the communication grid
             let span = if (t_next - t - ts).abs() <= tol { ts } else { t_next - t };
-            stats.substeps += self.integrate(span, start.take())?;
+            stats.substeps += self.integrate(span, std::mem::take(&mut linearised))?;
             t = t_next;
             // the velocity at the new time: on the ramp from the step's start
             self.inputs.v_damper = v_start + self.inputs.a_damper * (t - t_start);
@@ -277,9 +310,22 @@ impl Damper {
         Plant { v_damper: self.inputs.v_damper + self.inputs.a_damper * from, ..self.plant() }
     }
 
+    /// Evaluates and linearises the plant at the present state, `from` (s) into the velocity's
+    /// ramp, into `self.start`.
+    fn linearise(&mut self, from: f64) {
+        let plant = Plant {
+            p: &self.params,
+            d: &self.derived,
+            v_damper: self.inputs.v_damper + self.inputs.a_damper * from,
+            i_command: self.state.i_command,
+        };
+        self.start.0 = plant.linearise(&self.state.y, &mut self.start.1);
+    }
+
     /// One Rodas3 step of `step` (s) from the present state, `from` (s) into the velocity's ramp,
-    /// from the plant linearised there.
-    fn rosenbrock(&self, (out, lin): &Linearised, step: f64, from: f64) -> Result<(State, State), SolverError> {
+    /// from the plant linearised there (`self.start`).
+    fn rosenbrock(&self, step: f64, from: f64) -> Result<(State, State), SolverError> {
+        let (out, lin) = &self.start;
         let a = self.inputs.a_damper;
         // ∂f/∂t = ∂f/∂v · a
         let f_t = (a != 0.0).then(|| lin.df_dv * a);
@@ -289,11 +335,10 @@ impl Damper {
     }
 
     /// Integrates over `span` (s) with step-size control; returns the number of steps taken.
-    /// `start`: the plant linearised at the present state, if the caller has it.
-    fn integrate(&mut self, span: f64, mut start: Option<Linearised>) -> Result<u32, StepError> {
-        let p = &self.params;
+    /// `linearised`: whether `self.start` holds the plant linearised at the present state.
+    fn integrate(&mut self, span: f64, mut linearised: bool) -> Result<u32, StepError> {
         let (mut done, mut steps, mut attempts) = (0.0, 0u32, 0u32);
-        let mut h = self.state.h_next.min(p.h_max);
+        let mut h = self.state.h_next.min(self.params.h_max);
         while done < span {
             if attempts >= MAX_STEPS_PER_SAMPLE {
                 return Err(StepError::TooManySteps);
@@ -301,8 +346,12 @@ impl Damper {
             let last = h >= (span - done) * (1.0 - 1e-9);
             let step = if last { span - done } else { h };
             // a rejected step is tried again from the same state: its linearisation stands
-            let linearised = start.get_or_insert_with(|| self.plant_at(done).evaluate_linearised(&self.state.y));
-            let (y, error) = self.rosenbrock(linearised, step, done)?;
+            if !linearised {
+                self.linearise(done);
+                linearised = true;
+            }
+            let (y, error) = self.rosenbrock(step, done)?;
+            let p = &self.params;
             let norm = (ERROR_CONTROLLED
                 .iter()
                 .map(|&(i, scale)| {
@@ -320,7 +369,7 @@ impl Damper {
                     return Err(SolverError::StepSizeTooSmall.into());
                 }
                 self.state.y = y;
-                start = None;
+                linearised = false;
                 done = if last { span } else { done + step };
                 steps += 1;
                 // a short last step to land on the sample does not shrink the next proposal
@@ -338,16 +387,19 @@ impl Damper {
         Ok(steps)
     }
 
-    /// Samples the controller at the present state; returns the plant linearised there with the
-    /// new coil command, for the integration step that follows.
-    fn sample_controller(&mut self) -> Linearised {
-        let (mut out, lin) = self.plant().evaluate_linearised(&self.state.y);
-        let m = Measurements { force: out.force, x_spool: self.state.y[idx::X_SPOOL], v_damper: self.inputs.v_damper };
+    /// Samples the controller at the present state; leaves in `self.start` the plant linearised
+    /// there with the new coil command, for the integration step that follows.
+    fn sample_controller(&mut self) {
+        self.linearise(0.0);
+        let m = Measurements {
+            force: self.start.0.force,
+            x_spool: self.state.y[idx::X_SPOOL],
+            v_damper: self.inputs.v_damper,
+        };
         let demands = Demands { force: self.inputs.force_demand, x_spool: self.inputs.x_spool_demand };
         self.state.i_command = self.state.controller.sample(&self.params, &self.derived, m, demands);
         self.state.next_sample += 1;
         // only the coil's equation sees the command
-        out.dydt[idx::I_COIL] = self.plant().evaluate_coil(&self.state.y);
-        (out, lin)
+        self.start.0.dydt[idx::I_COIL] = self.plant().evaluate_coil(&self.state.y);
     }
 }

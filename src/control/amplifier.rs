@@ -26,6 +26,15 @@ impl DelayLine {
         self.len == len && (self.head < self.len || self.len == 0)
     }
 
+    /// Makes this line equal to `from` for every use: its live entries, length and read
+    /// position. The slots beyond `len` are never read or written, so they are left as they are:
+    /// a plain copy would move all 201 slots (1.6 KB) at every step's save.
+    pub fn assign(&mut self, from: &DelayLine) {
+        self.buffer[..from.len].copy_from_slice(&from.buffer[..from.len]);
+        self.len = from.len;
+        self.head = from.head;
+    }
+
     /// Pushes `value` and returns the value from `len` samples ago (`value` itself if `len` = 0).
     pub fn push(&mut self, value: f64) -> f64 {
         if self.len == 0 {
@@ -49,5 +58,19 @@ mod tests {
         assert_eq!(out, [-1.0, -1.0, -1.0, -1.0, -1.0, -1.0, 0.0, 1.0, 2.0, 3.0]);
         let mut none = DelayLine::filled(0, 0.0);
         assert_eq!(none.push(5.0), 5.0);
+    }
+
+    #[test]
+    fn an_assigned_line_continues_as_its_source() {
+        let mut source = DelayLine::filled(4, 0.0);
+        for k in 0..6 {
+            source.push(k as f64);
+        }
+        let mut copy = DelayLine::filled(9, -7.0);
+        copy.assign(&source);
+        assert!(copy.is_consistent(4));
+        for k in 6..20 {
+            assert_eq!(copy.push(k as f64), source.push(k as f64));
+        }
     }
 }

@@ -88,6 +88,16 @@ impl Controller {
         }
     }
 
+    /// Makes this controller equal to `from`, as `*self = *from` would, copying only the delay
+    /// line's live entries (see [`DelayLine::assign`]).
+    pub fn assign(&mut self, from: &Controller) {
+        let Controller { force_loop, spool_loop, delay, x_spool_demand, force_demand_clipped, force_tare } = from;
+        self.delay.assign(delay);
+        (self.force_loop, self.spool_loop) = (*force_loop, *spool_loop);
+        (self.x_spool_demand, self.force_demand_clipped, self.force_tare) =
+            (*x_spool_demand, *force_demand_clipped, *force_tare);
+    }
+
     /// One controller sample: returns the (delayed) current command reaching the coil (A).
     /// The demand is relative to the tared load cell; the force loop works in the raw load-cell
     /// frame (demand + tare against the raw force), where its inverse valve law holds.

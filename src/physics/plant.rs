@@ -81,6 +81,12 @@ pub struct Linearisation {
     pub df_dv: State,
 }
 
+impl Linearisation {
+    pub fn zeros() -> Self {
+        Linearisation { jacobian: SMatrix::zeros(), df_dv: State::zeros() }
+    }
+}
+
 /// Partial derivatives of one quantity with respect to the states it can depend on, then the
 /// damper velocity: the columns [`G_P_A`] … [`G_DV`]. The spool velocity and the coil current reach
 /// only the spool's own row of the Jacobian, written there directly; a gradient over every state
@@ -115,7 +121,7 @@ fn unit(i: usize) -> Grad {
 impl Plant<'_> {
     /// Derivatives and outputs at state `y`.
     pub fn evaluate(&self, y: &State) -> PlantOutputs {
-        self.evaluate_with::<false>(y).0
+        self.evaluate_with::<false>(y, None)
     }
 
     /// The load-cell force (N) at state `y`: [`PlantOutputs::force`] alone, which the hydraulic
@@ -147,14 +153,22 @@ impl Plant<'_> {
     /// written out with the values (chain rule through every intermediate), so the Jacobian costs
     /// about one more evaluation instead of five finite differences, and it is exact.
     pub fn evaluate_linearised(&self, y: &State) -> (PlantOutputs, Linearisation) {
-        let (out, lin) = self.evaluate_with::<true>(y);
-        (out, lin.expect("computed when asked"))
+        let mut lin = Linearisation::zeros();
+        let out = self.linearise(y, &mut lin);
+        (out, lin)
     }
 
-    /// The one body of [`Plant::evaluate`] and [`Plant::evaluate_linearised`]: each intermediate
-    /// quantity `q` is followed by its gradient `d_q` (a [`Grad`]), computed only when `JAC`.
+    /// [`Plant::evaluate_linearised`] into the caller's `lin`: the integrator keeps one in place
+    /// rather than move its 440 bytes at every step.
+    pub fn linearise(&self, y: &State, lin: &mut Linearisation) -> PlantOutputs {
+        self.evaluate_with::<true>(y, Some(lin))
+    }
+
+    /// The one body of [`Plant::evaluate`] and [`Plant::linearise`]: each intermediate quantity
+    /// `q` is followed by its gradient `d_q` (a [`Grad`]), computed only when `JAC`, and the
+    /// linearisation written into `lin` then.
     #[inline(always)]
-    fn evaluate_with<const JAC: bool>(&self, y: &State) -> (PlantOutputs, Option<Linearisation>) {
+    fn evaluate_with<const JAC: bool>(&self, y: &State, lin: Option<&mut Linearisation>) -> PlantOutputs {
         use idx::*;
         let (p, d) = (self.p, self.d);
         let cyl = &d.cylinder;
@@ -269,9 +283,9 @@ impl Plant<'_> {
         dydt[I_COIL] = self.evaluate_coil(y);
         dydt[X_DAMPER] = v;
         let out = PlantOutputs { dydt, force, p_reservoir: p_r, q_valve, flow_force: f_flow, delta_mount: delta };
-        if !JAC {
-            return (out, None);
-        }
+        let Some(Linearisation { jacobian, df_dv }) = lin.filter(|_| JAC) else {
+            return out;
+        };
 
         // the rows over the gradient's columns; x_s's and x's rows, and the spool's entries for
         // v_s and i, are written into the Jacobian below
@@ -285,8 +299,9 @@ impl Plant<'_> {
                 g / p.m_spool
             }),
         ];
-        let mut jacobian = SMatrix::<f64, N_STATES, N_STATES>::zeros();
-        let mut df_dv = State::zeros();
+        // (assigned: nalgebra's `fill` goes element by element through an iterator)
+        *jacobian = SMatrix::zeros();
+        *df_dv = State::zeros();
         for (r, g) in rows {
             for (k, &c) in GRAD_STATES.iter().enumerate() {
                 jacobian[(r, c)] = g[k];
@@ -298,7 +313,7 @@ impl Plant<'_> {
         jacobian[(X_SPOOL, V_SPOOL)] = 1.0;
         jacobian[(I_COIL, I_COIL)] = -1.0 / p.tau_coil;
         df_dv[X_DAMPER] = 1.0;
-        (out, Some(Linearisation { jacobian, df_dv }))
+        out
     }
 
     /// The coil current's derivative (A/s) at `y`: the one component that depends on the coil
