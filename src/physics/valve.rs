@@ -12,7 +12,23 @@
 //! ```
 
 use crate::solver::cube_root_estimate;
-use std::f64::consts::PI;
+use std::f64::consts::{FRAC_PI_2, PI};
+
+/// The coefficients, lowest first, of P in the starter φ ≈ s (1 + P(s²)) for Kepler's equation
+/// φ − sin φ = s³/6 with 0 ≤ s ≤ (6π)^(1/3) ([`ValvePorts::position_for_area`]): a least-squares
+/// fit of degree 7 to the root at 400 Chebyshev points of s² (numpy's `Polynomial.fit`), within
+/// 4e-7 of the root relative (the test `the_kepler_starter_is_within_its_bound` holds it). Its
+/// first terms are near the inverse series' 1/60 and 1/1400.
+const KEPLER_STARTER: [f64; 8] = [
+    -2.992838293209165e-07,
+    0.0166718334940775,
+    0.0006998116530200269,
+    5.488546648055911e-05,
+    -5.159680623863694e-06,
+    2.1761353005714727e-06,
+    -2.5755765376692247e-07,
+    1.619156874337786e-08,
+];
 
 /// Port geometry of the valve.
 #[derive(Clone, Copy, Debug)]
@@ -35,7 +51,7 @@ impl ValvePorts {
         } else if h >= 2.0 * r {
             PI * r * r
         } else {
-            r * r * ((r - h) / r).acos() - (r - h) * (2.0 * r * h - h * h).sqrt()
+            r * r * acos_one_minus(h / r) - (r - h) * (2.0 * r * h - h * h).sqrt()
         };
         self.n_ports * one
     }
@@ -54,12 +70,13 @@ impl ValvePorts {
     /// Spool position (m) that opens `area` (m²); `area` is clamped to [0, nπr²]. The controller
     /// inverts the port law at every sample, so this is written for speed: with φ = 2θ the law
     /// is A = (n r²/2)(φ − sin φ) and h = 2r sin²(φ/4), so φ solves Kepler's equation
-    /// φ − sin φ = M = 2A/(n r²) (eccentricity 1), odd about M = π. From the inverse series
-    /// φ ≈ s (1 + s²/60 + s⁴/1400 + s⁶/25200), s = (6M)^(1/3), within 1.1 % of the root up to
-    /// M = π, two Halley iterations (cubic convergence, error constant ≤ 1/12 there) reach
-    /// rounding. They run on ψ = φ/4, whose sine and cosine give sin φ and cos φ by products and
-    /// the opening sin²ψ directly: one `sin_cos` per iteration, a fixed cost, about a quarter of
-    /// the safeguarded Newton iteration on A(h) it replaced.
+    /// φ − sin φ = M = 2A/(n r²) (eccentricity 1), odd about M = π. The starter is
+    /// φ ≈ s (1 + P(s²)), s = (6M)^(1/3), with P of degree 7 fitted to the root over
+    /// 0 ≤ M ≤ π (`KEPLER_STARTER`): within 4e-7 of it. One Halley iteration (cubic convergence,
+    /// error constant ≤ 1/12 there) then reaches rounding. It runs on ψ = φ/4, whose sine and
+    /// cosine give sin φ and cos φ by products and the opening sin²ψ directly: one `sin_cos`, a
+    /// fixed cost. (The inverse series' first terms, 1 + s²/60 + s⁴/1400 + s⁶/25200, are within
+    /// 1.1 % and took two iterations, two `sin_cos`.)
     pub fn position_for_area(&self, area: f64) -> f64 {
         let r = self.r_port;
         let scale = self.n_ports * r * r;
@@ -70,26 +87,69 @@ impl ValvePorts {
         // the upper half by symmetry: φ(2π − M) = 2π − φ(M)
         let upper = m > PI;
         let m_half = if upper { 2.0 * PI - m } else { m };
-        let s = cube_root_estimate(6.0 * m_half);
-        let s2 = s * s;
-        let mut psi = 0.25 * s * (1.0 + s2 * (1.0 / 60.0 + s2 * (1.0 / 1400.0 + s2 / 25_200.0)));
-        // Halley on f(ψ) = 4ψ − sin 4ψ − M: f′ = 4 − 4 cos 4ψ = 32 u²c², f″ = 16 sin 4ψ, u = sin ψ, c = cos ψ
-        let (mut sin, mut step) = (0.0, 0.0);
-        for _ in 0..2 {
-            let (u, c) = psi.sin_cos();
-            let sin_4psi = 4.0 * u * c * (1.0 - 2.0 * u * u);
-            let f = 4.0 * psi - sin_4psi - m_half;
-            let slope = 32.0 * u * u * c * c;
-            let denominator = 2.0 * slope * slope - 16.0 * f * sin_4psi;
-            step = if denominator > 0.0 { 2.0 * f * slope / denominator } else { 0.0 };
-            psi -= step;
-            // sin(ψ − step), to O(step⁴), from the sine and cosine at hand
-            sin = u * (1.0 - 0.5 * step * step) - c * step * (1.0 - step * step / 6.0);
+        // the opening goes as M^(2/3): below this M it is under 1e-20 of the port's radius (and
+        // the cube root's products below would underflow)
+        if m_half < 1e-30 {
+            return self.x_lap + if upper { 2.0 * r } else { 0.0 };
         }
-        debug_assert!(step.abs() < 1e-4, "the last correction {step} is too large for the sine's expansion");
+        // the estimate's 1e-4 would be the starter's error: one more Halley step takes it to 1e-12
+        let (six_m, estimate) = (6.0 * m_half, cube_root_estimate(6.0 * m_half));
+        let cube = estimate * estimate * estimate;
+        let s = estimate * (cube + 2.0 * six_m) / (2.0 * cube + six_m);
+        let s2 = s * s;
+        let p = KEPLER_STARTER.iter().rev().fold(0.0, |acc, &c| acc * s2 + c);
+        let psi = 0.25 * s * (1.0 + p);
+        // Halley on f(ψ) = 4ψ − sin 4ψ − M: f′ = 4 − 4 cos 4ψ = 32 u²c², f″ = 16 sin 4ψ, u = sin ψ, c = cos ψ
+        let (u, c) = psi.sin_cos();
+        let sin_4psi = 4.0 * u * c * (1.0 - 2.0 * u * u);
+        let f = 4.0 * psi - sin_4psi - m_half;
+        let slope = 32.0 * u * u * c * c;
+        let denominator = 2.0 * slope * slope - 16.0 * f * sin_4psi;
+        let step = if denominator > 0.0 { 2.0 * f * slope / denominator } else { 0.0 };
+        debug_assert!(step.abs() <= 1e-5 * psi, "the correction {step} is larger than the starter's error");
+        // sin(ψ − step), to O(step⁴), from the sine and cosine at hand
+        let sin = u * (1.0 - 0.5 * step * step) - c * step * (1.0 - step * step / 6.0);
         let opening = 2.0 * r * sin * sin;
         self.x_lap + if upper { 2.0 * r - opening } else { opening }
     }
+}
+
+/// acos(1 − u) (rad) for 0 ≤ u ≤ 2, the half angle of a port's uncovered segment at the opening
+/// u = h/r, within a few ulps: an arcsine on |z| ≤ 1/2 only, through the half-angle identities
+/// acos(1 − u) = 2 asin(√(u/2)) and π − 2 asin(√(1 − u/2)) at the ends. Every evaluation of the
+/// plant takes the port area, and glibc's `acos` (with its argument reduction for the whole
+/// range) was 4 % of the damper's instructions.
+fn acos_one_minus(u: f64) -> f64 {
+    if u <= 0.5 {
+        2.0 * asin_within_half((0.5 * u).sqrt())
+    } else if u < 1.5 {
+        FRAC_PI_2 - asin_within_half(1.0 - u)
+    } else {
+        PI - 2.0 * asin_within_half((1.0 - 0.5 * u).sqrt())
+    }
+}
+
+/// asin z for |z| ≤ 1/2, within an ulp: z + z·t·P(t)/Q(t), t = z², with fdlibm's coefficients
+/// (e_asin.c, the rational approximation it uses on the same range).
+fn asin_within_half(z: f64) -> f64 {
+    const P: [f64; 6] = [
+        1.666_666_666_666_666_574_15e-1,
+        -3.255_658_186_224_009_154_05e-1,
+        2.012_125_321_348_629_258_81e-1,
+        -4.005_553_450_067_941_140_27e-2,
+        7.915_349_942_898_145_321_76e-4,
+        3.479_331_075_960_211_675_70e-5,
+    ];
+    const Q: [f64; 4] = [
+        -2.403_394_911_734_414_218_78,
+        2.020_945_760_233_505_694_71,
+        -6.882_839_716_054_532_930_30e-1,
+        7.703_815_055_590_193_527_91e-2,
+    ];
+    let t = z * z;
+    let p = t * (P[0] + t * (P[1] + t * (P[2] + t * (P[3] + t * (P[4] + t * P[5])))));
+    let q = 1.0 + t * (Q[0] + t * (Q[1] + t * (Q[2] + t * Q[3])));
+    z + z * (p / q)
 }
 
 /// Force (N) of the proportional solenoid with force constant `k_sol` (N/A) at current `i` (A),
@@ -164,6 +224,53 @@ mod tests {
         assert_eq!(PORTS.position_for_area(-1.0), 0.3e-3);
         assert!((PORTS.position_for_area(full) - 6.3e-3).abs() < 1e-15);
         assert!((PORTS.position_for_area(1.0) - 6.3e-3).abs() < 1e-15);
+    }
+
+    #[test]
+    fn acos_one_minus_is_the_library_acos() {
+        // at arguments x whose 1 − x is exact, so that both see the same angle
+        let check = |x: f64| {
+            let u = 1.0 - x;
+            assert_eq!(1.0 - u, x);
+            let (fast, library) = (acos_one_minus(u), x.acos());
+            assert!((fast - library).abs() <= 4.0 * f64::EPSILON * library, "u {u:e}: {fast} vs {library}");
+        };
+        for k in 0..=20_000 {
+            check(1.0 - 2.0 * k as f64 / 20_000.0);
+        }
+        // small openings, where the segment's area is a small difference of its two terms
+        for k in 0..=300 {
+            check(1.0 - 10f64.powf(-15.0 + 14.0 * k as f64 / 300.0));
+        }
+        assert_eq!(acos_one_minus(0.0), 0.0);
+        assert_eq!(acos_one_minus(2.0), PI);
+    }
+
+    #[test]
+    fn the_kepler_starter_is_within_its_bound() {
+        let s_max = (6.0 * PI).cbrt();
+        for k in 1..=4000 {
+            let s = s_max * k as f64 / 4000.0;
+            let m = s * s * s / 6.0;
+            // the root by bisection on φ − sin φ (monotone), in the form that keeps small φ exact
+            let (mut lo, mut hi) = (0.0, 2.0 * PI);
+            for _ in 0..200 {
+                let mid = 0.5 * (lo + hi);
+                let g = if mid < 0.1 {
+                    mid.powi(3) / 6.0 * (1.0 - mid * mid / 20.0 + mid.powi(4) / 840.0)
+                } else {
+                    mid - mid.sin()
+                };
+                if g < m {
+                    lo = mid
+                } else {
+                    hi = mid
+                }
+            }
+            let root = 0.5 * (lo + hi);
+            let starter = s * (1.0 + KEPLER_STARTER.iter().rev().fold(0.0, |acc, &c| acc * s * s + c));
+            assert!((starter / root - 1.0).abs() < 4e-7, "s {s}: starter {starter}, root {root}");
+        }
     }
 
     #[test]
