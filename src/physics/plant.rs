@@ -112,9 +112,18 @@ fn grad<const JAC: bool>(f: impl FnOnce() -> Grad) -> Grad {
     }
 }
 
-fn unit(i: usize) -> Grad {
+/// The gradient with `value` in column `i` and zeros elsewhere. Built, not multiplied out: IEEE
+/// arithmetic cannot drop a product 0·x or a sum x + 0 (x may be infinite, or −0), so a unit
+/// vector times `value`, or added to a gradient, cost an operation per column.
+fn basis(i: usize, value: f64) -> Grad {
     let mut g = Grad::zeros();
-    g[i] = 1.0;
+    g[i] = value;
+    g
+}
+
+/// `g` with `value` added to its column `i` alone (see [`basis`]).
+fn plus(mut g: Grad, i: usize, value: f64) -> Grad {
+    g[i] += value;
     g
 }
 
@@ -176,11 +185,13 @@ impl Plant<'_> {
         let (p_a, p_b, v_gas, x_s, v_s, i_coil) = (y[P_A], y[P_B], y[V_GAS], y[X_SPOOL], y[V_SPOOL], y[I_COIL]);
 
         let (p_r, dpr_dvg) = reservoir_pressure_and_slope(&d.gas, v_gas);
-        let d_pr = grad::<JAC>(|| unit(G_V_GAS) * dpr_dvg);
+        let d_pr = grad::<JAC>(|| basis(G_V_GAS, dpr_dvg));
         let signals = self.signals(y, p_r);
         // a signal gradient (∂/∂ each signal) as a gradient over the states and v
         let chain = |g: PlantSignals| {
-            let mut out = unit(G_DV) * g.v_damper + d_pr * g.p_reservoir;
+            // d_pr has its V_gas column alone
+            let mut out = basis(G_DV, g.v_damper);
+            out[G_V_GAS] += dpr_dvg * g.p_reservoir;
             out[G_X_DAMPER] += g.x_damper;
             out[G_P_A] += g.p_ext;
             out[G_P_B] += g.p_comp;
@@ -190,7 +201,7 @@ impl Plant<'_> {
 
         let force = p_a * cyl.a_annulus - p_b * cyl.a_piston + d.effects.force(p, &signals);
         let d_force = grad::<JAC>(|| {
-            chain(d.effects.force_gradient(p, &signals)) + unit(G_P_A) * cyl.a_annulus - unit(G_P_B) * cyl.a_piston
+            plus(plus(chain(d.effects.force_gradient(p, &signals)), G_P_A, cyl.a_annulus), G_P_B, -cyl.a_piston)
         });
         let (delta, mount_stiffness) = match d.mount {
             Some(m) => {
@@ -202,16 +213,16 @@ impl Plant<'_> {
         let d_delta = grad::<JAC>(|| if d.mount.is_some() { d_force / mount_stiffness } else { Grad::zeros() });
         let x_piston = y[X_DAMPER] - delta;
         let (vol_a, vol_b) = cyl.volumes(x_piston);
-        let d_xp = grad::<JAC>(|| unit(G_X_DAMPER) - d_delta);
+        let d_xp = grad::<JAC>(|| plus(-d_delta, G_X_DAMPER, 1.0));
         // the volumes' floor (0.1 cm³) has no slope
         let d_vol_a = grad::<JAC>(|| if vol_a > 1e-7 { -d_xp * cyl.a_annulus } else { Grad::zeros() });
         let d_vol_b = grad::<JAC>(|| if vol_b > 1e-7 { d_xp * cyl.a_piston } else { Grad::zeros() });
 
         let orifice = |cd: f64, area: f64, dp: f64| orifice_flow_partials(cd, area, dp, p.rho, p.p_transition);
         let a_valve = d.ports.area(x_s);
-        let d_a_valve = grad::<JAC>(|| unit(G_X_SPOOL) * d.ports.area_slope(x_s));
+        let d_a_valve = grad::<JAC>(|| basis(G_X_SPOOL, d.ports.area_slope(x_s)));
         let dp_valve = p_a - p_r;
-        let d_dp_valve = grad::<JAC>(|| unit(G_P_A) - d_pr);
+        let d_dp_valve = grad::<JAC>(|| plus(-d_pr, G_P_A, 1.0));
         let (q_valve, dqv_da, dqv_ddp) = orifice(p.cd_valve, a_valve + p.a_valve_leak, dp_valve);
         let d_q_valve = grad::<JAC>(|| d_a_valve * dqv_da + d_dp_valve * dqv_ddp);
         let check_valve = |dp: f64| {
@@ -220,9 +231,9 @@ impl Plant<'_> {
             (q, dq_ddp + dq_da * check_valve_area_slope(p.a_cv_max, d.p_cv_crack, p.p_cv_full, dp))
         };
         let (q_cv1, dq1) = check_valve(p_b - p_a);
-        let d_q_cv1 = grad::<JAC>(|| (unit(G_P_B) - unit(G_P_A)) * dq1);
+        let d_q_cv1 = grad::<JAC>(|| plus(basis(G_P_B, dq1), G_P_A, -dq1));
         let (q_cv2, dq2) = check_valve(p_r - p_b);
-        let d_q_cv2 = grad::<JAC>(|| (d_pr - unit(G_P_B)) * dq2);
+        let d_q_cv2 = grad::<JAC>(|| plus(basis(G_V_GAS, dpr_dvg * dq2), G_P_B, -dq2));
         let (q_relief, d_q_relief) = if dp_valve > p.p_relief {
             let u = (dp_valve - p.p_relief) / p.dp_relief;
             let (q, dq_da, dq_ddp) = orifice(p.cd_valve, p.a_relief * smoothstep(u), dp_valve);
@@ -240,8 +251,8 @@ impl Plant<'_> {
         let (beta_a, dbeta_a) = effective_bulk_modulus_and_slope(p_a, &d.oil);
         let (beta_b, dbeta_b) = effective_bulk_modulus_and_slope(p_b, &d.oil);
         let (a, b) = (beta_a / vol_a, beta_b / vol_b);
-        let d_a = grad::<JAC>(|| unit(G_P_A) * (dbeta_a / vol_a) - d_vol_a * (a / vol_a));
-        let d_b = grad::<JAC>(|| unit(G_P_B) * (dbeta_b / vol_b) - d_vol_b * (b / vol_b));
+        let d_a = grad::<JAC>(|| plus(d_vol_a * -(a / vol_a), G_P_A, dbeta_a / vol_a));
+        let d_b = grad::<JAC>(|| plus(d_vol_b * -(b / vol_b), G_P_B, dbeta_b / vol_b));
         let (aa, ap) = (cyl.a_annulus, cyl.a_piston);
         let k_h = a * aa * aa + b * ap * ap;
         let s_flow = a * aa * r_a - b * ap * r_b;
@@ -253,14 +264,14 @@ impl Plant<'_> {
                 let d_k_h = d_a * (aa * aa) + d_b * (ap * ap);
                 let d_s = (d_a * r_a + d_r_a * a) * aa - (d_b * r_b + d_r_b * b) * ap;
                 let d_stiffness = d_delta * (6.0 * k3 * delta);
-                (d_k_h * v + unit(G_DV) * k_h + d_s - (d_stiffness + d_k_h) * rate) / denominator
+                (plus(d_k_h * v, G_DV, k_h) + d_s - (d_stiffness + d_k_h) * rate) / denominator
             });
             (rate, d_rate)
         } else {
             (0.0, Grad::zeros())
         };
         let v_piston = v - delta_rate;
-        let d_v_piston = grad::<JAC>(|| unit(G_DV) - d_delta_rate);
+        let d_v_piston = grad::<JAC>(|| plus(-d_delta_rate, G_DV, 1.0));
 
         let flow_force_on = p.effect_flow_forces && dp_valve > 0.0;
         let f_flow = if flow_force_on { d.flow_force_gain * a_valve * dp_valve } else { 0.0 };
