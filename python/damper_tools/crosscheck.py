@@ -148,9 +148,15 @@ class SpoolController:
         i_fc = p.Cv_compensation * math.cos(p.theta_jet) * math.sqrt(2 * p.rho * dp) * Q / p.K_sol
         error = x_dem - x_s
         integral = self.integral + p.Ki_x * error * T
-        i = p.Kp_x * error + integral - p.Kd_x * self.rate + i_fc
-        if 0.0 < i < p.I_max:  # conditional integration (anti-windup)
-            self.integral = integral
+        others = p.Kp_x * error - p.Kd_x * self.rate + i_fc
+        i = others + integral
+        # anti-windup by clamping: past a bound the integral moves only as far as puts i on it, and not
+        # further out if it is beyond already
+        for bound, past in ((p.I_max, i > p.I_max), (0.0, i < 0.0)):
+            if past:
+                at_bound = bound - others
+                integral = min(max(integral, min(self.integral, at_bound)), max(self.integral, at_bound))
+        self.integral = integral
         self.delay.append(min(max(i, 0.0), p.I_max))
         return self.delay.popleft()
 

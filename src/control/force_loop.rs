@@ -9,9 +9,10 @@
 //! ```
 //! Since d ln F / d ln A ≈ −2 everywhere on the valve map, law 0 has a loop gain independent of
 //! the operating point; law 1 is tuned for one point and slows down or rings elsewhere.
-//! Anti-windup: the integrator only moves while the demand is not clipped.
+//! Anti-windup: where the demand would be clipped, the integrator moves only as far as puts it on
+//! the clip ([`super::integral_at_saturation`]).
 
-use super::{FilteredDerivative, Measurements};
+use super::{integral_at_saturation, FilteredDerivative, Measurements};
 use crate::physics::params::{Derived, ForceController, Parameters};
 
 /// Smallest valve-area demand (m²).
@@ -46,11 +47,18 @@ impl ForceLoop {
             ForceController::FeedforwardLogArea => {
                 let rate = self.error_rate.update(error, ts, p.tau_df);
                 let integral = self.integral + p.ki_f * error * ts;
-                let u = p.kp_f * error + integral + p.kd_f * rate;
-                let a_demand = feedforward_area(p, d, f_demand, m.v_damper) * (-u.clamp(-20.0, 20.0)).exp();
-                if a_demand > A_DEMAND_MIN && a_demand < d.a_demand_max {
-                    self.integral = integral;
-                }
+                let others = p.kp_f * error + p.kd_f * rate;
+                let u = others + integral;
+                let a_feedforward = feedforward_area(p, d, f_demand, m.v_damper);
+                let a_demand = a_feedforward * (-u.clamp(-20.0, 20.0)).exp();
+                // the area falls as u rises: on a bound A, u = ln(A_ff/A)
+                self.integral = if a_demand > d.a_demand_max {
+                    integral_at_saturation(self.integral, integral, (a_feedforward / d.a_demand_max).ln() - others)
+                } else if a_demand < A_DEMAND_MIN {
+                    integral_at_saturation(self.integral, integral, (a_feedforward / A_DEMAND_MIN).ln() - others)
+                } else {
+                    integral
+                };
                 // max then min: the same as clamp for ordered bounds, but no panic if they were not
                 d.ports
                     .position_for_area(a_demand.max(A_DEMAND_MIN).min(d.a_demand_max))
@@ -60,10 +68,16 @@ impl ForceLoop {
             ForceController::PaperPid => {
                 let rate = self.error_rate.update(error, ts, p.tau_df);
                 let integral = self.integral + p.ki_f_pid * error * ts;
-                let x = p.x_spool_bias - (p.kp_f_pid * error + integral + p.kd_f_pid * rate);
-                if x > p.x_lap && x < d.x_demand_max {
-                    self.integral = integral;
-                }
+                let others = p.kp_f_pid * error + p.kd_f_pid * rate;
+                let x = p.x_spool_bias - (others + integral);
+                // x falls as the integral rises: on a bound X, integral = x_bias − X − others
+                self.integral = if x > d.x_demand_max {
+                    integral_at_saturation(self.integral, integral, p.x_spool_bias - d.x_demand_max - others)
+                } else if x < p.x_lap {
+                    integral_at_saturation(self.integral, integral, p.x_spool_bias - p.x_lap - others)
+                } else {
+                    integral
+                };
                 x.max(p.x_lap).min(d.x_demand_max)
             }
         }

@@ -31,6 +31,20 @@ pub struct Demands {
     pub x_spool: f64,
 }
 
+/// Anti-windup by clamping the integrator, for a loop whose output saturates: called when
+/// `candidate` (the integral plus this sample's increment) would take the output past a bound,
+/// with `at_bound`, the integral that puts the output exactly on that bound for this sample's
+/// other terms. The integral moves towards the candidate only as far as the bound, and does not
+/// move further out if it is beyond already. Freezing the integral while the output is clamped
+/// (conditional integration) made the loop's state jump on a sub-newton difference in the
+/// measured force, one integrator increment at a time, and the offset lasted 50–100 ms
+/// (docs/physics.md §4); this law is continuous in the measurements, and the same as freezing
+/// wherever the output stays inside its bounds.
+pub fn integral_at_saturation(integral: f64, candidate: f64, at_bound: f64) -> f64 {
+    // max/min rather than clamp: no panic on a NaN bound
+    candidate.max(integral.min(at_bound)).min(integral.max(at_bound))
+}
+
 /// Backward difference through a first-order low-pass: the derivative estimate of a sampled
 /// signal. The first sample primes it (no derivative kick at start).
 #[derive(Clone, Copy, Debug, Default)]
@@ -110,5 +124,56 @@ impl Controller {
         };
         let i_cmd = self.spool_loop.step(p, d, self.x_spool_demand, m);
         self.delay.push(i_cmd)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::variables::default_parameters;
+
+    #[test]
+    fn the_integral_stops_on_the_bound() {
+        // moving up past the bound 1.0 from 0.8: it stops on the bound
+        assert_eq!(integral_at_saturation(0.8, 1.3, 1.0), 1.0);
+        // beyond it already (the other terms moved): no further out, but back in freely
+        assert_eq!(integral_at_saturation(1.2, 1.3, 1.0), 1.2);
+        assert_eq!(integral_at_saturation(1.2, 1.1, 1.0), 1.1);
+        // the same downwards
+        assert_eq!(integral_at_saturation(-0.8, -1.3, -1.0), -1.0);
+        assert_eq!(integral_at_saturation(-1.2, -1.3, -1.0), -1.2);
+        assert_eq!(integral_at_saturation(-1.2, -1.1, -1.0), -1.1);
+        // a NaN bound freezes it, without a panic
+        assert_eq!(integral_at_saturation(0.8, 1.3, f64::NAN), 0.8);
+    }
+
+    /// One force-loop sample from the same state, swept over the measured force across the clip of
+    /// the demanded area: the integral after it moves continuously with the force. (Freezing it
+    /// while the demand is clipped made it jump by a whole increment, Ki·e·T, at the clip.)
+    #[test]
+    fn the_force_loop_integral_is_continuous_across_the_clip() {
+        let p = default_parameters();
+        let d = p.derive();
+        let (v, demand) = (0.3, 2e3);
+        let after = |force: f64| {
+            let mut force_loop = ForceLoop { integral: -1.0, ..ForceLoop::default() };
+            let x = force_loop.step(&p, &d, demand, Measurements { force, x_spool: 1e-3, v_damper: v });
+            (force_loop.integral, x)
+        };
+        let forces: Vec<f64> = (0..=20_000).map(|k| 4e3 * k as f64 / 20_000.0).collect();
+        let samples: Vec<(f64, f64)> = forces.iter().map(|&f| after(f)).collect();
+        // the sweep crosses the clip: the demand is clipped at one end and free at the other
+        let clipped = samples.iter().filter(|s| s.1 >= d.x_demand_max * (1.0 - 1e-12)).count();
+        assert!(clipped > 100 && clipped < samples.len() - 100, "{clipped} of {} clipped", samples.len());
+        // where the clip begins, the increment a frozen integral would have jumped by
+        let first = samples.iter().position(|s| s.1 >= d.x_demand_max * (1.0 - 1e-12)).unwrap();
+        let error = (demand - forces[first]) / demand.abs().max(p.f_ref_min);
+        let increment = (p.ki_f * error * p.t_sample).abs();
+        // the largest change between neighbours, 0.2 N apart
+        let largest = samples.windows(2).map(|w| (w[1].0 - w[0].0).abs()).fold(0.0, f64::max);
+        assert!(
+            largest < 0.05 * increment,
+            "the integral moves {largest:e} between neighbours ({increment:e} a sample)"
+        );
     }
 }

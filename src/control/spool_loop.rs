@@ -8,9 +8,10 @@
 //!        or with Δp̂ ≡ dp_fc_nominal                                 (fc_mode 1, paper-literal)
 //! i = Kp e + Ki Σe T − Kd ẋ_f + i_fc + (spool-spring hold in the integrator),  clamp [0, I_max]
 //! ```
-//! Anti-windup: the integrator only moves while the command is not clamped.
+//! Anti-windup: where the command would leave [0, I_max], the integrator moves only as far as puts it
+//! on the bound ([`super::integral_at_saturation`]).
 
-use super::{FilteredDerivative, Measurements};
+use super::{integral_at_saturation, FilteredDerivative, Measurements};
 use crate::physics::params::{Derived, FlowForceCompensation, Parameters};
 
 /// Inner-loop state.
@@ -35,10 +36,15 @@ impl SpoolLoop {
         let velocity = self.velocity.update(m.x_spool, ts, p.tau_dx);
         let i_fc = flow_force_compensation(p, d, m);
         let integral = self.integral + p.ki_x * error * ts;
-        let i = p.kp_x * error + integral - p.kd_x * velocity + i_fc;
-        if i > 0.0 && i < p.i_max {
-            self.integral = integral;
-        }
+        let others = p.kp_x * error - p.kd_x * velocity + i_fc;
+        let i = others + integral;
+        self.integral = if i > p.i_max {
+            integral_at_saturation(self.integral, integral, p.i_max - others)
+        } else if i < 0.0 {
+            integral_at_saturation(self.integral, integral, -others)
+        } else {
+            integral
+        };
         i.clamp(0.0, p.i_max)
     }
 }
@@ -85,18 +91,29 @@ mod tests {
     }
 
     #[test]
-    fn clamped_command_freezes_the_integrator() {
+    fn clamped_command_holds_the_integrator_on_the_bound() {
         let mut p = default_parameters();
         p.fc_mode = 0;
         let d = p.derive();
+        // a demand far beyond reach: the proportional term alone saturates the amplifier, and the
+        // integral stays where it was (neither wound up nor pulled down)
         let mut pid = SpoolLoop::at_rest(1.0);
         for _ in 0..1000 {
-            // a demand far beyond reach saturates the amplifier
             assert_eq!(pid.step(&p, &d, 0.05, at(0.0, 0.0)), p.i_max);
         }
-        assert!(pid.integral < p.i_max, "integrator wound up to {}", pid.integral);
+        assert_eq!(pid.integral, 1.0);
         // back in range, the command leaves saturation at once
         assert!(pid.step(&p, &d, 0.0, at(0.0, 0.0)) < p.i_max);
+        // an error the proportional term alone does not saturate on: the integral winds up to the
+        // value that puts the command on I_max, and stops there (the spool stands still, so the
+        // filtered derivative is 0)
+        let error = 0.5 * (p.i_max - 1.0) / p.kp_x;
+        let mut pid = SpoolLoop::at_rest(1.0);
+        for _ in 0..100_000 {
+            pid.step(&p, &d, error, at(0.0, 0.0));
+        }
+        let on_bound = p.i_max - p.kp_x * error;
+        assert!((pid.integral - on_bound).abs() <= 1e-12 * p.i_max, "integrator at {}, bound {on_bound}", pid.integral);
     }
 
     #[test]
