@@ -156,29 +156,18 @@ impl Damper {
         }
         let h_next = params.h_max.min(params.t_sample);
         let state = DamperState { y, controller, i_command: i0, time: start_time, start_time, next_sample: 0, h_next };
-        Ok(Damper {
-            params,
-            derived,
-            state,
-            inputs,
-            last: Cell::new(None),
-            saved: state,
-            start: (PlantOutputs::default(), Linearisation::zeros()),
-        })
+        Ok(Damper::assemble(params, derived, state, inputs))
     }
 
     /// Rebuilds a damper from a saved state (for FMU state restore).
     pub fn from_state(params: Parameters, inputs: Inputs, state: DamperState) -> Result<Self, String> {
         params.validate()?;
-        Ok(Damper {
-            params,
-            derived: params.derive(),
-            state,
-            inputs,
-            last: Cell::new(None),
-            saved: state,
-            start: (PlantOutputs::default(), Linearisation::zeros()),
-        })
+        Ok(Damper::assemble(params, params.derive(), state, inputs))
+    }
+
+    fn assemble(params: Parameters, derived: Derived, state: DamperState, inputs: Inputs) -> Self {
+        let start = (PlantOutputs::default(), Linearisation::zeros());
+        Damper { params, derived, state, inputs, last: Cell::new(None), saved: state, start }
     }
 
     pub fn params(&self) -> &Parameters {
