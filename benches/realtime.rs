@@ -202,7 +202,7 @@ fn main() {
         println!(
             "| {rtol:.0e} | {:.2} | {:.2} | {largest:.2} | {:.3} % | {:.2} |",
             errors[0].0,
-            0.5 * (errors[5].0 + errors[6].0),
+            0.5 * (errors[(errors.len() - 1) / 2].0 + errors[errors.len() / 2].0),
             100.0 * largest / f_rms,
             largest / LOAD_CELL_SIGMA
         );

@@ -294,9 +294,14 @@ impl Damper {
         Ok(stats)
     }
 
+    /// The damper velocity (m/s) `from` (s) into the present ramp.
+    fn velocity_at(&self, from: f64) -> f64 {
+        self.inputs.v_damper + self.inputs.a_damper * from
+    }
+
     /// The plant at the velocity `from` (s) into the present ramp.
     fn plant_at(&self, from: f64) -> Plant<'_> {
-        Plant { v_damper: self.inputs.v_damper + self.inputs.a_damper * from, ..self.plant() }
+        Plant { v_damper: self.velocity_at(from), ..self.plant() }
     }
 
     /// Evaluates and linearises the plant at the present state, `from` (s) into the velocity's
@@ -305,7 +310,7 @@ impl Damper {
         let plant = Plant {
             p: &self.params,
             d: &self.derived,
-            v_damper: self.inputs.v_damper + self.inputs.a_damper * from,
+            v_damper: self.velocity_at(from),
             i_command: self.state.i_command,
         };
         self.start.0 = plant.linearise(&self.state.y, &mut self.start.1);

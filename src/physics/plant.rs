@@ -82,6 +82,7 @@ pub struct Linearisation {
 }
 
 impl Linearisation {
+    /// An all-zero linearisation, for a buffer that [`Plant::linearise`] fills.
     pub fn zeros() -> Self {
         Linearisation { jacobian: SMatrix::zeros(), df_dv: State::zeros() }
     }

@@ -11,7 +11,7 @@
 //!   F_flow = 2 C_d C_v cos θ · A · max(Δp, 0)
 //! ```
 
-use crate::solver::cube_root_estimate;
+use crate::solver::{cube_root_estimate, cube_root_halley_step};
 use std::f64::consts::{FRAC_PI_2, PI};
 
 /// The coefficients, lowest first, of P in the starter φ ≈ s (1 + P(s²)) for Kepler's equation
@@ -93,9 +93,7 @@ impl ValvePorts {
             return self.x_lap + if upper { 2.0 * r } else { 0.0 };
         }
         // the estimate's 1e-4 would be the starter's error: one more Halley step takes it to 1e-12
-        let (six_m, estimate) = (6.0 * m_half, cube_root_estimate(6.0 * m_half));
-        let cube = estimate * estimate * estimate;
-        let s = estimate * (cube + 2.0 * six_m) / (2.0 * cube + six_m);
+        let s = cube_root_halley_step(cube_root_estimate(6.0 * m_half), 6.0 * m_half);
         let s2 = s * s;
         let p = KEPLER_STARTER.iter().rev().fold(0.0, |acc, &c| acc * s2 + c);
         let psi = 0.25 * s * (1.0 + p);

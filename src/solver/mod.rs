@@ -52,7 +52,12 @@ impl<const N: usize> IterationMatrix<N> for Lu<N> {
 /// of the exponent from the bits (within 3.2 %), then one Halley step y (y³ + 2x)/(2y³ + x), which
 /// cubes the relative error.
 pub fn cube_root_estimate(x: f64) -> f64 {
-    let y = f64::from_bits(x.to_bits() / 3 + 0x2a9f_7893_782d_a1ce);
+    cube_root_halley_step(f64::from_bits(x.to_bits() / 3 + 0x2a9f_7893_782d_a1ce), x)
+}
+
+/// One Halley step from y towards ∛x: y (y³ + 2x)/(2y³ + x), which cubes the relative error
+/// (1e-4 from [`cube_root_estimate`] to 1e-12).
+pub fn cube_root_halley_step(y: f64, x: f64) -> f64 {
     let y3 = y * y * y;
     y * (y3 + 2.0 * x) / (2.0 * y3 + x)
 }
