@@ -186,7 +186,9 @@ fn main() {
     println!("| rtol | RMS force error over seeds 1-12 [N]: least | median | largest | largest in % of F_rms | largest in load-cell sigmas |");
     println!("|---|---|---|---|---|---|");
     let seeds: Vec<Vec<(f64, f64)>> = (1..=12).map(scenario).collect();
-    let references: Vec<Vec<f64>> = seeds.iter().map(|s| run(1e-9, 5e-6, s).force).collect();
+    // seed 7 is the input above, whose converged run is at hand
+    let references: Vec<Vec<f64>> =
+        seeds.iter().map(|s| if *s == inputs { converged.force.clone() } else { run(1e-9, 5e-6, s).force }).collect();
     for rtol in [DEFAULT_RTOL, DIAGNOSIS_RTOL] {
         // (error, RMS force) per seed
         let mut errors: Vec<(f64, f64)> = seeds

@@ -14,9 +14,18 @@ pub struct CubicMount {
     pub k1: f64,
     /// Cubic stiffness (N/m³).
     pub k3: f64,
+    /// 1/k1 (m/N) and k3/k1 (1/m²), kept so that [`CubicMount::deflection`], which every
+    /// evaluation of the plant waits for, starts without two divisions in a row.
+    compliance: f64,
+    cubic_share: f64,
 }
 
 impl CubicMount {
+    /// The mount of linear stiffness `k1` (N/m) and cubic stiffness `k3` (N/m³).
+    pub fn new(k1: f64, k3: f64) -> Self {
+        CubicMount { k1, k3, compliance: 1.0 / k1, cubic_share: k3 / k1 }
+    }
+
     /// Force (N) at deflection `delta` (m).
     pub fn force(&self, delta: f64) -> f64 {
         self.k1 * delta + self.k3 * delta * delta * delta
@@ -38,11 +47,11 @@ impl CubicMount {
     /// within a factor of 2). The closed form (hyperbolic Cardano) cost several times as much.
     pub fn deflection(&self, force: f64) -> f64 {
         let (k1, k3) = (self.k1, self.k3);
-        let linear = force / k1;
+        let linear = force * self.compliance;
         if k3 == 0.0 || force == 0.0 {
-            return linear;
+            return force / k1;
         }
-        let e = k3 * linear * linear / k1;
+        let e = self.cubic_share * linear * linear;
         if e <= SERIES_LIMIT {
             let delta = linear * (1.0 - e * (1.0 - e * (3.0 - e * (12.0 - e * (55.0 - 273.0 * e)))));
             let delta = self.halley(delta, force);
@@ -86,7 +95,7 @@ mod tests {
 
     #[test]
     fn inverse_recovers_the_deflection() {
-        let m = CubicMount { k1: 5e7, k3: 2e13 };
+        let m = CubicMount::new(5e7, 2e13);
         for k in -50..=50 {
             let f = k as f64 * 1e3; // ±50 kN
             let d = m.deflection(f);
@@ -95,10 +104,10 @@ mod tests {
         // hand value: at δ = 1 mm, F = 5e7·1e-3 + 2e13·1e-9 = 50 kN + 20 kN
         assert!((m.force(1e-3) - 70e3).abs() < 1e-6);
         assert!((m.deflection(70e3) - 1e-3).abs() < 1e-15);
-        let linear = CubicMount { k1: 5e7, k3: 0.0 };
+        let linear = CubicMount::new(5e7, 0.0);
         assert_eq!(linear.deflection(1e4), 2e-4);
         // k3 so small that k1/k3 overflows: the linear spring
-        let tiny = CubicMount { k1: 5e7, k3: 2.2e-308 };
+        let tiny = CubicMount::new(5e7, 2.2e-308);
         assert_eq!(tiny.deflection(1e4), 2e-4);
         assert_eq!(tiny.deflection(-7e4), -7e4 / 5e7);
     }
@@ -107,7 +116,7 @@ mod tests {
     fn inverse_is_exact_over_every_stiffness_ratio() {
         // from a linear-dominated to a cubic-dominated spring, small to huge forces
         for k3_exp in [0, 5, 10, 13, 16, 20, 30] {
-            let m = CubicMount { k1: 5e7, k3: 10f64.powi(k3_exp) };
+            let m = CubicMount::new(5e7, 10f64.powi(k3_exp));
             for f in [1e-3, 1.0, 1e3, 2e4, 5e4, 1e6, 1e9] {
                 for f in [f, -f] {
                     let d = m.deflection(f);
@@ -120,7 +129,7 @@ mod tests {
     #[test]
     fn series_start_reaches_rounding_up_to_its_limit() {
         // the cubic share ε from 0 to just past the series' limit, where the loop takes over
-        let m = CubicMount { k1: 5e7, k3: 2e13 };
+        let m = CubicMount::new(5e7, 2e13);
         for k in 0..=220 {
             let e = SERIES_LIMIT * k as f64 / 200.0;
             let f = m.k1 * (e * m.k1 / m.k3).sqrt();
@@ -133,7 +142,7 @@ mod tests {
 
     #[test]
     fn stiffness_is_the_slope() {
-        let m = CubicMount { k1: 5e7, k3: 2e13 };
+        let m = CubicMount::new(5e7, 2e13);
         let d = 0.4e-3;
         let fd = (m.force(d + 1e-9) - m.force(d - 1e-9)) / 2e-9;
         assert!((fd - m.stiffness(d)).abs() < 1e-6 * fd);

@@ -203,7 +203,7 @@ impl Parameters {
         Derived {
             cylinder,
             ports,
-            mount: self.effect_mount_compliance.then_some(CubicMount { k1: self.k1_mount, k3: self.k3_mount }),
+            mount: self.effect_mount_compliance.then_some(CubicMount::new(self.k1_mount, self.k3_mount)),
             oil: Oil::new(
                 self.beta_oil,
                 if self.effect_compressibility { self.air_fraction } else { 0.0 },
