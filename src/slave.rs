@@ -11,7 +11,7 @@ use crate::variables::{
     boolean_parameter, default_inputs, default_parameters, integer_parameter, real_input, real_output, real_parameter,
 };
 use fmi2_slave::snapshot::{self, Visit, Visitor};
-use fmi2_slave::{check_integer, check_real, Model, VarInfo};
+use fmi2_slave::{check_integer, check_real, Model, ToleranceNote, VarInfo};
 
 /// Everything that defines a slave's present condition (the FMU state).
 #[derive(Clone, Copy, Debug)]
@@ -28,11 +28,14 @@ pub struct Slave {
     params: Parameters,
     inputs: Inputs,
     damper: Option<Damper>,
+    /// Whether the master has set the parameter `rtol`: then the tolerance of
+    /// `fmi2SetupExperiment` does not replace it, whichever call came first.
+    rtol_set: bool,
 }
 
 impl Default for Slave {
     fn default() -> Self {
-        Slave { params: default_parameters(), inputs: default_inputs(), damper: None }
+        Slave { params: default_parameters(), inputs: default_inputs(), damper: None, rtol_set: false }
     }
 }
 
@@ -107,6 +110,7 @@ impl Model for Slave {
             Causality::Output => None,
         };
         *field.ok_or_else(|| format!("{} is an output and cannot be set", v.name()))? = value;
+        self.rtol_set |= v == RealVar::Rtol;
         Ok(())
     }
 
@@ -121,6 +125,32 @@ impl Model for Slave {
         let v = BooleanVar::from_vr(vr).ok_or_else(|| unknown(vr))?;
         *boolean_parameter(&mut self.params, v).ok_or_else(|| format!("{} cannot be set", v.name()))? = value;
         Ok(())
+    }
+
+    /// The master's tolerance becomes `rtol`, the relative tolerance of the step-size control (FMI
+    /// 2.0 suggests that a slave with a variable-step integrator use it), unless the master set
+    /// `rtol` itself. A positive tolerance outside rtol's range is moved to its nearer end, with a
+    /// warning: refusing it would stop a simulation over a value with no effect on the result
+    /// (rtol 0.1 and 0.5 both give one step per controller sample).
+    fn use_tolerance(&mut self, tolerance: f64) -> Result<ToleranceNote, String> {
+        if !(tolerance.is_finite() && tolerance > 0.0) {
+            return Err(format!("tolerance {tolerance} refused: a relative tolerance must be a positive number"));
+        }
+        if self.rtol_set {
+            let note = format!("tolerance {tolerance:e} not used: the parameter rtol is set to {:e}", self.params.rtol);
+            return Ok(ToleranceNote::Event(note));
+        }
+        let rtol = RealVar::Rtol;
+        let (lo, hi) = (rtol.min().unwrap_or(0.0), rtol.max().unwrap_or(f64::INFINITY));
+        self.params.rtol = tolerance.clamp(lo, hi);
+        Ok(if self.params.rtol == tolerance {
+            ToleranceNote::Event(format!("tolerance {tolerance:e} sets rtol, the internal step-size control's"))
+        } else {
+            ToleranceNote::Warning(format!(
+                "tolerance {tolerance:e} is outside rtol's range [{lo:e}, {hi:e}]: rtol = {:e}",
+                self.params.rtol
+            ))
+        })
     }
 
     fn initialize(&mut self, start_time: f64) -> Result<(), String> {

@@ -110,6 +110,48 @@ fn out_of_range_and_inconsistent_parameters_are_refused() {
     assert!(logged("ranges").iter().any(|m| m.contains("D_rod must be smaller than D_piston")));
 }
 
+/// FMI 2.0: with toleranceDefined a variable-step slave uses the master's tolerance. It
+/// becomes `rtol` unless the master set `rtol` itself, before or after; out of rtol's range it is
+/// moved into it with a warning, and a tolerance that is not a positive number is refused.
+#[test]
+fn the_masters_tolerance_sets_rtol_unless_rtol_was_set() {
+    let rtol_after = |name: &str, calls: &dyn Fn(&Fmu)| {
+        let f = Fmu::new(name);
+        calls(&f);
+        assert_eq!(fmi2EnterInitializationMode(f.c), OK);
+        f.get(RealVar::Rtol)
+    };
+    let no_tolerance = rtol_after("tol_none", &|f| assert_eq!(fmi2SetupExperiment(f.c, 0, 0.0, 0.0, 0, 0.0), OK));
+    assert_eq!(no_tolerance, 1e-3, "the parameter's start value");
+    let from_master = rtol_after("tol_master", &|f| assert_eq!(fmi2SetupExperiment(f.c, 1, 2e-5, 0.0, 0, 0.0), OK));
+    assert_eq!(from_master, 2e-5);
+    let set_before = rtol_after("tol_before", &|f| {
+        assert_eq!(f.set(RealVar::Rtol, 1e-4), OK);
+        assert_eq!(fmi2SetupExperiment(f.c, 1, 2e-5, 0.0, 0, 0.0), OK);
+    });
+    assert_eq!(set_before, 1e-4);
+    let set_after = rtol_after("tol_after", &|f| {
+        assert_eq!(fmi2SetupExperiment(f.c, 1, 2e-5, 0.0, 0, 0.0), OK);
+        assert_eq!(f.set(RealVar::Rtol, 1e-4), OK);
+    });
+    assert_eq!(set_after, 1e-4);
+
+    let loose = rtol_after("tol_loose", &|f| assert_eq!(fmi2SetupExperiment(f.c, 1, 0.5, 0.0, 0, 0.0), OK));
+    assert_eq!(loose, 0.1);
+    let warning = "[1] fmi2SetupExperiment: tolerance 5e-1 is outside rtol's range [1e-10, 1e-1]: rtol = 1e-1";
+    assert!(logged("tol_loose").iter().any(|m| m.contains(warning)));
+    let tight = rtol_after("tol_tight", &|f| assert_eq!(fmi2SetupExperiment(f.c, 1, 1e-14, 0.0, 0, 0.0), OK));
+    assert_eq!(tight, 1e-10);
+
+    let f = Fmu::new("tol_bad");
+    for bad in [0.0, -1e-4, f64::NAN, f64::INFINITY] {
+        assert_eq!(fmi2SetupExperiment(f.c, 1, bad, 0.0, 0, 0.0), ERROR, "tolerance {bad}");
+    }
+    let refusal = "tolerance 0 refused: a relative tolerance must be a positive number";
+    assert!(logged("tol_bad").iter().any(|m| m.contains(refusal)));
+    assert_eq!(fmi2SetupExperiment(f.c, 1, 1e-6, 0.0, 0, 0.0), OK, "a refused tolerance leaves the instance usable");
+}
+
 #[test]
 fn stop_time_is_respected() {
     let f = Fmu::new("stop");

@@ -267,7 +267,7 @@ def sweep(latencies: Sequence[float] = SWEEP_LATENCIES, bandwidths: Sequence[flo
             try:
                 m = metrics(run(p, seed, duration, **kwargs))
             except FMICallException:
-                # the loop went unstable: the damper refused a velocity outside its +-5 m/s range
+                # the loop went unstable: the damper refused a velocity or a force demand outside its range
                 m = {"unstable": True}
             points.append(SweepPoint(lat, fa, m))
     return base, points

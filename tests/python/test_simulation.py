@@ -87,6 +87,23 @@ def test_fmpy_command_line_gives_the_same_result(fmu, work_dir):
     assert np.allclose(cli["F_damper"], api["F_damper"], rtol=1e-6, atol=1e-6)
 
 
+def test_fmpy_relative_tolerance_is_the_step_size_controls(fmu):
+    """fmpy's relative_tolerance reaches the FMU through fmi2SetupExperiment and sets its rtol, as a
+    start value for rtol would; a start value for rtol, where both are given, wins."""
+    signals = read_csv(INPUT_CSV)
+
+    def force(relative_tolerance=None, rtol=None):
+        start = {"x_damper_start": X_DAMPER_START} | ({} if rtol is None else {"rtol": rtol})
+        return simulate_fmu(str(fmu), fmi_type="CoSimulation", stop_time=0.5, output_interval=OUTPUT_INTERVAL,
+                            input=signals, start_values=start, relative_tolerance=relative_tolerance,
+                            output=["F_damper"])["F_damper"]
+
+    default, tight = force(), force(rtol=1e-5)
+    assert not np.array_equal(default, tight)
+    assert np.array_equal(force(relative_tolerance=1e-5), tight)
+    assert np.array_equal(force(relative_tolerance=1e-5, rtol=1e-3), default)
+
+
 def test_non_dissipative_demand_is_clipped(fmu):
     r = simulate_fmu(str(fmu), fmi_type="CoSimulation", stop_time=0.2, output_interval=OUTPUT_INTERVAL,
                      start_values={"v_damper": 0.15, "F_demand": -5e3},

@@ -4,7 +4,7 @@
 use crate::fmi2::*;
 use crate::logger::{Logger, LOG_EVENTS};
 use crate::state_machine::{allowed, Api, Phase};
-use crate::{Causality, Model, VarInfo};
+use crate::{Causality, Model, ToleranceNote, VarInfo};
 use std::fmt;
 
 /// Why a call did not succeed (fmi2Fatal only comes from caught panics).
@@ -96,7 +96,11 @@ impl<M: Model> Instance<M> {
             )));
         }
         if let Some(tol) = tolerance {
-            self.event(format_args!("tolerance {tol} ignored: fixed internal steps (parameter h_max)"));
+            match self.slave.use_tolerance(tol) {
+                Ok(ToleranceNote::Event(note)) => self.event(format_args!("fmi2SetupExperiment: {note}")),
+                Ok(ToleranceNote::Warning(note)) => self.warning(format_args!("fmi2SetupExperiment: {note}")),
+                Err(e) => return Err(self.error(format_args!("fmi2SetupExperiment: {e}"))),
+            }
         }
         self.start_time = start;
         self.stop_time = stop;

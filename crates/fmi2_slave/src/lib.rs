@@ -60,6 +60,9 @@ pub trait Model: Clone + Default {
     fn set_integer(&mut self, vr: u32, value: i32) -> Result<(), String>;
     fn set_boolean(&mut self, vr: u32, value: bool) -> Result<(), String>;
 
+    /// Takes the tolerance a master gives `fmi2SetupExperiment` (toleranceDefined): Ok with what
+    /// the model made of it, for the log, or Err when the value is refused.
+    fn use_tolerance(&mut self, tolerance: f64) -> Result<ToleranceNote, String>;
     /// Checks the parameters and starts at `start_time` (s).
     fn initialize(&mut self, start_time: f64) -> Result<(), String>;
     /// Time of the model's state (s), `None` before initialisation.
@@ -432,6 +435,14 @@ macro_rules! export_fmi2 {
             )
         }
     };
+}
+
+/// What a model made of a master's tolerance, for the log: a note on what it did, or a warning
+/// where it used a value other than the one given.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum ToleranceNote {
+    Event(String),
+    Warning(String),
 }
 
 /// Refuses a non-finite `value` for the Real variable `name`, or one outside the model

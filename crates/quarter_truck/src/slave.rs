@@ -9,7 +9,7 @@ use crate::snapshot::MAGIC;
 use crate::truck::{Evaluation, Inputs, Params, State};
 use crate::variables::{real_input, real_output, real_parameter};
 use fmi2_slave::snapshot;
-use fmi2_slave::{check_integer, check_real, Model, VarInfo};
+use fmi2_slave::{check_integer, check_real, Model, ToleranceNote, VarInfo};
 
 /// The FMU state: parameters, inputs, and once initialised the states and time.
 #[derive(Clone, Copy, Debug, Default)]
@@ -128,6 +128,13 @@ impl Model for Slave {
 
     fn set_boolean(&mut self, vr: u32, _value: bool) -> Result<(), String> {
         Err(unknown(vr))
+    }
+
+    /// The truck integrates with fixed RK4 steps: a tolerance has nothing to control.
+    fn use_tolerance(&mut self, tolerance: f64) -> Result<ToleranceNote, String> {
+        Ok(ToleranceNote::Event(format!(
+            "tolerance {tolerance} not used: fixed RK4 steps no longer than the parameter h_max"
+        )))
     }
 
     fn initialize(&mut self, start_time: f64) -> Result<(), String> {
