@@ -40,6 +40,22 @@ pub struct Inputs {
     pub force_demand: f64,
     /// Spool position demand (m) (control_mode 1).
     pub x_spool_demand: f64,
+    /// Slopes of the two demands over the step (N/s, m/s), as `a_damper` is the velocity's: a
+    /// master's input derivatives (fmi2SetRealInputDerivatives); 0 holds them.
+    pub force_demand_rate: f64,
+    pub x_spool_demand_rate: f64,
+}
+
+impl Inputs {
+    /// The inputs `elapsed` (s) along their ramps.
+    pub fn moved(&self, elapsed: f64) -> Inputs {
+        Inputs {
+            v_damper: self.v_damper + self.a_damper * elapsed,
+            force_demand: self.force_demand + self.force_demand_rate * elapsed,
+            x_spool_demand: self.x_spool_demand + self.x_spool_demand_rate * elapsed,
+            ..*self
+        }
+    }
 }
 
 /// The evolving state of a damper (everything but the parameters).
@@ -260,7 +276,7 @@ impl Damper {
         let tol = 1e-6 * ts;
         let t_start = self.state.time;
         let t_end = t_start + h;
-        let v_start = self.inputs.v_damper;
+        let start = self.inputs;
         let mut t = t_start;
         let mut stats = StepStats::default();
         // whether `self.start` holds the plant linearised at the present state (by the controller
@@ -283,13 +299,13 @@ impl Damper {
             let span = if (t_next - t - ts).abs() <= tol { ts } else { t_next - t };
             stats.substeps += self.integrate(span, std::mem::take(&mut linearised))?;
             t = t_next;
-            // the velocity at the new time: on the ramp from the step's start
-            self.inputs.v_damper = v_start + self.inputs.a_damper * (t - t_start);
+            // the inputs at the new time: on their ramps from the step's start
+            self.inputs = start.moved(t - t_start);
             if t >= t_end - tol {
                 break;
             }
         }
-        self.inputs.v_damper = v_start + self.inputs.a_damper * h;
+        self.inputs = start.moved(h);
         self.state.time = t_end;
         Ok(stats)
     }

@@ -3,7 +3,7 @@
 //! save/restore. `fmi2_slave` adds the C boundary and the FMI state machine on top.
 
 use crate::damper::{Damper, DamperState, Inputs};
-use crate::model_description::{BooleanVar, Causality, IntegerVar, RealVar, GUID};
+use crate::model_description::{BooleanVar, Causality, IntegerVar, RealVar, CAN_INTERPOLATE_INPUTS, GUID};
 use crate::physics::params::Parameters;
 use crate::snapshot::{check_restored, MAGIC};
 use crate::step_error::StepError;
@@ -58,6 +58,7 @@ impl Slave {
 
 impl Model for Slave {
     const GUID: &'static str = GUID;
+    const CAN_INTERPOLATE_INPUTS: bool = CAN_INTERPOLATE_INPUTS;
     type State = SlaveState;
     type StepError = StepError;
 
@@ -127,6 +128,36 @@ impl Model for Slave {
         Ok(())
     }
 
+    /// First derivatives of the inputs (the master's interpolation of a continuous signal): the
+    /// velocity's is `a_damper`, the demands' move them along a ramp as `a_damper` moves the
+    /// velocity. A master that sends higher orders gets an error, not a silent truncation.
+    fn set_real_input_derivative(&mut self, vr: u32, order: i32, value: f64) -> Result<(), String> {
+        let v = RealVar::from_vr(vr).ok_or_else(|| unknown(vr))?;
+        if order != 1 {
+            return Err(format!(
+                "{}: derivative of order {order} refused: inputs move along ramps (order 1)",
+                v.name()
+            ));
+        }
+        if !value.is_finite() {
+            return Err(format!("{}: derivative {value} refused: not a finite number", v.name()));
+        }
+        let rate = match v {
+            RealVar::VDamper => &mut self.inputs.a_damper,
+            RealVar::FDemand => &mut self.inputs.force_demand_rate,
+            RealVar::XSpoolDemand => &mut self.inputs.x_spool_demand_rate,
+            _ => {
+                return Err(format!(
+                    "{}: no derivative taken (a_damper is itself the velocity's derivative: leave it out of the \
+                     interpolated inputs)",
+                    v.name()
+                ))
+            }
+        };
+        *rate = value;
+        Ok(())
+    }
+
     /// The master's tolerance becomes `rtol`, the relative tolerance of the step-size control (FMI
     /// 2.0 suggests that a slave with a variable-step integrator use it), unless the master set
     /// `rtol` itself. A positive tolerance outside rtol's range is moved to its nearer end, with a
@@ -176,8 +207,9 @@ impl Model for Slave {
         let damper = self.damper.as_mut().expect("do_step after initialisation");
         damper.inputs = self.inputs;
         damper.do_step(h)?;
-        // the velocity input moved along its ramp (a_damper): it is the velocity at the new time
-        self.inputs.v_damper = damper.inputs.v_damper;
+        // the inputs moved along their ramps (a_damper, the input derivatives): they are the
+        // values at the new time
+        self.inputs = damper.inputs;
         Ok(())
     }
 

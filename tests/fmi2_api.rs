@@ -152,6 +152,61 @@ fn the_masters_tolerance_sets_rtol_unless_rtol_was_set() {
     assert_eq!(fmi2SetupExperiment(f.c, 1, 1e-6, 0.0, 0, 0.0), OK, "a refused tolerance leaves the instance usable");
 }
 
+fn set_derivatives(f: &Fmu, vars: &[RealVar], orders: &[i32], values: &[f64]) -> fmi2Status {
+    let vrs: Vec<u32> = vars.iter().map(|v| v.vr()).collect();
+    // SAFETY: the three arrays hold vars.len() elements each.
+    unsafe { fmi2SetRealInputDerivatives(f.c, vrs.as_ptr(), vrs.len(), orders.as_ptr(), values.as_ptr()) }
+}
+
+/// canInterpolateInputs: first derivatives move the inputs along ramps over a step. The velocity's
+/// is `a_damper`; a demand's ramp is what setting the demand at every controller sample gives.
+#[test]
+fn input_derivatives_move_the_inputs_along_ramps() {
+    let f = Fmu::initialised("deriv", |_| ());
+    assert_eq!(set_derivatives(&f, &[RealVar::VDamper], &[1], &[2.0]), OK);
+    assert_eq!(f.get(RealVar::ADamper), 2.0);
+    for (var, order, why) in [
+        (RealVar::VDamper, 2, "v_damper: derivative of order 2 refused"),
+        (RealVar::ADamper, 1, "a_damper: no derivative taken"),
+        (RealVar::FDamper, 1, "F_damper is not an input"),
+        (RealVar::Rtol, 1, "rtol is not an input"),
+    ] {
+        // with a good one first: all or none
+        let status = set_derivatives(&f, &[RealVar::VDamper, var], &[1, order], &[3.0, 1.0]);
+        assert_eq!(status, ERROR, "{why}");
+        assert!(logged("deriv").iter().any(|m| m.contains(why)), "{why}");
+    }
+    assert_eq!(f.get(RealVar::ADamper), 2.0, "nothing set by a refused call");
+
+    // F_demand from 2 kN rising at 1 MN/s for 20 ms at 0.15 m/s: 1 ms steps with the derivative,
+    // against 0.5 ms steps (the controller's sample time) with the demand set at each
+    let (f0, rate, h) = (2e3, 1e6, 1e-3);
+    let ramped = Fmu::initialised("ramped", |f| assert_eq!(f.set(RealVar::XDamperStart, -0.03), OK));
+    let sampled = Fmu::initialised("sampled", |f| assert_eq!(f.set(RealVar::XDamperStart, -0.03), OK));
+    let held = Fmu::initialised("held", |f| assert_eq!(f.set(RealVar::XDamperStart, -0.03), OK));
+    let (mut largest_rounding, mut largest_hold) = (0.0f64, 0.0f64);
+    for k in 0..20 {
+        let t = k as f64 * h;
+        for g in [&ramped, &sampled, &held] {
+            assert_eq!(g.set(RealVar::VDamper, 0.15), OK);
+            assert_eq!(g.set(RealVar::FDemand, f0 + rate * t), OK);
+        }
+        assert_eq!(set_derivatives(&ramped, &[RealVar::FDemand], &[1], &[rate]), OK);
+        assert_eq!(ramped.step(t, h), OK);
+        assert_eq!(held.step(t, h), OK);
+        assert_eq!(sampled.step(t, 0.5 * h), OK);
+        assert_eq!(sampled.set(RealVar::FDemand, f0 + rate * (t + 0.5 * h)), OK);
+        assert_eq!(sampled.step(t + 0.5 * h, 0.5 * h), OK);
+        let force = ramped.get(RealVar::FDamper);
+        largest_rounding = largest_rounding.max((force - sampled.get(RealVar::FDamper)).abs());
+        largest_hold = largest_hold.max((force - held.get(RealVar::FDamper)).abs());
+        // the demand moved to the step's end
+        assert!((ramped.get(RealVar::FDemand) - (f0 + rate * (t + h))).abs() < 1e-9);
+    }
+    assert!(largest_rounding < 1e-6, "ramp against demands set at the samples: {largest_rounding} N");
+    assert!(largest_hold > 10.0, "a held demand is not the ramp: {largest_hold} N");
+}
+
 #[test]
 fn stop_time_is_respected() {
     let f = Fmu::new("stop");

@@ -14,7 +14,12 @@ fn spool_controlled(x_spool: f64, v: f64, x0: f64) -> Damper {
     p.control_mode = 1;
     p.x_spool_start = x_spool;
     p.x_damper_start = x0;
-    Damper::new(p, Inputs { a_damper: 0.0, v_damper: v, force_demand: 0.0, x_spool_demand: x_spool }, 0.0).unwrap()
+    Damper::new(
+        p,
+        Inputs { a_damper: 0.0, v_damper: v, force_demand: 0.0, x_spool_demand: x_spool, ..Default::default() },
+        0.0,
+    )
+    .unwrap()
 }
 
 fn run(d: &mut Damper, seconds: f64) {
@@ -119,7 +124,13 @@ fn force_step_t90(direction: f64) -> f64 {
     p.x_damper_start = -direction * 0.045;
     let mut d = Damper::new(
         p,
-        Inputs { a_damper: 0.0, v_damper: 0.15 * direction, force_demand: 2e3 * direction, x_spool_demand: 0.0 },
+        Inputs {
+            a_damper: 0.0,
+            v_damper: 0.15 * direction,
+            force_demand: 2e3 * direction,
+            x_spool_demand: 0.0,
+            ..Default::default()
+        },
         0.0,
     )
     .unwrap();
@@ -193,7 +204,7 @@ fn tared_load_cell_reads_zero_at_rest_and_the_demand_in_motion() {
     let gas_force = rest.force;
     assert!((gas_force + rest.p_reservoir * p.derive().cylinder.a_rod).abs() < 1e-6, "raw force at rest {gas_force}");
     // extension at 0.15 m/s with a 5 kN demand: the tared reading settles at the demand
-    d.inputs = Inputs { a_damper: 0.0, v_damper: 0.15, force_demand: 5e3, x_spool_demand: 0.0 };
+    d.inputs = Inputs { a_damper: 0.0, v_damper: 0.15, force_demand: 5e3, x_spool_demand: 0.0, ..Default::default() };
     run(&mut d, 0.4);
     let o = d.outputs();
     assert!((o.load_cell - 5e3).abs() < 0.03 * 5e3, "tared force {}", o.load_cell);
@@ -208,9 +219,12 @@ fn steady_extension(setup: impl FnOnce(&mut Parameters)) -> semi_active_damper::
     p.x_spool_start = 1.2e-3;
     p.x_damper_start = -0.05;
     setup(&mut p);
-    let mut d =
-        Damper::new(p, Inputs { a_damper: 0.0, v_damper: 0.15, force_demand: 0.0, x_spool_demand: 1.2e-3 }, 0.0)
-            .unwrap();
+    let mut d = Damper::new(
+        p,
+        Inputs { a_damper: 0.0, v_damper: 0.15, force_demand: 0.0, x_spool_demand: 1.2e-3, ..Default::default() },
+        0.0,
+    )
+    .unwrap();
     run(&mut d, 0.25);
     d.outputs()
 }
@@ -242,9 +256,12 @@ fn effect_switches_change_what_they_name() {
         let mut p = default_parameters();
         p.effect_compressibility = air;
         p.x_damper_start = -0.045;
-        let mut d =
-            Damper::new(p, Inputs { a_damper: 0.0, v_damper: 0.15, force_demand: 2e3, x_spool_demand: 0.0 }, 0.0)
-                .unwrap();
+        let mut d = Damper::new(
+            p,
+            Inputs { a_damper: 0.0, v_damper: 0.15, force_demand: 2e3, x_spool_demand: 0.0, ..Default::default() },
+            0.0,
+        )
+        .unwrap();
         run(&mut d, 0.3);
         let f0 = d.outputs().plant.force;
         d.inputs.force_demand = 12e3;
@@ -262,9 +279,12 @@ fn amplifier_delay_switch_removes_the_dead_time() {
         let mut p = default_parameters();
         p.control_mode = 1;
         p.effect_amplifier_delay = delay;
-        let mut d =
-            Damper::new(p, Inputs { a_damper: 0.0, v_damper: 0.15, force_demand: 0.0, x_spool_demand: 2.5e-3 }, 0.0)
-                .unwrap();
+        let mut d = Damper::new(
+            p,
+            Inputs { a_damper: 0.0, v_damper: 0.15, force_demand: 0.0, x_spool_demand: 2.5e-3, ..Default::default() },
+            0.0,
+        )
+        .unwrap();
         run(&mut d, 0.1);
         d.inputs.x_spool_demand = 1.5e-3;
         (1..=100).find(|_| {

@@ -104,6 +104,38 @@ def test_fmpy_relative_tolerance_is_the_step_size_controls(fmu):
     assert np.array_equal(force(relative_tolerance=1e-5, rtol=1e-3), default)
 
 
+def test_a_master_that_interpolates_inputs_moves_them_along_ramps(damper_unit):
+    """canInterpolateInputs: a master sends each input's slope with fmi2SetRealInputDerivatives.
+    The velocity's equals setting a_damper; a demand's ramp changes the force. (fmpy's
+    simulate_fmu(set_input_derivatives=True) cannot be used: fmpy 0.3.32 sizes its derivative
+    buffer for nine inputs.)"""
+    h, slope, demand_rate = 1e-3, 4.0, 2e5   # s, m/s2, N/s
+    by_derivative, by_a_damper, demand_ramped = (Slave(damper_unit, name) for name in ("deriv", "a", "ramp"))
+    for s in (by_derivative, by_a_damper, demand_ramped):
+        s.initialize(x_damper_start=X_DAMPER_START)
+    v_vr, f_vr = damper_unit.vr("v_damper"), damper_unit.vr("F_demand")
+    forces = []
+    for k in range(50):
+        v = 0.05 + slope * k * h
+        by_derivative.fmu.setRealInputDerivatives([v_vr], [1], [slope])
+        by_derivative.step(h, k * h, v_damper=v, F_demand=6e3)
+        by_a_damper.step(h, k * h, v_damper=v, a_damper=slope, F_demand=6e3)
+        demand_ramped.fmu.setRealInputDerivatives([v_vr, f_vr], [1, 1], [slope, demand_rate])
+        demand_ramped.step(h, k * h, v_damper=v, F_demand=6e3 + demand_rate * k * h)
+        forces.append([s.get(["F_damper"])[0] for s in (by_derivative, by_a_damper, demand_ramped)])
+    forces = np.array(forces)
+    assert np.array_equal(forces[:, 0], forces[:, 1])
+    assert np.max(np.abs(forces[:, 2] - forces[:, 0])) > 100.0
+    # a second derivative is refused, not dropped (fmpy's logger proxy hands every instance's
+    # messages to the instance made last)
+    assert demand_ramped.errors() == []
+    with pytest.raises(Exception):
+        by_derivative.fmu.setRealInputDerivatives([v_vr], [2], [1.0])
+    assert "v_damper: derivative of order 2 refused" in demand_ramped.errors()[-1][2]
+    for s in (by_derivative, by_a_damper, demand_ramped):
+        s.free()
+
+
 def test_non_dissipative_demand_is_clipped(fmu):
     r = simulate_fmu(str(fmu), fmi_type="CoSimulation", stop_time=0.2, output_interval=OUTPUT_INTERVAL,
                      start_values={"v_damper": 0.15, "F_demand": -5e3},

@@ -558,7 +558,8 @@ fn hil_run(
         let v_measured = measure(&[v_rel], o.noise.v_damper, noise_rng)[0];
         let f_dem = (probe.f_demand * 10.0).round() / 10.0;
         let v_in = if o.errors_in_variables { v_rel } else { v_measured };
-        let inputs = Inputs { v_damper: v_in, a_damper: 0.0, force_demand: f_dem, x_spool_demand: 0.0 };
+        let inputs =
+            Inputs { v_damper: v_in, a_damper: 0.0, force_demand: f_dem, x_spool_demand: 0.0, ..Default::default() };
         let d = match damper.as_mut() {
             None => damper.insert(Damper::new(*p, inputs, t[0]).map_err(|e| format!("truth parameters: {e}"))?),
             Some(d) => {

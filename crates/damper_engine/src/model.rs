@@ -73,7 +73,7 @@ impl Drive {
             Demand::Force(f) => (f[k], 0.0),
             Demand::SpoolPosition(x) => (0.0, x[k]),
         };
-        Inputs { v_damper: self.v_damper[k], a_damper: 0.0, force_demand, x_spool_demand }
+        Inputs { v_damper: self.v_damper[k], a_damper: 0.0, force_demand, x_spool_demand, ..Default::default() }
     }
 
     /// The inputs over substep `j` of `m` equal substeps of the interval from sample `k` to

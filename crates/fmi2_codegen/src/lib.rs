@@ -85,6 +85,7 @@ pub fn generate() {
     let mut reader = Reader::from_str(&src);
     let mut guid = None;
     let mut model_identifier = None;
+    let mut can_interpolate_inputs = false;
     let mut units = BTreeSet::new();
     let mut vars: Vec<Var> = Vec::new();
     let mut current: Option<Var> = None;
@@ -120,7 +121,10 @@ pub fn generate() {
                 }
                 guid = a.get("guid").cloned();
             }
-            "CoSimulation" => model_identifier = a.get("modelIdentifier").cloned(),
+            "CoSimulation" => {
+                model_identifier = a.get("modelIdentifier").cloned();
+                can_interpolate_inputs = a.get("canInterpolateInputs").is_some_and(|v| v == "true" || v == "1");
+            }
             "Unit" => {
                 units.insert(a.get("name").cloned().unwrap_or_else(|| fail(line, "Unit without name")));
             }
@@ -274,6 +278,9 @@ pub fn generate() {
     let _ = writeln!(out, "pub const GUID: &str = {guid:?};");
     let _ = writeln!(out, "/// `CoSimulation/@modelIdentifier`: the shared library's file name.");
     let _ = writeln!(out, "pub const MODEL_IDENTIFIER: &str = {model_identifier:?};");
+    let _ =
+        writeln!(out, "/// `CoSimulation/@canInterpolateInputs`: whether fmi2SetRealInputDerivatives is supported.");
+    let _ = writeln!(out, "pub const CAN_INTERPOLATE_INPUTS: bool = {can_interpolate_inputs};");
     for ty in ["Real", "Integer", "Boolean"] {
         let (rust_ty, enum_name) = match ty {
             "Real" => ("f64", "RealVar"),

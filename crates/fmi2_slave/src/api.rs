@@ -216,6 +216,27 @@ get_set!(get_real, set_real, f64, "fmi2GetReal", "fmi2SetReal");
 get_set!(get_integer, set_integer, i32, "fmi2GetInteger", "fmi2SetInteger");
 get_set!(get_boolean, set_boolean, i32, "fmi2GetBoolean", "fmi2SetBoolean");
 
+/// # Safety
+/// `vr`, `order` and `value` must hold `nvr` elements (or be NULL when `nvr` is 0).
+pub unsafe fn set_real_input_derivatives<M: Model>(
+    c: fmi2Component,
+    vr: *const u32,
+    nvr: usize,
+    order: *const i32,
+    value: *const f64,
+) -> fmi2Status {
+    const NAME: &str = "fmi2SetRealInputDerivatives";
+    with_instance::<M>(c, NAME, |inst| {
+        // SAFETY: the importer supplies nvr elements in each array.
+        let vrs = unsafe { slice(vr, nvr) }.ok_or_else(|| null_arg(inst, NAME, "vr"))?;
+        // SAFETY: as for vr.
+        let orders = unsafe { slice(order, nvr) }.ok_or_else(|| null_arg(inst, NAME, "order"))?;
+        // SAFETY: as for vr.
+        let values = unsafe { slice(value, nvr) }.ok_or_else(|| null_arg(inst, NAME, "value"))?;
+        inst.set_real_input_derivatives(vrs, orders, values)
+    })
+}
+
 /// These FMUs have no String variables: any value reference is unknown.
 ///
 /// # Safety

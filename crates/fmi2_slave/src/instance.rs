@@ -224,6 +224,25 @@ impl<M: Model> Instance<M> {
         self.set_all("fmi2SetReal", "Real", M::real_info, vrs, values, M::set_real)
     }
 
+    /// Input derivatives (canInterpolateInputs): Real inputs only, set where inputs may be set, all
+    /// or none.
+    pub fn set_real_input_derivatives(&mut self, vrs: &[u32], orders: &[i32], values: &[f64]) -> Outcome {
+        const NAME: &str = "fmi2SetRealInputDerivatives";
+        self.check(Api::SetInput, NAME)?;
+        for vr in vrs {
+            let v = self.lookup(NAME, *vr, "Real", M::real_info)?;
+            if v.causality != Causality::Input {
+                return Err(self.error(format_args!("{NAME}: {} is not an input", v.name)));
+            }
+        }
+        let mut next = self.slave.clone();
+        for ((vr, order), value) in vrs.iter().zip(orders).zip(values) {
+            next.set_real_input_derivative(*vr, *order, *value).map_err(|e| self.error(format_args!("{NAME}: {e}")))?;
+        }
+        self.slave = next;
+        Ok(())
+    }
+
     pub fn set_integer(&mut self, vrs: &[u32], values: &[i32]) -> Outcome {
         self.set_all("fmi2SetInteger", "Integer", M::integer_info, vrs, values, M::set_integer)
     }

@@ -60,6 +60,16 @@ pub trait Model: Clone + Default {
     fn set_integer(&mut self, vr: u32, value: i32) -> Result<(), String>;
     fn set_boolean(&mut self, vr: u32, value: bool) -> Result<(), String>;
 
+    /// `CoSimulation/@canInterpolateInputs` of the model description: whether
+    /// [`Model::set_real_input_derivative`] takes derivatives (else fmi2SetRealInputDerivatives is
+    /// refused before it is called).
+    const CAN_INTERPOLATE_INPUTS: bool = false;
+    /// Sets the `order`-th time derivative of the Real input `vr` (causality checked by the
+    /// caller), from the start of the next communication step.
+    fn set_real_input_derivative(&mut self, vr: u32, order: i32, value: f64) -> Result<(), String> {
+        let _ = (vr, order, value);
+        Err("canInterpolateInputs is false".into())
+    }
     /// Takes the tolerance a master gives `fmi2SetupExperiment` (toleranceDefined): Ok with what
     /// the model made of it, for the log, or Err when the value is refused.
     fn use_tolerance(&mut self, tolerance: f64) -> Result<ToleranceNote, String>;
@@ -339,15 +349,25 @@ macro_rules! export_fmi2 {
                 "providesDirectionalDerivative is false",
             )
         }
+        /// # Safety
+        /// `vr`, `order` and `value` must hold `nvr` elements.
         #[unsafe(no_mangle)]
-        pub extern "C" fn fmi2SetRealInputDerivatives(
+        pub unsafe extern "C" fn fmi2SetRealInputDerivatives(
             c: __fmi2::fmi2Component,
-            _: *const u32,
-            _: usize,
-            _: *const i32,
-            _: *const f64,
+            vr: *const u32,
+            nvr: usize,
+            order: *const i32,
+            value: *const f64,
         ) -> __fmi2::fmi2Status {
-            $crate::api::unsupported::<$model>(c, "fmi2SetRealInputDerivatives", "canInterpolateInputs is false")
+            if !<$model as $crate::Model>::CAN_INTERPOLATE_INPUTS {
+                return $crate::api::unsupported::<$model>(
+                    c,
+                    "fmi2SetRealInputDerivatives",
+                    "canInterpolateInputs is false",
+                );
+            }
+            // SAFETY: the caller upholds this function's safety section, which is the api function's.
+            unsafe { $crate::api::set_real_input_derivatives::<$model>(c, vr, nvr, order, value) }
         }
         #[unsafe(no_mangle)]
         pub extern "C" fn fmi2GetRealOutputDerivatives(

@@ -4,7 +4,7 @@
 //! the FMI state machine on top.
 
 use crate::limits::MAX_SUBSTEPS;
-use crate::model_description::{BooleanVar, Causality, IntegerVar, RealVar, GUID};
+use crate::model_description::{BooleanVar, Causality, IntegerVar, RealVar, CAN_INTERPOLATE_INPUTS, GUID};
 use crate::snapshot::MAGIC;
 use crate::truck::{Evaluation, Inputs, Params, State};
 use crate::variables::{real_input, real_output, real_parameter};
@@ -66,6 +66,7 @@ impl Slave {
 
 impl Model for Slave {
     const GUID: &'static str = GUID;
+    const CAN_INTERPOLATE_INPUTS: bool = CAN_INTERPOLATE_INPUTS;
     type State = Slave;
     type StepError = &'static str;
 
