@@ -18,7 +18,7 @@ import shutil
 import sys
 import tempfile
 from collections.abc import Callable, Iterable, Sequence
-from ctypes import Array, byref
+from ctypes import Array
 from pathlib import Path
 from typing import ClassVar
 
@@ -33,7 +33,6 @@ from fmpy.fmi2 import (
     fmi2Real,
     fmi2ValueReference,
 )
-from fmpy.logging import addLoggerProxy
 from fmpy.model_description import ModelVariable
 
 # A value of an FMI 2.0 Real, Integer, Enumeration or Boolean variable.
@@ -106,14 +105,16 @@ class Slave:
         self._callbacks.logger = self._logger
         self._callbacks.allocateMemory = fmi2CallbackAllocateMemoryTYPE(calloc)
         self._callbacks.freeMemory = fmi2CallbackFreeMemoryTYPE(free)
-        addLoggerProxy(byref(self._callbacks))  # formats the printf-style message in C
+        # No fmpy.logging.addLoggerProxy (which formats printf-style messages in C): it keeps one
+        # logger for the whole process, so every instance's messages reached the instance made
+        # last. These FMUs pass the message as a format string without arguments, '%' as '%%'.
         self.fmu.instantiate(callbacks=self._callbacks, loggingOn=logging_on)
         # Value references and a value buffer per list of Real variables: one fmi2Get/SetReal call
         # per list, without building them again at every step of a master.
         self._reals: dict[tuple[str, ...], tuple[Array, Array]] = {}
 
     def _log(self, env: object, instance_name: bytes, status: int, category: bytes, message: bytes) -> None:
-        text = message.decode("utf-8", "replace") if message else ""
+        text = message.decode("utf-8", "replace").replace("%%", "%") if message else ""
         cat = category.decode("utf-8", "replace") if category else ""
         self.messages.append((status, cat, text))
         if status >= WARNING or self.logging_on:
