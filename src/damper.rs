@@ -47,10 +47,15 @@ pub struct Inputs {
 }
 
 impl Inputs {
+    /// The damper velocity (m/s) `elapsed` (s) along its ramp.
+    pub fn velocity_at(&self, elapsed: f64) -> f64 {
+        self.v_damper + self.a_damper * elapsed
+    }
+
     /// The inputs `elapsed` (s) along their ramps.
     pub fn moved(&self, elapsed: f64) -> Inputs {
         Inputs {
-            v_damper: self.v_damper + self.a_damper * elapsed,
+            v_damper: self.velocity_at(elapsed),
             force_demand: self.force_demand + self.force_demand_rate * elapsed,
             x_spool_demand: self.x_spool_demand + self.x_spool_demand_rate * elapsed,
             ..*self
@@ -310,14 +315,9 @@ impl Damper {
         Ok(stats)
     }
 
-    /// The damper velocity (m/s) `from` (s) into the present ramp.
-    fn velocity_at(&self, from: f64) -> f64 {
-        self.inputs.v_damper + self.inputs.a_damper * from
-    }
-
     /// The plant at the velocity `from` (s) into the present ramp.
     fn plant_at(&self, from: f64) -> Plant<'_> {
-        Plant { v_damper: self.velocity_at(from), ..self.plant() }
+        Plant { v_damper: self.inputs.velocity_at(from), ..self.plant() }
     }
 
     /// Evaluates and linearises the plant at the present state, `from` (s) into the velocity's
@@ -326,7 +326,7 @@ impl Damper {
         let plant = Plant {
             p: &self.params,
             d: &self.derived,
-            v_damper: self.velocity_at(from),
+            v_damper: self.inputs.velocity_at(from),
             i_command: self.state.i_command,
         };
         self.start.0 = plant.linearise(&self.state.y, &mut self.start.1);
