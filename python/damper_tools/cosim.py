@@ -31,6 +31,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+from fmpy.fmi1 import FMICallException
 
 from damper_tools import REPO, roads
 from damper_tools.fmu import FmuUnit, Slave, Value
@@ -70,13 +71,25 @@ class Car:
         return int(self.truck_parameters.get("damper_mode", MODE_EXTERNAL)) == MODE_EXTERNAL
 
 
+class Refused(RuntimeError):
+    """An FMU refused a call of the master (fmi2Error): the instance, the communication point and the
+    message it logged. A run that goes unstable ends this way, on an input out of the FMU's range."""
+
+    def __init__(self, instance: str, time: float, message: str) -> None:
+        super().__init__(f"{instance} at t = {time:.3f} s: {message}")
+        self.instance, self.time, self.message = instance, time, message
+
+
 def simulate(cars: Sequence[Car], step: float, n_steps: int, truck_fmu: str | Path = TRUCK_FMU,
              damper_fmu: str | Path = DAMPER_FMU, start_time: float = 0.0,
-             damper_outputs: Sequence[str] = ("F_damper",), logging_on: bool = False) -> list[dict[str, np.ndarray]]:
+             damper_outputs: Sequence[str] = ("F_damper",), logging_on: bool = False,
+             echo: bool = True) -> list[dict[str, np.ndarray]]:
     """Runs the cars (one truck instance each, plus a damper instance for damper_mode 0) for n_steps
     Jacobi steps of `step` seconds. Returns one dict per car: 'time' (n_steps + 1 points), the road,
     the truck outputs (TRUCK_OUTPUTS) and the damper outputs (damper_outputs), each at the
-    communication points, the first row being the initial values after initialisation."""
+    communication points, the first row being the initial values after initialisation.
+    A call an FMU refuses raises `Refused`; its warnings and errors go to stderr unless echo is false
+    (for runs expected to fail, such as a sweep's unstable points)."""
     if not step > 0 or n_steps < 1:
         raise ValueError(f"need step > 0 and n_steps >= 1 (got {step}, {n_steps})")
     for car in cars:
@@ -88,14 +101,15 @@ def simulate(cars: Sequence[Car], step: float, n_steps: int, truck_fmu: str | Pa
     times = start_time + step * np.arange(n_steps + 1)
 
     trucks, dampers = [], []
+    t = start_time
     try:
         for car in cars:
-            truck = Slave(truck_unit, f"{car.name}.truck", logging_on)
+            truck = Slave(truck_unit, f"{car.name}.truck", logging_on, echo)
             trucks.append(truck)
             truck.initialize(start_time, stop_time, **car.truck_parameters)
             damper = None
             if car.has_damper:
-                damper = Slave(damper_unit, f"{car.name}.damper", logging_on)
+                damper = Slave(damper_unit, f"{car.name}.damper", logging_on, echo)
                 damper.initialize(start_time, stop_time, **car.damper_parameters)
             dampers.append(damper)
 
@@ -132,6 +146,12 @@ def simulate(cars: Sequence[Car], step: float, n_steps: int, truck_fmu: str | Pa
                 if dampers[j]:
                     dampers[j].step(step, t)
             record(k + 1)
+    except FMICallException as e:
+        # the one instance with an error is the one that refused (a master stops at its first error)
+        culprit = next((s for s in trucks + dampers if s is not None and s.errors()), None)
+        if culprit is None:
+            raise
+        raise Refused(culprit.name, float(t), culprit.errors()[-1][2]) from e
     finally:
         for inst in trucks + [d for d in dampers if d]:
             inst.free()

@@ -88,13 +88,14 @@ class FmuUnit:
 class Slave:
     """One FMU2Slave instance of a unit, with a logger that keeps the messages in `messages` as
     (status, category, text). Messages of status Warning and worse are printed to stderr (pytest
-    shows them when a test fails), all of them with logging_on. Variables are set and read by name;
-    `time` is where the last step ended."""
+    shows them when a test fails) unless `echo` is false, all of them with logging_on. Variables are
+    set and read by name; `time` is where the last step ended."""
 
-    def __init__(self, unit: FmuUnit, instance_name: str, logging_on: bool = False) -> None:
+    def __init__(self, unit: FmuUnit, instance_name: str, logging_on: bool = False, echo: bool = True) -> None:
         self.unit = unit
         self.name = instance_name
         self.logging_on = logging_on
+        self.echo = echo
         self.messages: list[tuple[int, str, str]] = []
         self.time = 0.0
         self.fmu = FMU2Slave(guid=unit.md.guid, unzipDirectory=str(unit.unzipdir),
@@ -117,7 +118,7 @@ class Slave:
         text = message.decode("utf-8", "replace").replace("%%", "%") if message else ""
         cat = category.decode("utf-8", "replace") if category else ""
         self.messages.append((status, cat, text))
-        if status >= WARNING or self.logging_on:
+        if (status >= WARNING and self.echo) or self.logging_on:
             label = STATUS[status] if 0 <= status < len(STATUS) else status
             print(f"[{self.name}] {label} {cat}: {text}", file=sys.stderr)
 

@@ -36,7 +36,6 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-from fmpy.fmi1 import FMICallException
 
 from damper_tools import REPO, cosim, jsonable, roads
 from damper_tools.hil_scenarios import FADE_IN, SETTLE, STEP, force_spectrum, spectral_peaks, tracking_metrics
@@ -198,10 +197,11 @@ class Rig:
 def run(params: RigParameters | None, seed: int = SEED, duration: float = DURATION, settle: float = SETTLE,
         step: float = STEP, tare_load_cell: bool = True, force_controller: int = 0, road: str = ROAD,
         speed: float = SPEED, truck_fmu: str | Path = cosim.TRUCK_FMU,
-        damper_fmu: str | Path = cosim.DAMPER_FMU) -> dict[str, Any]:
+        damper_fmu: str | Path = cosim.DAMPER_FMU, echo: bool = True) -> dict[str, Any]:
     """The quarter truck + damper FMU on a random road, with a rig (params) or without (None).
     Returns the result dict of cosim.simulate plus 'F_logged' (the force the truck received: the
-    damper's F_damper without a rig) and 'first' (the first sample after settle)."""
+    damper's F_damper without a rig) and 'first' (the first sample after settle). A run that goes
+    unstable raises cosim.Refused (echo: print the FMU's refusal too)."""
     case = roads.road_case(road, speed, settle + duration, seed, step=step, fade_in=FADE_IN)
     car = cosim.Car("qt", case.z_road, case.v_road, {"damper_mode": cosim.MODE_EXTERNAL},
                     {"tare_load_cell": tare_load_cell, "force_controller": force_controller})
@@ -211,7 +211,7 @@ def run(params: RigParameters | None, seed: int = SEED, duration: float = DURATI
         car.damper_inputs, car.truck_force = rig.damper_inputs, rig.truck_force
     n = case.t.size - 1
     res = cosim.simulate([car], step, n, truck_fmu=truck_fmu, damper_fmu=damper_fmu,
-                         damper_outputs=("F_damper", "F_demand_clipped", "x_spool", "x_damper"))[0]
+                         damper_outputs=("F_damper", "F_demand_clipped", "x_spool", "x_damper"), echo=echo)[0]
     if rig is None:
         res["F_logged"] = res["damper.F_damper"]
     else:  # the force the truck got over step k, k = 0..n-1; the last point: what it would get next
@@ -264,12 +264,7 @@ def sweep(latencies: Sequence[float] = SWEEP_LATENCIES, bandwidths: Sequence[flo
     for lat in latencies:
         for fa in bandwidths:
             p = RigParameters(actuator_delay=lat, f_actuator=fa, **RIG_FIXED)
-            try:
-                m = metrics(run(p, seed, duration, **kwargs))
-            except FMICallException:
-                # the loop went unstable: the damper refused a velocity or a force demand outside its range
-                m = {"unstable": True}
-            points.append(SweepPoint(lat, fa, m))
+            points.append(SweepPoint(lat, fa, _metrics_or_unstable(p, seed, duration, **kwargs)))
     return base, points
 
 
@@ -279,11 +274,17 @@ def force_path_sweep(delays: Sequence[float] = SWEEP_LOAD_CELL_DELAYS, duration:
     out = []
     for d in delays:
         p = RigParameters(f_load_cell=RIG_FIXED["f_load_cell"], load_cell_delay=d)
-        try:
-            out.append((d, metrics(run(p, seed, duration, **kwargs))))
-        except FMICallException:
-            out.append((d, {"unstable": True}))
+        out.append((d, _metrics_or_unstable(p, seed, duration, **kwargs)))
     return out
+
+
+def _metrics_or_unstable(params: RigParameters, seed: int, duration: float, **kwargs: Any) -> dict[str, Any]:
+    """The run's metrics, or {'unstable': what was refused} when the loop went unstable and the damper
+    refused a velocity or a force demand outside its range (expected at some sweep points: not echoed)."""
+    try:
+        return metrics(run(params, seed, duration, echo=False, **kwargs))
+    except cosim.Refused as e:
+        return {"unstable": _refusal(e)}
 
 
 # The rigs whose seed-3 run is paper-like (force_path_sweep): their robustness over the seeds, in the
@@ -338,6 +339,17 @@ def _kn(x: float) -> str:
     return f"{x / 1e3:+.2f}"
 
 
+def _refusal(e: cosim.Refused) -> str:
+    """'F_demand 101.7 kN at 4.21 s' from the damper's refusal 'fmi2SetReal: F_demand = 101663.9 refused: ...'."""
+    name, _, rest = e.message.partition(": ")[2].partition(" = ")
+    try:
+        value = float(rest.split()[0])
+    except (ValueError, IndexError):
+        return f"{e.message} at {e.time:.2f} s"
+    shown = {"F_demand": f"{value / 1e3:.1f} kN", "v_damper": f"{value:.2f} m/s"}.get(name, f"{value:g}")
+    return f"{name} {shown} refused at {e.time:.2f} s"
+
+
 def sweep_table(base: dict[str, Any], points: Sequence[SweepPoint],
                 force_path: Sequence[tuple[float, dict[str, Any]]]) -> str:
     rows = ["| actuator delay (ms) | actuator bandwidth (Hz) | load-cell delay (ms) | force peak 5–30 Hz (Hz) | "
@@ -347,7 +359,7 @@ def sweep_table(base: dict[str, Any], points: Sequence[SweepPoint],
 
     def row(lat: str, fa: str, lcd: str, m: dict[str, Any]) -> str:
         if m.get("unstable"):
-            return f"| {lat} | {fa} | {lcd} | unstable (damper velocity beyond ±5 m/s) | | | | | | no | no |"
+            return f"| {lat} | {fa} | {lcd} | unstable: {m['unstable']} | | | | | | no | no |"
         return (f"| {lat} | {fa} | {lcd} | {m['peak_Hz']:.1f} | {m['prominence']:.1f} | "
                 f"{_kn(m['ext_mean_error'])}, {100 * m['ext_above']:.0f} % | "
                 f"{_kn(m['comp_mean_error'])}, {100 * m['comp_below']:.0f} % | {m['error_rms'] / 1e3:.2f} | "

@@ -137,3 +137,21 @@ def test_one_master_runs_several_cars_independently(fmus):
         alone = cosim.simulate([car], step, n, **fmus)[0]
         assert res.keys() == alone.keys()
         assert all(np.array_equal(res[k], alone[k]) for k in res), car.name
+
+
+def test_a_refused_input_names_the_instance_the_time_and_the_reason(fmus, capfd):
+    """A loop that feeds the damper an impossible velocity stops with cosim.Refused, which says which
+    FMU instance refused what and when; with echo off nothing reaches stderr (a sweep's expected
+    failures), with echo on the FMU's message does."""
+    step = 1e-3
+    z, v, n = road(step)
+    car = cosim.Car("car", z, v, {"damper_mode": cosim.MODE_EXTERNAL})
+    car.damper_inputs = lambda k, v_in, f_in: (6.0 if k == 20 else v_in, f_in)  # beyond the damper's +-5 m/s
+    for echo in (False, True):
+        with pytest.raises(cosim.Refused) as info:
+            cosim.simulate([car], step, n, echo=echo, **fmus)
+        e = info.value
+        assert e.instance == "car.damper"
+        assert e.time == pytest.approx(20 * step)
+        assert "v_damper = 6 refused" in e.message, e.message
+        assert ("v_damper = 6 refused" in capfd.readouterr().err) == echo

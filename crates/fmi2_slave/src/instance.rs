@@ -212,9 +212,19 @@ impl<M: Model> Instance<M> {
             let v = self.lookup(function, *vr, ty, info)?;
             self.check_set(function, v.name, v.causality)?;
         }
+        self.commit_all(function, vrs.iter().copied().zip(values.iter().copied()), set)
+    }
+
+    /// Applies the values to a copy of the model that replaces it only if every one is accepted.
+    fn commit_all<T>(
+        &mut self,
+        function: &str,
+        values: impl Iterator<Item = (u32, T)>,
+        set: impl Fn(&mut M, u32, T) -> Result<(), String>,
+    ) -> Outcome {
         let mut next = self.slave.clone();
-        for (vr, value) in vrs.iter().zip(values) {
-            set(&mut next, *vr, *value).map_err(|e| self.error(format_args!("{function}: {e}")))?;
+        for (vr, value) in values {
+            set(&mut next, vr, value).map_err(|e| self.error(format_args!("{function}: {e}")))?;
         }
         self.slave = next;
         Ok(())
@@ -235,12 +245,8 @@ impl<M: Model> Instance<M> {
                 return Err(self.error(format_args!("{NAME}: {} is not an input", v.name)));
             }
         }
-        let mut next = self.slave.clone();
-        for ((vr, order), value) in vrs.iter().zip(orders).zip(values) {
-            next.set_real_input_derivative(*vr, *order, *value).map_err(|e| self.error(format_args!("{NAME}: {e}")))?;
-        }
-        self.slave = next;
-        Ok(())
+        let derivatives = vrs.iter().copied().zip(orders.iter().copied().zip(values.iter().copied()));
+        self.commit_all(NAME, derivatives, |m, vr, (order, value)| m.set_real_input_derivative(vr, order, value))
     }
 
     pub fn set_integer(&mut self, vrs: &[u32], values: &[i32]) -> Outcome {
