@@ -3,8 +3,10 @@ the paper's statements. Scenarios, metrics and bands are those of scripts/paper_
 (scripts/rig_tests.py)."""
 
 import math
+from pathlib import Path
 
 import pytest
+from fmpy import read_csv
 
 from damper_tools import rig_tests as rt
 from damper_tools.rig_tests import DEAD_TIME_BAND, EXT_T90_BAND, SPOOL_OVERSHOOT_MAX_PCT
@@ -12,6 +14,7 @@ from damper_tools.rig_tests import DEAD_TIME_BAND, EXT_T90_BAND, SPOOL_OVERSHOOT
 SPOOL_FINAL_TOL = 0.03        # |x_spool - demand| at the end of the run, fraction of the step
 EXT_FORCE_FINAL_TOL = 0.05    # |F - demand| / demand 150 ms after an extension step
 COMP_FORCE_FINAL_TOL = 0.10   # the same in compression (slower, 3x oil volume)
+EXAMPLE_INPUT_CSV = Path(__file__).resolve().parent / "resources" / "damper_input.csv"  # README's fmpy example
 P_ATM = 101325.0              # Pa: gauge pressures cannot go below -P_ATM (absolute vacuum)
 CV_FULL_DROP = 1e5            # Pa: the replenishing check valve is fully open at this drop (p_cv_full)
 
@@ -69,3 +72,11 @@ def test_chamber_pressures_are_physical(rig):
         if name != "compression":  # every spool run extends at 0.15 m/s
             drop = r["p_reservoir"] - r["p_comp"]
             assert drop.max() < CV_FULL_DROP, (name, x, drop.max())
+
+
+def test_the_rig_and_the_example_file_give_every_input(damper_unit):
+    """fmpy warns about an input its input table leaves out (and holds its start value): the rig
+    tests' tables and the documented example file name every input of the FMU."""
+    inputs = {v.name for v in damper_unit.md.modelVariables if v.causality == "input"}
+    assert set(rt.input_table(0.1, {}).dtype.names) == inputs | {"time"}
+    assert set(read_csv(EXAMPLE_INPUT_CSV).dtype.names) == inputs | {"time"}
