@@ -92,6 +92,27 @@ impl DamperState {
     }
 }
 
+/// The stroke left the cylinder's travel in a step: there are no end stops, so the results are not
+/// physical until it is back.
+#[derive(Clone, Copy, Debug)]
+pub struct BeyondStroke {
+    /// Stroke at the step's end (m).
+    pub x_damper: f64,
+    /// Half stroke (m).
+    pub l_half_stroke: f64,
+}
+
+impl std::fmt::Display for BeyondStroke {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "x_damper = {} m is beyond the half stroke L_half_stroke = {} m; no end stops are modelled and the \
+             chamber volumes are floored, so the results are not physical until the stroke is back within it",
+            self.x_damper, self.l_half_stroke
+        )
+    }
+}
+
 /// Work done by one communication step.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct StepStats {
@@ -237,6 +258,14 @@ impl Damper {
     /// [`Damper::load_cell`] with `inputs` applied (see [`Damper::outputs_with`]).
     pub fn load_cell_with(&self, inputs: &Inputs) -> f64 {
         Plant { v_damper: inputs.v_damper, ..self.plant() }.force(&self.state.y) - self.state.controller.force_tare
+    }
+
+    /// The stroke and the half stroke where the stroke is beyond the cylinder's travel
+    /// (|x_damper| > `l_half_stroke`), which has no end stops.
+    pub fn beyond_stroke(&self) -> Option<BeyondStroke> {
+        let x_damper = self.state.y[crate::physics::plant::idx::X_DAMPER];
+        let l_half_stroke = self.params.l_half_stroke;
+        (x_damper.abs() > l_half_stroke).then_some(BeyondStroke { x_damper, l_half_stroke })
     }
 
     /// Refuses a step of `h` (s) that spans more than [`MAX_SAMPLES_PER_STEP`] samples or whose

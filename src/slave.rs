@@ -2,7 +2,7 @@
 //! generated enums, range checks from the XML's min/max, initialisation, stepping and state
 //! save/restore. `fmi2_slave` adds the C boundary and the FMI state machine on top.
 
-use crate::damper::{Damper, DamperState, Inputs};
+use crate::damper::{BeyondStroke, Damper, DamperState, Inputs};
 use crate::model_description::{BooleanVar, Causality, IntegerVar, RealVar, CAN_INTERPOLATE_INPUTS, GUID};
 use crate::physics::params::Parameters;
 use crate::snapshot::{check_restored, MAGIC};
@@ -61,6 +61,7 @@ impl Model for Slave {
     const CAN_INTERPOLATE_INPUTS: bool = CAN_INTERPOLATE_INPUTS;
     type State = SlaveState;
     type StepError = StepError;
+    type StepWarning = BeyondStroke;
 
     fn real_info(vr: u32) -> Option<VarInfo> {
         RealVar::from_vr(vr).map(RealVar::info)
@@ -203,14 +204,16 @@ impl Model for Slave {
         self.damper.as_ref().expect("check_step after initialisation").check_step(h)
     }
 
-    fn do_step(&mut self, h: f64) -> Result<(), StepError> {
+    fn do_step(&mut self, h: f64) -> Result<Option<BeyondStroke>, StepError> {
         let damper = self.damper.as_mut().expect("do_step after initialisation");
         damper.inputs = self.inputs;
+        let was_beyond = damper.beyond_stroke().is_some();
         damper.do_step(h)?;
         // the inputs moved along their ramps (a_damper, the input derivatives): they are the
         // values at the new time
         self.inputs = damper.inputs;
-        Ok(())
+        // once per excursion: a master driving the damper through its end would drown in warnings
+        Ok(damper.beyond_stroke().filter(|_| !was_beyond))
     }
 
     fn state(&self) -> SlaveState {

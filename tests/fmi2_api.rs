@@ -307,3 +307,35 @@ fn debug_logging_categories() {
     assert_eq!(fmi2ExitInitializationMode(f.c), OK);
     assert!(logged("categories").iter().any(|m| m.contains("initialised at t = 0 s")));
 }
+
+/// There are no end stops: a stroke beyond `L_half_stroke` is logged as a warning, once per
+/// excursion, and the simulation goes on.
+#[test]
+fn a_stroke_beyond_the_travel_is_warned_about_once_per_excursion() {
+    const NAME: &str = "beyond_stroke";
+    let f = Fmu::initialised(NAME, |f| assert_eq!(f.set(RealVar::XDamperStart, 0.095), OK));
+    let warnings = || {
+        logged(NAME)
+            .into_iter()
+            .filter(|m| m.contains("[1]") && m.contains("beyond the half stroke"))
+            .collect::<Vec<_>>()
+    };
+    let mut t = 0.0;
+    let mut drive = |v: f64, steps: usize| {
+        for _ in 0..steps {
+            assert_eq!(f.set(RealVar::VDamper, v), OK);
+            assert_eq!(f.step(t, 1e-3), OK, "a warning, not a failed step");
+            t += 1e-3;
+        }
+    };
+    drive(0.5, 9); // to 99.5 mm
+    assert!(warnings().is_empty(), "{:?}", warnings());
+    drive(0.5, 20); // out to 109.5 mm
+    let logged = warnings();
+    assert_eq!(logged.len(), 1, "{logged:?}");
+    assert!(logged[0].contains("x_damper = 0.1") && logged[0].contains("L_half_stroke = 0.1 m"), "{}", logged[0]);
+    drive(-0.5, 40); // back to 89.5 mm
+    assert_eq!(warnings().len(), 1);
+    drive(0.5, 40); // and out again
+    assert_eq!(warnings().len(), 2);
+}

@@ -289,8 +289,11 @@ impl<M: Model> Instance<M> {
         }
         self.slave.align_time(t);
         match self.slave.do_step(h) {
-            Ok(()) => {
+            Ok(warning) => {
                 self.last_successful_time = t + h;
+                if let Some(w) = warning {
+                    self.warning(format_args!("fmi2DoStep: step from {t} s by {h} s: {w}"));
+                }
                 Ok(())
             }
             Err(e) => {

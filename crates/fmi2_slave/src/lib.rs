@@ -47,6 +47,9 @@ pub trait Model: Clone + Default {
     type State: Clone;
     /// Why a step failed; displayed into a stack buffer (no allocation).
     type StepError: std::fmt::Display;
+    /// What a step that succeeded warns about (logged with status fmi2Warning; displayed into a
+    /// stack buffer too). `std::convert::Infallible` for a model without such warnings.
+    type StepWarning: std::fmt::Display;
 
     fn real_info(vr: u32) -> Option<VarInfo>;
     fn integer_info(vr: u32) -> Option<VarInfo>;
@@ -83,8 +86,8 @@ pub trait Model: Clone + Default {
     /// model's documented work limits or that its time arithmetic cannot resolve (docs/robustness.md).
     fn check_step(&self, h: f64) -> Result<(), Self::StepError>;
     /// Advances by `h` (s) > 0 with the present inputs held; on failure (including non-finite
-    /// outputs at the new time) the state is unchanged.
-    fn do_step(&mut self, h: f64) -> Result<(), Self::StepError>;
+    /// outputs at the new time) the state is unchanged. `Ok(Some(w))`: done, with a warning `w`.
+    fn do_step(&mut self, h: f64) -> Result<Option<Self::StepWarning>, Self::StepError>;
 
     fn state(&self) -> Self::State;
     fn set_state(&mut self, state: &Self::State) -> Result<(), String>;

@@ -69,6 +69,7 @@ impl Model for Slave {
     const CAN_INTERPOLATE_INPUTS: bool = CAN_INTERPOLATE_INPUTS;
     type State = Slave;
     type StepError = &'static str;
+    type StepWarning = std::convert::Infallible;
 
     fn real_info(vr: u32) -> Option<VarInfo> {
         RealVar::from_vr(vr).map(RealVar::info)
@@ -161,7 +162,7 @@ impl Model for Slave {
         Ok(())
     }
 
-    fn do_step(&mut self, h: f64) -> Result<(), &'static str> {
+    fn do_step(&mut self, h: f64) -> Result<Option<Self::StepWarning>, &'static str> {
         let saved = *self;
         let mut y = self.y;
         self.params.advance(&self.inputs, &mut y, h);
@@ -176,7 +177,7 @@ impl Model for Slave {
             *self = saved;
             return Err("an output is not finite at the end of the step");
         }
-        Ok(())
+        Ok(None)
     }
 
     fn state(&self) -> Slave {
