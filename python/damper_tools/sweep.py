@@ -57,7 +57,6 @@ from typing import Any
 
 import numpy as np
 from distributed.diagnostics.plugin import WorkerPlugin
-from numpy.lib import recfunctions
 
 from damper_tools import cosim, full_truck, hil_scenarios, rig_tests, roads
 from damper_tools.fmu import FmuUnit
@@ -341,8 +340,6 @@ def run_rig(point: dict[str, Any], seed: int, truck_fmu: Path, damper_fmu: Path)
         start = {"control_mode": 0, "x_damper_start": -direction * rig_tests.FORCE_X_DAMPER_START, **damper}
         inputs = rig_tests.input_table(rig_tests.FORCE_T_END, {"v_damper": direction * rig_tests.V_RIG},
                                        {"F_demand": (levels[0], [(t1, levels[1]), (t2, levels[2])])})
-        # a_damper = 0 (the velocity held over each step), given so that fmpy has every input
-        inputs = recfunctions.append_fields(inputs, "a_damper", np.zeros(inputs.size), usemask=False)
         res = rig_tests.simulate(str(damper_unit.unzipdir), start, inputs, rig_tests.FORCE_T_END,
                                  float(s["output_interval"]))
         m = rig_tests.force_step_metrics(res, direction)[0]
