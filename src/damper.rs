@@ -263,7 +263,7 @@ impl Damper {
     /// The stroke and the half stroke where the stroke is beyond the cylinder's travel
     /// (|x_damper| > `l_half_stroke`), which has no end stops.
     pub fn beyond_stroke(&self) -> Option<BeyondStroke> {
-        let x_damper = self.state.y[crate::physics::plant::idx::X_DAMPER];
+        let x_damper = self.state.y[idx::X_DAMPER];
         let l_half_stroke = self.params.l_half_stroke;
         (x_damper.abs() > l_half_stroke).then_some(BeyondStroke { x_damper, l_half_stroke })
     }

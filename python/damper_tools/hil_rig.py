@@ -340,7 +340,8 @@ def _kn(x: float) -> str:
 
 
 def _refusal(e: cosim.Refused) -> str:
-    """'F_demand 101.7 kN at 4.21 s' from the damper's refusal 'fmi2SetReal: F_demand = 101663.9 refused: ...'."""
+    """'F_demand 101.7 kN refused at 4.21 s' from the damper's refusal 'fmi2SetReal: F_demand = 101663.9
+    refused: ...' (the whole message where it does not read so)."""
     name, _, rest = e.message.partition(": ")[2].partition(" = ")
     try:
         value = float(rest.split()[0])
