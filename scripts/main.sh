@@ -9,11 +9,9 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 bash scripts/setup.sh
-# The two FMUs only: their build needs cargo alone (no libclang).
-echo "+ cargo build --release -p semi_active_damper -p quarter_truck"
-cargo build --release -p semi_active_damper -p quarter_truck
-echo "+ python3 scripts/package_fmu.py --no-build"
-python3 scripts/package_fmu.py --no-build
+# Builds the two FMUs' libraries only (no libclang), for Linux and Windows, and packs the damper's.
+echo "+ python3 scripts/package_fmu.py"
+python3 scripts/package_fmu.py
 echo "+ python3 scripts/package_truck.py --no-build"
 python3 scripts/package_truck.py --no-build
 echo "+ .venv/bin/python scripts/paper_tests.py $*"

@@ -1,15 +1,21 @@
 #!/usr/bin/env python3
 """Package the damper as an FMI 2.0 Co-Simulation FMU (standard library only).
 
-    python3 scripts/package_fmu.py              # cargo build --release, then zip
-    python3 scripts/package_fmu.py --no-build   # zip what target/release already holds
+    python3 scripts/package_fmu.py              # cargo build --release (Linux and Windows), then zip
+    python3 scripts/package_fmu.py --no-build   # zip what target/ already holds
+    python3 scripts/package_fmu.py --platforms linux64   # the Linux binary only
 
 The FMU (target/fmu/SemiActiveDamper.fmu) holds
 
     modelDescription.xml
     binaries/linux64/SemiActiveDamper.so      (copy of target/release/libsemi_active_damper.so)
+    binaries/win64/SemiActiveDamper.dll       (copy of target/x86_64-pc-windows-gnu/release/semi_active_damper.dll)
     documentation/index.html                  (generated here from modelDescription.xml)
     documentation/physics.md                  (copy of docs/physics.md: equations, parameter reasoning)
+
+The Windows binary is cross-compiled with cargo's x86_64-pc-windows-gnu target and the MinGW-w64
+linker (.cargo/config.toml); scripts/setup.sh installs both. By default (--platforms auto) it is
+left out, with a printed reason, where they are missing; --platforms linux64,win64 insists on it.
 
 Entries are written with forward slashes and a fixed time stamp, so that the same inputs give
 the same bytes.
@@ -20,6 +26,7 @@ import html
 import math
 import os
 import re
+import shutil
 import subprocess
 import sys
 import xml.etree.ElementTree as ET
@@ -27,8 +34,14 @@ import zipfile
 from pathlib import Path
 
 REPO = Path(__file__).resolve().parent.parent
-LIBRARY_NAME = "libsemi_active_damper.so"
-PLATFORM = "linux64"
+CRATE = "semi_active_damper"
+# FMI 2.0 platform folder -> (cargo target triple, None for the host's; the library's file name
+# for a crate; the binary's suffix in the FMU).
+PLATFORMS = {
+    "linux64": (None, "lib{}.so", ".so"),
+    "win64": ("x86_64-pc-windows-gnu", "{}.dll", ".dll"),
+}
+WINDOWS_LINKER = "x86_64-w64-mingw32-gcc"
 ZIP_DATE = (1980, 1, 1, 0, 0, 0)
 REQUIRED_SYMBOLS = ("fmi2Instantiate", "fmi2DoStep", "fmi2GetReal", "fmi2SetReal", "fmi2FreeInstance")
 # The model's physics document. Both FMUs ship it as documentation/physics.md, because the variable
@@ -57,18 +70,61 @@ def target_dir():
     return Path(os.environ.get("CARGO_TARGET_DIR", REPO / "target"))
 
 
-def cargo_build():
-    """Builds both FMUs' libraries (the damper's and the quarter truck's): cargo alone, no libclang."""
-    command = ["cargo", "build", "--release", "-p", "semi_active_damper", "-p", "quarter_truck"]
-    print("+ " + " ".join(command), flush=True)
-    subprocess.run(command, cwd=REPO, check=True)
+def library_path(platform, crate):
+    """Where cargo build --release puts `crate`'s library for `platform`."""
+    triple, name, _ = PLATFORMS[platform]
+    return target_dir() / (triple or "") / "release" / name.format(crate)
+
+
+def windows_missing():
+    """What the Windows cross-build lacks here (None when it can run): the Rust standard library of
+    its target (rustup target add) or the MinGW-w64 linker (Debian's gcc-mingw-w64-x86-64)."""
+    triple = PLATFORMS["win64"][0]
+    try:
+        sysroot = subprocess.run(["rustc", "--print", "sysroot"], capture_output=True, text=True, check=True).stdout
+    except (OSError, subprocess.CalledProcessError):
+        return "rustc not found"
+    if not (Path(sysroot.strip()) / "lib" / "rustlib" / triple).is_dir():
+        return f"Rust's {triple} target is not installed (rustup target add {triple})"
+    if not (os.environ.get("CARGO_TARGET_X86_64_PC_WINDOWS_GNU_LINKER") or shutil.which(WINDOWS_LINKER)):
+        return f"the MinGW-w64 linker {WINDOWS_LINKER} is not installed (apt-get install gcc-mingw-w64-x86-64)"
+    return None
+
+
+def platforms_arg(text, program):
+    """The platforms of --platforms: 'auto' is linux64, and win64 where it can be built (the reason
+    printed where not); a list insists on every platform in it."""
+    if text != "auto":
+        chosen = [p.strip() for p in text.split(",") if p.strip()]
+        unknown = [p for p in chosen if p not in PLATFORMS]
+        if unknown or not chosen:
+            sys.exit(f"{program}: --platforms {text}: choose from {', '.join(PLATFORMS)} (comma-separated) or auto")
+        if "win64" in chosen and (reason := windows_missing()):
+            sys.exit(f"{program}: cannot build win64: {reason}; bash scripts/setup.sh installs it")
+        return chosen
+    reason = windows_missing()
+    if reason:
+        print(f"{program}: the FMU gets no win64 binary: {reason}; bash scripts/setup.sh installs it")
+        return ["linux64"]
+    return ["linux64", "win64"]
+
+
+def cargo_build(platforms):
+    """Builds both FMUs' libraries (the damper's and the quarter truck's) for each platform: cargo
+    alone, no libclang."""
+    for platform in platforms:
+        triple = PLATFORMS[platform][0]
+        command = ["cargo", "build", "--release", "-p", "semi_active_damper", "-p", "quarter_truck"]
+        command += ["--target", triple] if triple else []
+        print("+ " + " ".join(command), flush=True)
+        subprocess.run(command, cwd=REPO, check=True)
 
 
 def check_library(path):
     """Fails unless the shared library exists and names the FMI 2.0 functions (a byte search of its
     symbol strings; the library is not loaded)."""
     if not path.is_file():
-        sys.exit(f"package_fmu: {path} not found (run cargo build --release)")
+        sys.exit(f"package_fmu: {path} not found (run python3 scripts/package_fmu.py without --no-build)")
     data = path.read_bytes()
     missing = [name for name in REQUIRED_SYMBOLS if name.encode() + b"\0" not in data]
     if missing:
@@ -285,18 +341,21 @@ def write_zip(fmu_path, files):
             assert "\\" not in name
             info = zipfile.ZipInfo(name, date_time=ZIP_DATE)
             info.compress_type = zipfile.ZIP_DEFLATED
-            info.external_attr = (0o755 if name.endswith(".so") else 0o644) << 16
+            info.external_attr = (0o755 if name.startswith("binaries/") else 0o644) << 16
             z.writestr(info, data)
     tmp.replace(fmu_path)
 
 
-def package(library, xml_path, fmu_path, documentation=None):
-    """Zips the FMU; `documentation(model)` writes its index.html (default: the damper's). Both FMUs
-    also carry docs/physics.md as documentation/physics.md."""
+def package(libraries, xml_path, fmu_path, documentation=None):
+    """Zips the FMU, with the binary of each platform in `libraries` ({platform: path});
+    `documentation(model)` writes its index.html (default: the damper's). Both FMUs also carry
+    docs/physics.md as documentation/physics.md."""
     model = read_model(xml_path)
+    binaries = [(f"binaries/{platform}/{model['modelIdentifier']}{PLATFORMS[platform][2]}", path.read_bytes())
+                for platform, path in libraries.items()]
     files = [
         ("modelDescription.xml", xml_path.read_bytes()),
-        (f"binaries/{PLATFORM}/{model['modelIdentifier']}.so", library.read_bytes()),
+        *binaries,
         ("documentation/index.html", (documentation or documentation_html)(model).encode("utf-8")),
         ("documentation/physics.md", PHYSICS_DOC.read_bytes()),
     ]
@@ -304,19 +363,33 @@ def package(library, xml_path, fmu_path, documentation=None):
     return fmu_path
 
 
+def add_arguments(parser, crate, output):
+    """The options both packaging commands take."""
+    parser.add_argument("--no-build", action="store_true", help="do not run cargo build --release")
+    parser.add_argument("--platforms", default="auto",
+                        help="binaries to package: auto (linux64, and win64 where it can be built) or a "
+                             f"comma-separated list of {', '.join(PLATFORMS)} (default: auto)")
+    parser.add_argument("--library", type=Path, default=None,
+                        help=f"linux64 shared library to package (default: <target>/release/lib{crate}.so)")
+    parser.add_argument("--output", type=Path, default=output, help=f"FMU to write (default: {output})")
+
+
+def libraries(args, crate, program):
+    """Builds (unless --no-build) and checks the libraries to package: {platform: path}."""
+    platforms = platforms_arg(args.platforms, program)
+    if not args.no_build:
+        cargo_build(platforms)
+    chosen = {p: (args.library if p == "linux64" and args.library else library_path(p, crate)) for p in platforms}
+    for path in chosen.values():
+        check_library(path)
+    return chosen
+
+
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--no-build", action="store_true", help="do not run cargo build --release")
-    parser.add_argument("--library", type=Path, default=None,
-                        help=f"shared library to package (default: <target>/release/{LIBRARY_NAME})")
-    parser.add_argument("--output", type=Path, default=REPO / "target" / "fmu" / "SemiActiveDamper.fmu",
-                        help="FMU to write (default: target/fmu/SemiActiveDamper.fmu)")
+    add_arguments(parser, CRATE, REPO / "target" / "fmu" / "SemiActiveDamper.fmu")
     args = parser.parse_args(argv)
-    if not args.no_build:
-        cargo_build()
-    library = args.library or target_dir() / "release" / LIBRARY_NAME
-    check_library(library)
-    fmu = package(library, REPO / "modelDescription.xml", args.output)
+    fmu = package(libraries(args, CRATE, "package_fmu"), REPO / "modelDescription.xml", args.output)
     print(f"package_fmu: wrote {fmu} ({fmu.stat().st_size / 1e6:.1f} MB)")
 
 

@@ -1,29 +1,29 @@
 #!/usr/bin/env python3
 """Package the quarter truck as an FMI 2.0 Co-Simulation FMU (standard library only).
 
-    python3 scripts/package_truck.py              # cargo build --release, then zip
-    python3 scripts/package_truck.py --no-build   # zip what target/release already holds
+    python3 scripts/package_truck.py              # cargo build --release (Linux and Windows), then zip
+    python3 scripts/package_truck.py --no-build   # zip what target/ already holds
 
 The FMU (target/fmu/QuarterTruck.fmu) holds
 
     modelDescription.xml                  (crates/quarter_truck/modelDescription.xml)
     binaries/linux64/QuarterTruck.so      (copy of target/release/libquarter_truck.so)
+    binaries/win64/QuarterTruck.dll       (copy of target/x86_64-pc-windows-gnu/release/quarter_truck.dll)
     documentation/index.html              (generated here from modelDescription.xml)
     documentation/physics.md              (copy of docs/physics.md, shared with the damper's FMU)
 
-It reuses the zip and documentation helpers of scripts/package_fmu.py (same fixed time stamps, so the
-same inputs give the same bytes).
+It takes the options of scripts/package_fmu.py (--platforms among them) and reuses its zip and
+documentation helpers (same fixed time stamps, so the same inputs give the same bytes).
 """
 
 import argparse
 import html
-from pathlib import Path
 
 # Run as a script, Python puts scripts/ first on sys.path, so the sibling is found.
 import package_fmu
 
 REPO = package_fmu.REPO
-LIBRARY_NAME = "libquarter_truck.so"
+CRATE = "quarter_truck"
 XML = REPO / "crates" / "quarter_truck" / "modelDescription.xml"
 OUTPUT = REPO / "target" / "fmu" / "QuarterTruck.fmu"
 
@@ -68,22 +68,15 @@ SemiActiveDamper.fmu's inputs and its <code>F_damper</code> (with <code>tare_loa
 """
 
 
-def package(library, xml_path=XML, fmu_path=OUTPUT):
-    return package_fmu.package(library, xml_path, fmu_path, documentation_html)
+def package(libraries, xml_path=XML, fmu_path=OUTPUT):
+    return package_fmu.package(libraries, xml_path, fmu_path, documentation_html)
 
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--no-build", action="store_true", help="do not run cargo build --release")
-    parser.add_argument("--library", type=Path, default=None,
-                        help=f"shared library to package (default: <target>/release/{LIBRARY_NAME})")
-    parser.add_argument("--output", type=Path, default=OUTPUT, help=f"FMU to write (default: {OUTPUT})")
+    package_fmu.add_arguments(parser, CRATE, OUTPUT)
     args = parser.parse_args(argv)
-    if not args.no_build:
-        package_fmu.cargo_build()
-    library = args.library or package_fmu.target_dir() / "release" / LIBRARY_NAME
-    package_fmu.check_library(library)
-    fmu = package(library, XML, args.output)
+    fmu = package(package_fmu.libraries(args, CRATE, "package_truck"), XML, args.output)
     print(f"package_truck: wrote {fmu} ({fmu.stat().st_size / 1e6:.1f} MB)")
 
 

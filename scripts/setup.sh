@@ -5,7 +5,11 @@
 #   bash scripts/setup.sh --importer  # also for the FMU importers in Rust (scripts/test.sh, damper CLI)
 #
 # - Rust (cargo) must be there already: rustup installs it (https://rustup.rs).
-# - The FMUs need only cargo. The Rust *importer* of FMUs (the `fmi` crate, used by `damper --fmu`
+# - The FMUs need only cargo for their Linux binaries. Their Windows binaries (binaries/win64) are
+#   cross-compiled: Rust's x86_64-pc-windows-gnu target (rustup target add) and the MinGW-w64
+#   linker (Debian's gcc-mingw-w64-x86-64). Without rustup, or where its server cannot be reached,
+#   the FMUs are packaged for Linux alone and scripts/package_fmu.py says why.
+# - The tests run the Windows binaries under Wine (Debian's wine64, with --importer). The Rust *importer* of FMUs (the `fmi` crate, used by `damper --fmu`
 #   and the import tests) generates its bindings with bindgen, which needs libclang:
 #   Debian's libclang-dev, installed with --importer.
 # - `python3 -m venv` needs ensurepip, which a Debian system Python has only with python3-venv.
@@ -32,6 +36,10 @@ command -v cargo >/dev/null || { echo "setup: cargo not found: install Rust with
 command -v "$PYTHON" >/dev/null || { echo "setup: $PYTHON not found: install Python >= 3.11" >&2; exit 1; }
 
 packages=()
+command -v x86_64-w64-mingw32-gcc >/dev/null || packages+=(gcc-mingw-w64-x86-64)
+if $importer && ! command -v wine64 >/dev/null && ! command -v wine >/dev/null && [ ! -x /usr/lib/wine/wine64 ]; then
+    packages+=(wine64)
+fi
 if $importer && [ -z "${LIBCLANG_PATH:-}" ]; then
     if command -v dpkg-query >/dev/null; then
         [ "$(dpkg-query -W -f='${Status}' libclang-dev 2>/dev/null)" = "install ok installed" ] || packages+=(libclang-dev)
@@ -61,6 +69,15 @@ if [ ${#packages[@]} -gt 0 ]; then
     DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends "${packages[@]}" >/dev/null
 fi
 
+windows_target=x86_64-pc-windows-gnu
+if [ ! -d "$(rustc --print sysroot)/lib/rustlib/$windows_target" ]; then
+    if command -v rustup >/dev/null && echo "+ rustup target add $windows_target" && rustup target add "$windows_target"; then
+        :
+    else
+        echo "setup: warning: Rust's $windows_target target could not be installed; the FMUs will have no win64 binary" >&2
+    fi
+fi
+
 if [ ! -x .venv/bin/python ]; then
     echo "+ $PYTHON -m venv .venv"
     "$PYTHON" -m venv .venv
@@ -76,4 +93,4 @@ if ! .venv/bin/python -c "import damper_tools" 2>/dev/null; then
     .venv/bin/python -m pip install --quiet --no-deps --no-build-isolation -e .
 fi
 .venv/bin/python -c "$IMPORTS, damper_tools"
-echo "setup: ready ($(.venv/bin/python --version)$($importer && echo ', libclang for the importer'))"
+echo "setup: ready ($(.venv/bin/python --version)$($importer && echo ', libclang for the importer, Wine'))"

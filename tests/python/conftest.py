@@ -9,9 +9,11 @@ scripts from the installed package damper_tools (scripts/setup.sh installs it). 
 LocalCluster of two single-threaded worker processes (the sweep and campaign tests).
 """
 
+import importlib.util
 import shutil
 import subprocess
 import sys
+import zipfile
 from pathlib import Path
 
 import pytest
@@ -70,6 +72,28 @@ def truck_fmu(request, fmu):
 def fmus(fmu, truck_fmu):
     """Keyword arguments naming both FMUs for the scripts' functions (truck_fmu=, damper_fmu=)."""
     return {"truck_fmu": truck_fmu, "damper_fmu": fmu}
+
+
+def windows_build_missing():
+    """Why scripts/package_fmu.py cannot build the win64 binaries here (None when it can)."""
+    spec = importlib.util.spec_from_file_location("package_fmu", REPO / "scripts" / "package_fmu.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module.windows_missing()
+
+
+@pytest.fixture(scope="session")
+def win64(fmus):
+    """Both FMUs, which must carry win64 binaries; skips only where the Windows cross-build cannot
+    run (scripts/setup.sh could not install Rust's Windows target), and says why."""
+    for path in fmus.values():
+        with zipfile.ZipFile(path) as z:
+            if not any(name.startswith("binaries/win64/") for name in z.namelist()):
+                reason = windows_build_missing()
+                if reason:
+                    pytest.skip(f"no win64 binary in {path.name}: {reason}")
+                pytest.fail(f"{path} has no win64 binary, although this machine can build it")
+    return fmus
 
 
 @pytest.fixture(scope="session")

@@ -1,7 +1,8 @@
 """Conformance of both packaged FMUs beyond what fmpy's validation checks.
 
-- The shared library exports exactly the FMI 2.0 Co-Simulation functions: nothing foreign (a
-  symbol of a linked C helper would clash with a host's or another FMU's), nothing missing.
+- Each binary (linux64 and win64) exports exactly the FMI 2.0 Co-Simulation functions: nothing
+  foreign (a symbol of a linked C helper would clash with a host's or another FMU's), nothing
+  missing. The Windows one needs no DLL that Windows does not have (no MinGW runtime).
 - ModelStructure tells the truth: for every output, the inputs that change it *without* a doStep
   (direct feedthrough) are probed on the running FMU and compared with the declared
   `dependencies`. A master that trusts a declared "no dependency" reads a stale value otherwise.
@@ -32,22 +33,50 @@ CO_SIMULATION_FUNCTIONS = {
 }
 
 
-def exported_symbols(fmu_path, work_dir):
-    """Defined dynamic symbols of the FMU's linux64 binary (binutils' nm, which comes with the C
-    toolchain that links Rust)."""
+# DLLs of every 64-bit Windows since Windows 10 (bcryptprimitives.dll: ProcessPrng, which Rust's
+# standard library imports since Rust 1.78, and which sets that floor).
+WINDOWS_SYSTEM_DLLS = {"kernel32.dll", "ntdll.dll", "msvcrt.dll", "userenv.dll", "ws2_32.dll",
+                       "bcryptprimitives.dll", "api-ms-win-core-synch-l1-2-0.dll"}
+
+
+def extract_binary(fmu_path, platform, work_dir):
     md = read_model_description(str(fmu_path))
-    member = f"binaries/linux64/{md.coSimulation.modelIdentifier}.so"
+    suffix = {"linux64": ".so", "win64": ".dll"}[platform]
     with zipfile.ZipFile(fmu_path) as z:
-        library = z.extract(member, work_dir)
+        return z.extract(f"binaries/{platform}/{md.coSimulation.modelIdentifier}{suffix}", work_dir)
+
+
+def linux_exports(library):
+    """Defined dynamic symbols of an ELF library (binutils' nm, which comes with the C toolchain
+    that links Rust)."""
     out = subprocess.run([shutil.which("nm") or "nm", "-D", "--defined-only", library],
                          check=True, capture_output=True, text=True).stdout
     return {line.split()[-1] for line in out.splitlines() if line.strip()}
 
 
+def windows_exports_and_imports(library):
+    """The export names and the imported DLLs of a PE library (MinGW-w64's objdump, which comes
+    with the cross-linker that scripts/setup.sh installs)."""
+    objdump = shutil.which("x86_64-w64-mingw32-objdump")
+    assert objdump, "x86_64-w64-mingw32-objdump not found: bash scripts/setup.sh installs MinGW-w64"
+    out = subprocess.run([objdump, "-p", library], check=True, capture_output=True, text=True).stdout
+    table = out.split("[Ordinal/Name Pointer] Table", 1)[1].split("\n\n", 1)[0]
+    exports = {line.split()[-1] for line in table.splitlines() if line.strip().startswith("[")}
+    imports = {line.split(":", 1)[1].strip().lower() for line in out.splitlines() if "DLL Name:" in line}
+    return exports, imports
+
+
+@pytest.mark.parametrize("platform", ["linux64", "win64"])
 @pytest.mark.parametrize("which", ["damper", "truck"])
-def test_the_binary_exports_exactly_the_fmi2_co_simulation_functions(which, fmus, work_dir):
-    path = fmus["damper_fmu" if which == "damper" else "truck_fmu"]
-    symbols = exported_symbols(path, work_dir)
+def test_the_binary_exports_exactly_the_fmi2_co_simulation_functions(which, platform, fmus, work_dir, request):
+    if platform == "win64":
+        request.getfixturevalue("win64")
+    library = extract_binary(fmus["damper_fmu" if which == "damper" else "truck_fmu"], platform, work_dir)
+    if platform == "linux64":
+        symbols = linux_exports(library)
+    else:
+        symbols, imports = windows_exports_and_imports(library)
+        assert imports - WINDOWS_SYSTEM_DLLS == set(), "the Windows binary needs DLLs that Windows lacks"
     assert symbols - CO_SIMULATION_FUNCTIONS == set(), "foreign symbols exported"
     assert CO_SIMULATION_FUNCTIONS - symbols == set(), "FMI functions missing"
 
