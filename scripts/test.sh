@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# Runs every test: formatting, lints and the API docs' links, the Rust tests (cargo test --release),
-# then the Python lint (ruff, configured in pyproject.toml) and suite on the packaged FMUs.
+# Runs every test: formatting, lints and the API docs' links, the Rust tests (cargo test --release;
+# the FMI layer's also as a Windows program under Wine), then the Python lint (ruff, configured in
+# pyproject.toml) and suite on the packaged FMUs.
 #
 #   bash scripts/test.sh [extra pytest options]
 set -euo pipefail
@@ -13,6 +14,14 @@ cargo clippy --release --all-targets -- -D warnings
 RUSTDOCFLAGS="-D warnings" cargo doc --no-deps --workspace
 echo "+ cargo test --release"
 cargo test --release
+# The FMI layer's own tests (the panic guard among them) as a Windows program, under Wine.
+if [ -d "$(rustc --print sysroot)/lib/rustlib/x86_64-pc-windows-gnu" ]; then
+    echo "+ cargo test --release -p fmi2_slave --target x86_64-pc-windows-gnu (under Wine: tests/win64/wine_runner.sh)"
+    CARGO_TARGET_X86_64_PC_WINDOWS_GNU_RUNNER="$PWD/tests/win64/wine_runner.sh" \
+        cargo test --release -p fmi2_slave --target x86_64-pc-windows-gnu
+else
+    echo "test.sh: Rust's x86_64-pc-windows-gnu target is not installed: the Windows tests of the FMI layer are skipped"
+fi
 echo "+ python3 scripts/package_fmu.py && python3 scripts/package_truck.py --no-build"
 python3 scripts/package_fmu.py
 python3 scripts/package_truck.py --no-build
