@@ -212,6 +212,18 @@ def variable_rows(model, causality):
     return "\n".join(rows)
 
 
+PLATFORM_TEXT = {
+    "linux64": "<code>linux64</code>: Linux x86-64 with glibc 2.34 or later",
+    "win64": ("<code>win64</code>: 64-bit Windows 10 or later (cross-compiled with MinGW-w64; it needs "
+              "no DLL that Windows itself lacks)"),
+}
+
+
+def platforms_html(model):
+    """The paragraph naming the binaries this FMU carries."""
+    return "<p>Binaries: " + "; ".join(PLATFORM_TEXT[p] for p in model["platforms"]) + ".</p>"
+
+
 def documentation_html(model):
     """documentation/index.html: self-contained description of the model."""
     p_r0 = start_value(model, "p_reservoir0")
@@ -248,6 +260,7 @@ def documentation_html(model):
 model identifier <code>{html.escape(model['modelIdentifier'])}</code>,
 GUID <code>{html.escape(model['guid'])}</code>.</p>
 <p>{html.escape(model['description'])}</p>
+{platforms_html(model)}
 
 <h2>What it is</h2>
 <p>A continuously-variable semi-active damper for heavy trucks after Kitching, Cole and Cebon,
@@ -351,6 +364,7 @@ def package(libraries, xml_path, fmu_path, documentation=None):
     `documentation(model)` writes its index.html (default: the damper's). Both FMUs also carry
     docs/physics.md as documentation/physics.md."""
     model = read_model(xml_path)
+    model["platforms"] = list(libraries)
     binaries = [(f"binaries/{platform}/{model['modelIdentifier']}{PLATFORMS[platform][2]}", path.read_bytes())
                 for platform, path in libraries.items()]
     files = [

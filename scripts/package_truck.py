@@ -44,6 +44,7 @@ def documentation_html(model):
 <p>{html.escape(model['description'])}</p>
 <p>FMI {html.escape(model['fmiVersion'])} Co-Simulation, model identifier
 <code>{html.escape(model['modelIdentifier'])}</code>, GUID <code>{html.escape(model['guid'])}</code>.</p>
+{package_fmu.platforms_html(model)}
 <h2>Equations</h2>
 <pre>
 M_s z̈_s = −F_s,        F_s = k_s (z_s − z_u) + c_s (ż_s − ż_u) + F        (F: damper force, tension +)

@@ -8,6 +8,7 @@
   `dependencies`. A master that trusts a declared "no dependency" reads a stale value otherwise.
 """
 
+import re
 import shutil
 import subprocess
 import zipfile
@@ -54,6 +55,13 @@ def linux_exports(library):
     return {line.split()[-1] for line in out.splitlines() if line.strip()}
 
 
+def newest_glibc(library):
+    """The newest glibc symbol version an ELF library needs (binutils' objdump)."""
+    out = subprocess.run([shutil.which("objdump") or "objdump", "-T", library],
+                         check=True, capture_output=True, text=True).stdout
+    return max(tuple(int(x) for x in v.split(".")) for v in re.findall(r"GLIBC_(\d+(?:\.\d+)+)", out))
+
+
 def windows_exports_and_imports(library):
     """The export names and the imported DLLs of a PE library (MinGW-w64's objdump, which comes
     with the cross-linker that scripts/setup.sh installs)."""
@@ -74,6 +82,7 @@ def test_the_binary_exports_exactly_the_fmi2_co_simulation_functions(which, plat
     library = extract_binary(fmus["damper_fmu" if which == "damper" else "truck_fmu"], platform, work_dir)
     if platform == "linux64":
         symbols = linux_exports(library)
+        assert newest_glibc(library) <= (2, 34), "the docs promise glibc 2.34 or later"
     else:
         symbols, imports = windows_exports_and_imports(library)
         assert imports - WINDOWS_SYSTEM_DLLS == set(), "the Windows binary needs DLLs that Windows lacks"
