@@ -9,9 +9,10 @@
 #   cross-compiled: Rust's x86_64-pc-windows-gnu target (rustup target add) and the MinGW-w64
 #   linker (Debian's gcc-mingw-w64-x86-64). Without rustup, or where its server cannot be reached,
 #   the FMUs are packaged for Linux alone and scripts/package_fmu.py says why.
-# - The tests run the Windows binaries under Wine (Debian's wine64, with --importer). The Rust *importer* of FMUs (the `fmi` crate, used by `damper --fmu`
-#   and the import tests) generates its bindings with bindgen, which needs libclang:
-#   Debian's libclang-dev, installed with --importer.
+# - The tests run the Windows binaries under Wine: Debian's wine64, installed with --importer.
+# - The Rust *importer* of FMUs (the `fmi` crate, used by `damper --fmu` and the import tests)
+#   generates its bindings with bindgen, which needs libclang: Debian's libclang-dev, installed
+#   with --importer.
 # - `python3 -m venv` needs ensurepip, which a Debian system Python has only with python3-venv.
 # Missing Debian packages are installed with apt-get when running as root; otherwise the script
 # stops with the one command to run. Then .venv is filled from the pinned
@@ -71,9 +72,7 @@ fi
 
 windows_target=x86_64-pc-windows-gnu
 if [ ! -d "$(rustc --print sysroot)/lib/rustlib/$windows_target" ]; then
-    if command -v rustup >/dev/null && echo "+ rustup target add $windows_target" && rustup target add "$windows_target"; then
-        :
-    else
+    if ! { command -v rustup >/dev/null && echo "+ rustup target add $windows_target" && rustup target add "$windows_target"; }; then
         echo "setup: warning: Rust's $windows_target target could not be installed; the FMUs will have no win64 binary" >&2
     fi
 fi

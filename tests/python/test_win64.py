@@ -10,12 +10,11 @@ truck's values are bit-identical). Both binaries are
 deterministic, so the comparison cannot flicker: a change that moved one step-size decision would
 show as a difference of the integrator's tolerance, far above the bound, and be worth a look.
 
-Wine 8 (Debian 12's) lacks bcryptprimitives.dll, which every Windows since 8 has; a stand-in
-(tests/win64/bcryptprimitives.c) is built beside the test program.
+Wine 8 (Debian 12's) lacks bcryptprimitives.dll, which every Windows since 8 has; the runner
+tests/win64/wine_runner.sh builds a stand-in (tests/win64/bcryptprimitives.c) beside the test program.
 """
 
 import math
-import os
 import shutil
 import subprocess
 import zipfile
@@ -30,32 +29,21 @@ MINGW_GCC = "x86_64-w64-mingw32-gcc"
 STEP = 1e-3
 
 
-def wine():
-    """Debian's wine64 installs its loader as /usr/lib/wine/wine64, without a link in PATH."""
-    found = shutil.which("wine64") or shutil.which("wine")
-    if not found and Path("/usr/lib/wine/wine64").is_file():
-        found = "/usr/lib/wine/wine64"
-    assert found, "Wine not found: bash scripts/setup.sh --importer installs it (Debian's wine64)"
-    return found
-
-
 @pytest.fixture(scope="module")
 def programs(tmp_path_factory):
-    """The importer for both platforms, the Windows one with the Wine stand-in beside it."""
+    """The importer built for both platforms; the Windows one runs through tests/win64/wine_runner.sh
+    (the runner of scripts/test.sh's Windows tests: Wine, its prefix, the stand-in DLL)."""
     assert shutil.which(MINGW_GCC), f"{MINGW_GCC} not found: bash scripts/setup.sh installs MinGW-w64"
     out = tmp_path_factory.mktemp("win64")
     source = str(SOURCES / "fmu_session.c")
     subprocess.run(["gcc", "-O2", "-Wall", "-Werror", "-o", out / "fmu_session", source, "-ldl"], check=True)
     subprocess.run([MINGW_GCC, "-O2", "-Wall", "-Werror", "-o", out / "fmu_session.exe", source], check=True)
-    subprocess.run([MINGW_GCC, "-O2", "-Wall", "-Werror", "-shared", "-o", out / "bcryptprimitives.dll",
-                    str(SOURCES / "bcryptprimitives.c"), "-ladvapi32"], check=True)
-    environment = dict(os.environ, WINEPREFIX=str(out / "wineprefix"), WINEDEBUG="-all", DISPLAY="")
-    return out, environment
+    return {"linux64": [str(out / "fmu_session")],
+            "win64": [str(SOURCES / "wine_runner.sh"), str(out / "fmu_session.exe")]}
 
 
 def run_session(programs, fmu_path, platform, script, work_dir):
     """Runs `script` on the FMU's `platform` binary; the transcript's lines."""
-    out, environment = programs
     md = read_model_description(str(fmu_path))
     identifier = md.coSimulation.modelIdentifier
     unpacked = work_dir / platform
@@ -63,13 +51,12 @@ def run_session(programs, fmu_path, platform, script, work_dir):
         z.extractall(unpacked)
     resources = (unpacked / "resources").as_uri()
     if platform == "linux64":
-        command = [str(out / "fmu_session"), str(unpacked / "binaries" / "linux64" / f"{identifier}.so")]
+        binary = str(unpacked / "binaries" / "linux64" / f"{identifier}.so")
     else:
         # Wine sees the Linux file system as drive Z:.
-        dll = "Z:" + str(unpacked / "binaries" / "win64" / f"{identifier}.dll").replace("/", "\\")
-        command = [wine(), str(out / "fmu_session.exe"), dll]
-    result = subprocess.run(command + [identifier, md.guid, resources], input="\n".join(script) + "\n",
-                            capture_output=True, text=True, env=environment, cwd=out, timeout=300)
+        binary = "Z:" + str(unpacked / "binaries" / "win64" / f"{identifier}.dll").replace("/", "\\")
+    result = subprocess.run(programs[platform] + [binary, identifier, md.guid, resources],
+                            input="\n".join(script) + "\n", capture_output=True, text=True, timeout=300)
     assert result.returncode == 0, f"{platform}: {result.stderr[-2000:]}"
     return result.stdout.splitlines()  # universal newlines: Windows' CRLF too
 

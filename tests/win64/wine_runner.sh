@@ -3,6 +3,7 @@
 # in a Wine prefix of its own under target/, with the bcryptprimitives.dll stand-in that Debian 12's
 # Wine 8 lacks (tests/win64/bcryptprimitives.c) beside it. scripts/test.sh uses it as
 #   CARGO_TARGET_X86_64_PC_WINDOWS_GNU_RUNNER=tests/win64/wine_runner.sh cargo test --target x86_64-pc-windows-gnu ...
+# and tests/python/test_win64.py to run its Windows importer.
 #
 #   tests/win64/wine_runner.sh EXE [ARGS...]
 set -euo pipefail
