@@ -50,12 +50,12 @@ impl ForceLoop {
                 let others = p.kp_f * error + p.kd_f * rate;
                 let u = others + integral;
                 let a_feedforward = feedforward_area(p, d, f_demand, m.v_damper);
-                let a_demand = a_feedforward * (-u.clamp(-20.0, 20.0)).exp();
+                let a_demand = a_feedforward * libm::exp(-u.clamp(-20.0, 20.0));
                 // the area falls as u rises: on a bound A, u = ln(A_ff/A)
                 self.integral = if a_demand > d.a_demand_max {
-                    integral_at_saturation(self.integral, integral, (a_feedforward / d.a_demand_max).ln() - others)
+                    integral_at_saturation(self.integral, integral, libm::log(a_feedforward / d.a_demand_max) - others)
                 } else if a_demand < A_DEMAND_MIN {
-                    integral_at_saturation(self.integral, integral, (a_feedforward / A_DEMAND_MIN).ln() - others)
+                    integral_at_saturation(self.integral, integral, libm::log(a_feedforward / A_DEMAND_MIN) - others)
                 } else {
                     integral
                 };

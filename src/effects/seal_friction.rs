@@ -33,10 +33,10 @@ impl Effect for SealFriction {
     }
     /// F = F_c·tanh(v/v_f): a friction that opposes the motion, so in tension when extending.
     fn force(&self, p: &Parameters, s: &PlantSignals) -> f64 {
-        p.f_coulomb * (s.v_damper / p.v_friction).tanh()
+        p.f_coulomb * libm::tanh(s.v_damper / p.v_friction)
     }
     fn force_gradient(&self, p: &Parameters, s: &PlantSignals) -> PlantSignals {
-        let tanh = (s.v_damper / p.v_friction).tanh();
+        let tanh = libm::tanh(s.v_damper / p.v_friction);
         PlantSignals { v_damper: p.f_coulomb * (1.0 - tanh * tanh) / p.v_friction, ..PlantSignals::ZERO }
     }
 }

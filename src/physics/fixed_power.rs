@@ -55,8 +55,8 @@ impl FixedPower {
             coefficient,
             exponent,
             lowest_binade,
-            binade: std::array::from_fn(|k| coefficient * 2f64.powf((lowest_binade + k as i64) as f64 * exponent)),
-            segment: std::array::from_fn(|j| centre(j).powf(exponent)),
+            binade: std::array::from_fn(|k| coefficient * libm::pow(2.0, (lowest_binade + k as i64) as f64 * exponent)),
+            segment: std::array::from_fn(|j| libm::pow(centre(j), exponent)),
             inverse_centre: std::array::from_fn(|j| 1.0 / centre(j)),
             series,
         }
@@ -70,7 +70,7 @@ impl FixedPower {
         // subnormals, infinity and NaN, put it out of their range
         let binade = (bits >> 52) as i64 - 1023 - self.lowest_binade;
         if !(0..BINADES as i64).contains(&binade) {
-            return self.coefficient * x.powf(self.exponent);
+            return self.coefficient * libm::pow(x, self.exponent);
         }
         let j = ((bits >> (52 - SEGMENT_BITS)) as usize) & (SEGMENTS - 1);
         let mantissa = f64::from_bits((bits & ((1 << 52) - 1)) | 1f64.to_bits());

@@ -29,7 +29,7 @@ pub struct Oil {
 
 impl Oil {
     pub fn new(beta_oil: f64, air_fraction: f64, n: f64) -> Self {
-        Oil { beta_oil, air_fraction, n, volume_ratio: FixedPower::new(P_ATM.powf(1.0 / n), -1.0 / n, 10) }
+        Oil { beta_oil, air_fraction, n, volume_ratio: FixedPower::new(libm::pow(P_ATM, 1.0 / n), -1.0 / n, 10) }
     }
 }
 

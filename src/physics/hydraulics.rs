@@ -76,7 +76,7 @@ pub struct GasCharge {
 
 impl GasCharge {
     pub fn new(p_r0: f64, v_g0: f64, n: f64) -> Self {
-        GasCharge { n, absolute_pressure: FixedPower::new((p_r0 + P_ATM) * v_g0.powf(n), -n, -40) }
+        GasCharge { n, absolute_pressure: FixedPower::new((p_r0 + P_ATM) * libm::pow(v_g0, n), -n, -40) }
     }
 }
 

@@ -57,7 +57,7 @@ impl CubicMount {
             let delta = self.halley(delta, force);
             return if e <= ONE_STEP_LIMIT { delta } else { self.halley(delta, force) };
         }
-        let mut delta = if k3 * linear * linear <= k1 { linear } else { (force / k3).cbrt() };
+        let mut delta = if k3 * linear * linear <= k1 { linear } else { libm::cbrt(force / k3) };
         for _ in 0..MAX_HALLEY_ITERATIONS {
             let next = self.halley(delta, force);
             let step = delta - next;

@@ -214,7 +214,7 @@ impl Parameters {
             x_demand_max,
             a_demand_max: ports.area(x_demand_max),
             flow_force_gain: flow_force_gain(self.cd_valve, self.cv_valve, self.theta_jet),
-            compensation_gain: self.cv_compensation * self.theta_jet.cos() * (2.0 * self.rho).sqrt() / self.k_sol,
+            compensation_gain: self.cv_compensation * libm::cos(self.theta_jet) * (2.0 * self.rho).sqrt() / self.k_sol,
             delay_samples: if self.effect_amplifier_delay {
                 (self.tau_amp / self.t_sample).round() as usize
             } else {

@@ -98,7 +98,7 @@ impl ValvePorts {
         let p = KEPLER_STARTER.iter().rev().fold(0.0, |acc, &c| acc * s2 + c);
         let psi = 0.25 * s * (1.0 + p);
         // Halley on f(ψ) = 4ψ − sin 4ψ − M: f′ = 4 − 4 cos 4ψ = 32 u²c², f″ = 16 sin 4ψ, u = sin ψ, c = cos ψ
-        let (u, c) = psi.sin_cos();
+        let (u, c) = libm::sincos(psi);
         let sin_4psi = 4.0 * u * c * (1.0 - 2.0 * u * u);
         let f = 4.0 * psi - sin_4psi - m_half;
         let slope = 32.0 * u * u * c * c;
@@ -159,7 +159,7 @@ pub fn flow_force(cd: f64, cv: f64, theta_jet: f64, area: f64, dp: f64) -> f64 {
 
 /// The flow-force gain 2 C_d C_v cos θ (-): [`flow_force`] = gain · A · max(Δp, 0).
 pub fn flow_force_gain(cd: f64, cv: f64, theta_jet: f64) -> f64 {
-    2.0 * cd * cv * theta_jet.cos()
+    2.0 * cd * cv * libm::cos(theta_jet)
 }
 
 #[cfg(test)]
