@@ -91,9 +91,10 @@ def windows_missing():
     return None
 
 
-def platforms_arg(text, program):
+def platforms_arg(text, program, product="the FMU gets"):
     """The platforms of --platforms: 'auto' is linux64, and win64 where it can be built (the reason
-    printed where not); a list insists on every platform in it."""
+    printed where not, as "{program}: {product} no win64 binary: …"); a list insists on every
+    platform in it."""
     if text != "auto":
         chosen = [p.strip() for p in text.split(",") if p.strip()]
         unknown = [p for p in chosen if p not in PLATFORMS]
@@ -104,7 +105,7 @@ def platforms_arg(text, program):
         return chosen
     reason = windows_missing()
     if reason:
-        print(f"{program}: the FMU gets no win64 binary: {reason}; bash scripts/setup.sh installs it")
+        print(f"{program}: {product} no win64 binary: {reason}; bash scripts/setup.sh installs it")
         return ["linux64"]
     return ["linux64", "win64"]
 

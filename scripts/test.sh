@@ -27,6 +27,8 @@ fi
 echo "+ python3 scripts/package_fmu.py && python3 scripts/package_truck.py --no-build"
 python3 scripts/package_fmu.py
 python3 scripts/package_truck.py --no-build
+echo "+ python3 scripts/build_cli.py (the damper program; for Windows too where it can be built)"
+python3 scripts/build_cli.py
 echo "+ .venv/bin/ruff check python scripts tests/python"
 .venv/bin/ruff check python scripts tests/python
 echo "+ .venv/bin/python -m pytest tests/python -q --fmu target/fmu/SemiActiveDamper.fmu --truck-fmu target/fmu/QuarterTruck.fmu $*"

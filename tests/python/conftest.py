@@ -5,7 +5,8 @@ once per session into tests/python/work/ by the packaging commands a user runs
 (python3 scripts/package_fmu.py, scripts/package_truck.py), or taken from `--fmu PATH` (the damper)
 and `--truck-fmu PATH` (the quarter truck). The tests import the scenario and metric code of the
 scripts from the installed package damper_tools (scripts/setup.sh installs it). `damper` is the
-`damper` program (target/release/damper, built by cargo), `dask_client` a Dask client of a real
+`damper` program (target/release/damper, built by cargo; `damper_exe` its Windows build, from
+scripts/build_cli.py), `dask_client` a Dask client of a real
 LocalCluster of two single-threaded worker processes (the sweep and campaign tests).
 """
 
@@ -24,6 +25,7 @@ from damper_tools.fmu import FmuUnit
 
 WORK = Path(__file__).resolve().parent / "work"
 DAMPER = REPO / "target" / "release" / "damper"
+DAMPER_EXE = REPO / "target" / "x86_64-pc-windows-gnu" / "release" / "damper.exe"
 
 
 def package(script: str, output: Path, build: bool) -> Path:
@@ -123,6 +125,18 @@ def damper():
     if not DAMPER.is_file():
         pytest.skip(f"{DAMPER} is missing: cargo build --release -p damper_cli")
     return DAMPER
+
+
+@pytest.fixture(scope="module")
+def damper_exe(damper):
+    """The `damper` program's Windows build (python3 scripts/build_cli.py); skips, saying why, only
+    where the Windows cross-build cannot run."""
+    if not DAMPER_EXE.is_file():
+        reason = windows_build_missing()
+        if reason:
+            pytest.skip(f"{DAMPER_EXE} is missing: {reason}")
+        pytest.fail(f"{DAMPER_EXE} is missing, although this machine can build it: python3 scripts/build_cli.py")
+    return DAMPER_EXE
 
 
 @pytest.fixture(scope="module")

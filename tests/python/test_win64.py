@@ -1,4 +1,5 @@
-"""The FMUs' Windows binaries (binaries/win64) as a Windows importer sees them, under Wine.
+"""The FMUs' Windows binaries (binaries/win64) as a Windows importer sees them, and the `damper`
+program's Windows build, under Wine.
 
 A minimal FMI 2.0 importer in C (tests/win64/fmu_session.c) is built from one source for Linux (gcc)
 and for Windows (MinGW-w64), and runs one session, the same script of calls, on each binary of the
@@ -8,10 +9,16 @@ digits). The model's transcendental functions come from the `libm` crate, not fr
 library: glibc's and MinGW-w64's sin, cos and exp differ in the last bit, which moved the damper's
 forces by up to 2e-11 N at a 16.5 kN peak before.
 
+The `damper` program (scripts/build_cli.py builds it for both platforms) generates a record,
+diagnoses it in process and compares it with the model run through the packaged FMU, on Linux and
+under Wine: the files it writes and what it prints must be the same, but for the time a model run
+took. The engine's transcendental functions come from the `libm` crate too.
+
 Wine 8 (Debian 12's) lacks bcryptprimitives.dll, which every Windows since 8 has; the runner
 tests/win64/wine_runner.sh builds a stand-in (tests/win64/bcryptprimitives.c) beside the test program.
 """
 
+import json
 import math
 import shutil
 import subprocess
@@ -116,3 +123,43 @@ def test_the_quarter_truck_runs_a_session_on_windows_as_on_linux(win64, programs
     windows = run_session(programs, win64["truck_fmu"], "win64", script, work_dir)
     values = compare(linux, windows, outputs)
     assert linux.count("step OK") == 2000 and np.abs(values[:, 0]).max() > 0.01, "the truck did not move"
+
+
+def without_timings(value):
+    """A summary.json value without the one entry that differs from run to run (model_run_s)."""
+    if isinstance(value, dict):
+        return {k: without_timings(v) for k, v in value.items() if k != "model_run_s"}
+    if isinstance(value, list):
+        return [without_timings(v) for v in value]
+    return value
+
+
+def test_the_damper_program_gives_on_windows_what_it_gives_on_linux(damper, damper_exe, fmus, work_dir):
+    programs = {"linux64": [str(damper)], "win64": [str(SOURCES / "wine_runner.sh"), str(damper_exe)]}
+    commands = [
+        ["generate", "--effect", "seal_friction", "--seed", "3", "--duration", "8", "--rate", "1000",
+         "--out", "record.csv", "--truth", "truth.json"],
+        ["diagnose", "record.csv", "--out", "diagnosis", "--load-cell-lowpass", "400"],
+        ["compare", "record.csv", "--out", "through_fmu", "--fmu", "damper.fmu", "--load-cell-lowpass", "400"],
+    ]
+    printed = {}
+    for platform, program in programs.items():
+        # the same relative paths on both: each platform runs in a directory of its own
+        cwd = work_dir / platform
+        cwd.mkdir()
+        shutil.copy(fmus["damper_fmu"], cwd / "damper.fmu")
+        printed[platform] = []
+        for command in commands:
+            result = subprocess.run(program + command, cwd=cwd, capture_output=True, text=True, timeout=600)
+            assert result.returncode == 0, f"{platform} {command[0]}: {result.stderr[-2000:]}"
+            # the path a program prints uses its platform's separator; a model run's time varies
+            printed[platform] += [line.replace("\\", "/") for line in result.stdout.splitlines()
+                                  if not line.startswith("model run:")]
+    assert printed["linux64"] == printed["win64"]
+    linux, windows = work_dir / "linux64", work_dir / "win64"
+    for name in ["record.csv", "truth.json"]:
+        assert (linux / name).read_bytes() == (windows / name).read_bytes(), name
+    for name in ["diagnosis/summary.json", "through_fmu/summary.json"]:
+        summary = [without_timings(json.loads((d / name).read_text())) for d in (linux, windows)]
+        assert summary[0] == summary[1], name
+    assert "verdict: effect (seal_friction)" in printed["linux64"]

@@ -14,7 +14,7 @@ impl Bound {
     /// The searched coordinate of `x`: ln x on a logarithmic scale, x otherwise.
     pub fn to_internal(self, x: f64) -> f64 {
         if self.log {
-            x.ln()
+            libm::log(x)
         } else {
             x
         }
@@ -23,7 +23,7 @@ impl Bound {
     /// The parameter at the searched coordinate `u`.
     pub fn to_physical(self, u: f64) -> f64 {
         if self.log {
-            u.exp()
+            libm::exp(u)
         } else {
             u
         }

@@ -144,7 +144,7 @@ pub fn fft(re: &mut [f64], im: &mut [f64]) {
     let mut len = 2;
     while len <= n {
         let ang = -2.0 * PI / len as f64;
-        let (wr, wi) = (ang.cos(), ang.sin());
+        let (wi, wr) = libm::sincos(ang);
         for start in (0..n).step_by(len) {
             let (mut cr, mut ci) = (1.0, 0.0);
             for k in 0..len / 2 {
@@ -169,7 +169,7 @@ pub fn fft(re: &mut [f64], im: &mut [f64]) {
 pub fn welch(x: &[f64], fs: f64, segment: usize) -> (Vec<f64>, Vec<f64>) {
     let mut nseg = segment.min(x.len()).max(8);
     nseg = 1 << (usize::BITS - 1 - nseg.leading_zeros());
-    let window: Vec<f64> = (0..nseg).map(|i| 0.5 - 0.5 * (2.0 * PI * i as f64 / nseg as f64).cos()).collect();
+    let window: Vec<f64> = (0..nseg).map(|i| 0.5 - 0.5 * libm::cos(2.0 * PI * i as f64 / nseg as f64)).collect();
     let w2: f64 = window.iter().map(|w| w * w).sum();
     let hop = nseg / 2;
     let mut psd = vec![0.0; nseg / 2 + 1];
@@ -284,7 +284,7 @@ impl Lowpass {
 
     /// The output after `h` seconds over which the input went linearly to `u`.
     pub fn step(&mut self, h: f64, u: f64) -> f64 {
-        let a = (-h / self.tau).exp();
+        let a = libm::exp(-h / self.tau);
         let r = (u - self.u) / h;
         self.y = a * self.y + u - a * self.u - self.tau * r * (1.0 - a);
         self.u = u;

@@ -50,7 +50,7 @@ pub fn floor(measured: &[f64], numerics: &Numerics<'_>, split: usize, informativ
     Floor {
         nrmse_noise,
         nrmse_numerics,
-        nrmse: nrmse_noise.hypot(nrmse_numerics),
+        nrmse: libm::hypot(nrmse_noise, nrmse_numerics),
         noise,
         rtol: numerics.rtol,
         rtol_check: numerics.rtol_check,

@@ -450,7 +450,7 @@ fn rig_inputs(t: &[f64], rng: &mut Rng, spool: bool, x_spool_rest: f64) -> (Vec<
     // velocity a cosine so that the displacement has no offset.
     let b_end = a_end + part;
     let (f0, f1) = (0.5, 12.0f64.min(0.05 / dt));
-    let k = (f1 / f0).ln() / part;
+    let k = libm::log(f1 / f0) / part;
     let mut next_change = f64::NEG_INFINITY;
     let mut gain = 0.0;
     let mut level = 0.0;
@@ -459,10 +459,11 @@ fn rig_inputs(t: &[f64], rng: &mut Rng, spool: bool, x_spool_rest: f64) -> (Vec<
             continue;
         }
         let tau = t[i] - a_end;
-        let f = f0 * (k * tau).exp();
-        let phase = 2.0 * PI * f0 * ((k * tau).exp() - 1.0) / k;
+        let growth = libm::exp(k * tau);
+        let f = f0 * growth;
+        let phase = 2.0 * PI * f0 * (growth - 1.0) / k;
         let amp = (2.0 * PI * f * 0.03).min(0.15);
-        v[i] = amp * phase.cos() * taper(tau, part, 0.015);
+        v[i] = amp * libm::cos(phase) * taper(tau, part, 0.015);
         if t[i] >= next_change {
             gain = rng.range(10e3, 60e3);
             level = rng.range(0.9e-3, 3.5e-3);
@@ -473,7 +474,7 @@ fn rig_inputs(t: &[f64], rng: &mut Rng, spool: bool, x_spool_rest: f64) -> (Vec<
 
     // Part C: random velocity (white noise through two 8 Hz first-order low-passes, 0.1 m/s RMS),
     // held near mid-stroke by a 0.5 s position feedback.
-    let a = (-2.0 * PI * 8.0 * dt).exp();
+    let a = libm::exp(-2.0 * PI * 8.0 * dt);
     let idx: Vec<usize> = (0..n).filter(|&i| t[i] >= b_end).collect();
     let (mut s1, mut s2) = (0.0, 0.0);
     let raw: Vec<f64> = idx
@@ -498,7 +499,7 @@ fn rig_inputs(t: &[f64], rng: &mut Rng, spool: bool, x_spool_rest: f64) -> (Vec<
             level = rng.range(0.9e-3, 3.5e-3);
             next_change = t[i] + rng.range(0.3, 0.6);
         }
-        demand[i] = round_demand(if spool { level } else { gain * v[i] + f_coulomb * (v[i] / 0.01).tanh() });
+        demand[i] = round_demand(if spool { level } else { gain * v[i] + f_coulomb * libm::tanh(v[i] / 0.01) });
     }
     (v, demand)
 }
@@ -532,10 +533,10 @@ fn hil_run(
     let gd0 = road_gd0(&o.road)?;
     let n_waves = 300;
     let (n_lo, n_hi) = (0.01f64, 10.0f64);
-    let dln = (n_hi / n_lo).ln() / n_waves as f64;
+    let dln = libm::log(n_hi / n_lo) / n_waves as f64;
     let waves: Vec<(f64, f64, f64)> = (0..n_waves)
         .map(|i| {
-            let nn = n_lo * ((i as f64 + 0.5) * dln).exp();
+            let nn = n_lo * libm::exp((i as f64 + 0.5) * dln);
             let gd = gd0 * (nn / 0.1).powi(-2);
             ((2.0 * gd * nn * dln).sqrt(), 2.0 * PI * nn * o.speed, rng.range(0.0, 2.0 * PI))
         })
@@ -543,8 +544,8 @@ fn hil_run(
     let fade = 1.0f64;
     let z_road = |tt: f64| -> f64 {
         let s = tt - t[0];
-        let env = if s < fade { 0.5 - 0.5 * (PI * s / fade).cos() } else { 1.0 };
-        env * waves.iter().map(|(amp, w, ph)| amp * (w * s + ph).cos()).sum::<f64>()
+        let env = if s < fade { 0.5 - 0.5 * libm::cos(PI * s / fade) } else { 1.0 };
+        env * waves.iter().map(|(amp, w, ph)| amp * libm::cos(w * s + ph)).sum::<f64>()
     };
     let truck = TruckParams::default();
     let mut y = [truck.z_body_start, truck.v_body_start, truck.z_axle_start, truck.v_axle_start];
@@ -588,7 +589,7 @@ fn measure(x: &[f64], s: Sensor, rng: &mut Rng) -> Vec<f64> {
 }
 
 fn decimals(quantum: f64) -> usize {
-    (-quantum.log10()).ceil().max(0.0) as usize
+    (-libm::log10(quantum)).ceil().max(0.0) as usize
 }
 
 /// Generates the data (no files written).

@@ -46,7 +46,7 @@ impl Rng {
 
     /// Log-uniform in [lo, hi) (lo > 0).
     pub fn log_range(&mut self, lo: f64, hi: f64) -> f64 {
-        (lo.ln() + (hi.ln() - lo.ln()) * self.uniform()).exp()
+        libm::exp(libm::log(lo) + (libm::log(hi) - libm::log(lo)) * self.uniform())
     }
 
     /// Standard normal (Box–Muller, both values used).
@@ -56,10 +56,11 @@ impl Rng {
         }
         let u1 = 1.0 - self.uniform(); // (0, 1]
         let u2 = self.uniform();
-        let r = (-2.0 * u1.ln()).sqrt();
+        let r = (-2.0 * libm::log(u1)).sqrt();
         let a = 2.0 * std::f64::consts::PI * u2;
-        self.spare = Some(r * a.sin());
-        r * a.cos()
+        let (sin, cos) = libm::sincos(a);
+        self.spare = Some(r * sin);
+        r * cos
     }
 
     /// A random sign.
