@@ -48,11 +48,7 @@ def cargo_environment(triple):
 
 def build(platforms):
     """Builds the program for each platform; returns {platform: path}."""
-    for platform in platforms:
-        triple = package_fmu.PLATFORMS[platform][0]
-        command = ["cargo", "build", "--release", "-p", "damper_cli"] + (["--target", triple] if triple else [])
-        print("+ " + " ".join(command), flush=True)
-        subprocess.run(command, cwd=package_fmu.REPO, env=cargo_environment(triple), check=True)
+    package_fmu.cargo_build(platforms, ["damper_cli"], cargo_environment)
     return {platform: program_path(platform) for platform in platforms}
 
 

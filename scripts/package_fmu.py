@@ -110,15 +110,16 @@ def platforms_arg(text, program, product="the FMU gets"):
     return ["linux64", "win64"]
 
 
-def cargo_build(platforms):
-    """Builds both FMUs' libraries (the damper's and the quarter truck's) for each platform: cargo
-    alone, no libclang."""
+def cargo_build(platforms, packages=("semi_active_damper", "quarter_truck"), environment=None):
+    """Builds `packages` for each platform; by default both FMUs' libraries (the damper's and the
+    quarter truck's), which need cargo alone, no libclang. `environment(triple)`, if given, is the
+    build's environment for a target triple (None: the host's)."""
     for platform in platforms:
         triple = PLATFORMS[platform][0]
-        command = ["cargo", "build", "--release", "-p", "semi_active_damper", "-p", "quarter_truck"]
+        command = ["cargo", "build", "--release"] + [word for package in packages for word in ("-p", package)]
         command += ["--target", triple] if triple else []
         print("+ " + " ".join(command), flush=True)
-        subprocess.run(command, cwd=REPO, check=True)
+        subprocess.run(command, cwd=REPO, env=environment(triple) if environment else None, check=True)
 
 
 def check_library(path):
