@@ -394,8 +394,8 @@ impl Damper {
             let norm = (ERROR_CONTROLLED
                 .iter()
                 .map(|&(i, scale)| {
-                    let w = p.rtol * (scale + self.state.y[i].abs().max(y[i].abs()));
-                    (error[i] / w).powi(2)
+                    let r = error[i] / (p.rtol * (scale + self.state.y[i].abs().max(y[i].abs())));
+                    r * r
                 })
                 .sum::<f64>()
                 / ERROR_CONTROLLED.len() as f64)

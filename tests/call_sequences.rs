@@ -11,6 +11,10 @@
 //! ```
 //!
 //! (`CALL_SEQUENCES_SEED` picks another first seed; see docs/robustness.md).
+#![allow(
+    clippy::disallowed_methods,
+    reason = "a test: the platform's math is an independent reference and makes inputs"
+)]
 // dlopen and the FMUs' C API through raw pointers: the crate denies unsafe code (Cargo.toml),
 // this file needs it.
 #![allow(unsafe_code)]

@@ -1,4 +1,8 @@
 //! The FMI 2.0 C API in-process: lifecycle, the state machine, bad arguments, FMU state.
+#![allow(
+    clippy::disallowed_methods,
+    reason = "a test: the platform's math is an independent reference and makes inputs"
+)]
 // Calls the FMU's C API as an importer does, through raw pointers: the crate denies unsafe code
 // (Cargo.toml), this file needs it.
 #![allow(unsafe_code)]

@@ -1,6 +1,10 @@
 //! The FMU as an importer sees it: packed into an .fmu (modelDescription.xml + the cdylib this
 //! `cargo test` built), loaded by rust-fmi's `fmi` crate (dlopen), and driven through its FMI 2.0
 //! API. The results must equal the in-process model bit for bit.
+#![allow(
+    clippy::disallowed_methods,
+    reason = "a test: the platform's math is an independent reference and makes inputs"
+)]
 
 use fmi::fmi2::import::Fmi2Import;
 use fmi::fmi2::instance::{CoSimulation, Common};

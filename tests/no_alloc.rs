@@ -1,5 +1,9 @@
 //! fmi2DoStep, the getters and setters used every step, and the logging of a refused call never
 //! touch the heap.
+#![allow(
+    clippy::disallowed_methods,
+    reason = "a test: the platform's math is an independent reference and makes inputs"
+)]
 // A counting global allocator and the FMU's C API through raw pointers: the crate denies unsafe
 // code (Cargo.toml), this file needs it.
 #![allow(unsafe_code)]

@@ -1,6 +1,10 @@
 //! One regression test per finding of the first randomized call-sequence run: each failed,
 //! hung or panicked before its fix. The damper is driven in-process through its C API; the truck,
 //! and the two FMUs together, through their binaries (dlopen, as in tests/call_sequences.rs).
+#![allow(
+    clippy::disallowed_methods,
+    reason = "a test: the platform's math is an independent reference and makes inputs"
+)]
 // The FMUs' C API through raw pointers: the crate denies unsafe code (Cargo.toml), this file
 // needs it.
 #![allow(unsafe_code)]

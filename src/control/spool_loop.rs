@@ -63,6 +63,10 @@ pub fn flow_force_compensation(p: &Parameters, d: &Derived, m: Measurements) -> 
 }
 
 #[cfg(test)]
+#[allow(
+    clippy::disallowed_methods,
+    reason = "a test: the platform's math is an independent reference and makes inputs"
+)]
 mod tests {
     use super::*;
     use crate::variables::default_parameters;

@@ -90,6 +90,10 @@ const ONE_STEP_LIMIT: f64 = 0.04;
 const MAX_HALLEY_ITERATIONS: usize = 8;
 
 #[cfg(test)]
+#[allow(
+    clippy::disallowed_methods,
+    reason = "a test: the platform's math is an independent reference and makes inputs"
+)]
 mod tests {
     use super::*;
 

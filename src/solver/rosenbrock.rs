@@ -87,6 +87,10 @@ pub fn rodas3_step_from<const N: usize, M: IterationMatrix<N>>(
 }
 
 #[cfg(test)]
+#[allow(
+    clippy::disallowed_methods,
+    reason = "a test: the platform's math is an independent reference and makes inputs"
+)]
 mod tests {
     use super::*;
     use nalgebra::{SMatrix, SVector};

@@ -20,6 +20,7 @@ tests/win64/wine_runner.sh builds a stand-in (tests/win64/bcryptprimitives.c) be
 
 import json
 import math
+import re
 import shutil
 import subprocess
 import zipfile
@@ -162,4 +163,9 @@ def test_the_damper_program_gives_on_windows_what_it_gives_on_linux(damper, damp
     for name in ["diagnosis/summary.json", "through_fmu/summary.json"]:
         summary = [without_timings(json.loads((d / name).read_text())) for d in (linux, windows)]
         assert summary[0] == summary[1], name
+    # the reports' plots too: their axes' logarithms come from the libm crate (clippy.toml)
+    for name in ["diagnosis/report.html", "through_fmu/report.html"]:
+        report = [re.sub(r"Model run [0-9.]+ s \([0-9]+× real time\)", "", (d / name).read_text())
+                  for d in (linux, windows)]
+        assert report[0] == report[1], name
     assert "verdict: effect (seal_friction)" in printed["linux64"]

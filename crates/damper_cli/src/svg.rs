@@ -167,9 +167,9 @@ impl Plot {
             return if axis.log { (1.0, 10.0) } else { (0.0, 1.0) };
         }
         if axis.log {
-            let (l, h) = (lo.log10(), hi.log10());
+            let (l, h) = (libm::log10(lo), libm::log10(hi));
             if h - l < 1e-9 {
-                return (10f64.powf(l - 0.5), 10f64.powf(h + 0.5));
+                return (libm::pow(10.0, l - 0.5), libm::pow(10.0, h + 0.5));
             }
             (lo, hi)
         } else if degenerate(lo, hi) {
@@ -192,13 +192,19 @@ impl Plot {
         let (x0, x1) = self.data_range(true);
         let (y0, y1) = self.data_range(false);
         let tx = |v: f64| -> f64 {
-            let f =
-                if self.x.log { (v.log10() - x0.log10()) / (x1.log10() - x0.log10()) } else { (v - x0) / (x1 - x0) };
+            let f = if self.x.log {
+                (libm::log10(v) - libm::log10(x0)) / (libm::log10(x1) - libm::log10(x0))
+            } else {
+                (v - x0) / (x1 - x0)
+            };
             ml + f * pw
         };
         let ty = |v: f64| -> f64 {
-            let f =
-                if self.y.log { (v.log10() - y0.log10()) / (y1.log10() - y0.log10()) } else { (v - y0) / (y1 - y0) };
+            let f = if self.y.log {
+                (libm::log10(v) - libm::log10(y0)) / (libm::log10(y1) - libm::log10(y0))
+            } else {
+                (v - y0) / (y1 - y0)
+            };
             mt + (1.0 - f) * ph
         };
         let mut s = String::new();
@@ -447,7 +453,7 @@ fn ticks(lo: f64, hi: f64, log: bool) -> Vec<f64> {
         return Vec::new();
     }
     if log {
-        let (a, b) = (lo.log10().floor() as i32, hi.log10().ceil() as i32);
+        let (a, b) = (libm::log10(lo).floor() as i32, libm::log10(hi).ceil() as i32);
         let decades = b - a;
         let mults: &[f64] = if decades <= 2 { &[1.0, 2.0, 5.0] } else { &[1.0] };
         let step = ((decades as f64) / 8.0).ceil().max(1.0) as i32;
@@ -455,7 +461,7 @@ fn ticks(lo: f64, hi: f64, log: bool) -> Vec<f64> {
         let mut e = a;
         while e <= b {
             for m in mults {
-                let v = m * 10f64.powi(e);
+                let v = m * libm::pow(10.0, f64::from(e));
                 if v >= lo * (1.0 - 1e-9) && v <= hi * (1.0 + 1e-9) {
                     t.push(v);
                 }
@@ -469,7 +475,7 @@ fn ticks(lo: f64, hi: f64, log: bool) -> Vec<f64> {
     }
     let span = hi - lo;
     let raw = span / 6.0;
-    let mag = 10f64.powf(raw.log10().floor());
+    let mag = libm::pow(10.0, libm::log10(raw).floor());
     let step = [1.0, 2.0, 2.5, 5.0, 10.0].iter().map(|m| m * mag).find(|s| span / s <= 7.0).unwrap_or(10.0 * mag);
     // counted, not stepped until past `hi`: the count is at most 7 whatever the rounding of v + step
     let first = (lo / step).ceil();
@@ -495,8 +501,8 @@ fn fmt_tick(v: f64, lo: f64, hi: f64, log: bool) -> String {
         if log && (1e-3..1e5).contains(&a) {
             return trim(format!("{v:.3}"));
         }
-        let e = a.log10().floor() as i32;
-        let m = v / 10f64.powi(e);
+        let e = libm::log10(a).floor() as i32;
+        let m = v / libm::pow(10.0, f64::from(e));
         return if (m - m.round()).abs() < 1e-9 && m.round() == 1.0 {
             format!("1e{e}")
         } else {
@@ -504,7 +510,7 @@ fn fmt_tick(v: f64, lo: f64, hi: f64, log: bool) -> String {
         };
     }
     let span = (hi - lo).abs().max(1e-300);
-    let decimals = (-(span / 6.0).log10().floor() as i32 + 1).clamp(0, 6) as usize;
+    let decimals = (-libm::log10(span / 6.0).floor() as i32 + 1).clamp(0, 6) as usize;
     trim(format!("{v:.decimals$}"))
 }
 
@@ -522,6 +528,10 @@ pub fn esc(s: &str) -> String {
 }
 
 #[cfg(test)]
+#[allow(
+    clippy::disallowed_methods,
+    reason = "a test: the platform's math is an independent reference and makes inputs"
+)]
 mod tests {
     use super::*;
 

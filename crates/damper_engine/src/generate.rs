@@ -511,7 +511,7 @@ fn road_gd0(road: &str) -> Result<f64, String> {
         "motorway" => 16e-6,
         "major" => 64e-6,
         "minor" => 128e-6,
-        c if c.len() == 1 && ("a"..="h").contains(&c) => 16e-6 * 4f64.powi((c.as_bytes()[0] - b'a') as i32),
+        c if c.len() == 1 && ("a"..="h").contains(&c) => 16e-6 * f64::from(1u32 << (2 * (c.as_bytes()[0] - b'a'))),
         _ => return Err(format!("--road {road}: use motorway, major, minor or an ISO 8608 class A–H")),
     })
 }
@@ -537,7 +537,8 @@ fn hil_run(
     let waves: Vec<(f64, f64, f64)> = (0..n_waves)
         .map(|i| {
             let nn = n_lo * libm::exp((i as f64 + 0.5) * dln);
-            let gd = gd0 * (nn / 0.1).powi(-2);
+            let r = nn / 0.1;
+            let gd = gd0 * (1.0 / (r * r));
             ((2.0 * gd * nn * dln).sqrt(), 2.0 * PI * nn * o.speed, rng.range(0.0, 2.0 * PI))
         })
         .collect();
@@ -681,7 +682,8 @@ pub fn generate(o: &GenerateOptions) -> Result<Generated, String> {
     // Noise floor: what the force sensor alone leaves (analytic), and what the truth model
     // leaves when driven by the measured inputs (the oracle; equal unless errors-in-variables).
     let split = (0.7 * n as f64).round() as usize;
-    let sigma_f = (nz.f_damper.noise.powi(2) + nz.f_damper.quantum.powi(2) / 12.0).sqrt();
+    let (noise, quantum) = (nz.f_damper.noise, nz.f_damper.quantum);
+    let sigma_f = (noise * noise + quantum * quantum / 12.0).sqrt();
     let expected_floor = sigma_f / std(&f_meas[split..]);
     let oracle_drive = Drive { time: t.clone(), v_damper: v_drive, demand: demand_of(&demand) };
     let oracle = Model { params, load_cell_lowpass_hz: o.lowpass_hz }.force(&oracle_drive, n)?;

@@ -317,6 +317,10 @@ pub fn default_threads() -> usize {
 }
 
 #[cfg(test)]
+#[allow(
+    clippy::disallowed_methods,
+    reason = "a test: the platform's math is an independent reference and makes inputs"
+)]
 mod tests {
     use super::*;
 

@@ -76,6 +76,10 @@ pub fn informative(base: &[f64], plus: &[f64], minus: &[f64], delta_v: f64, nois
 }
 
 #[cfg(test)]
+#[allow(
+    clippy::disallowed_methods,
+    reason = "a test: the platform's math is an independent reference and makes inputs"
+)]
 mod tests {
     use super::*;
 

@@ -53,9 +53,9 @@ pub fn judge(b: f64, floor: &Floor, candidates: &[Candidate], mut ladder: Ladder
 
     if b <= FLOOR_FACTOR * f {
         // the cut of the mean-square error as a share of the noise variance
-        let noise2 = floor.nrmse_noise.powi(2);
-        let gain = |c: &Candidate| (b * b - c.nrmse_validation.powi(2)) / noise2;
-        let least = MIN_GAIN.max(NUMERICS_MARGIN * floor.nrmse_numerics.powi(2) / noise2);
+        let noise2 = floor.nrmse_noise * floor.nrmse_noise;
+        let gain = |c: &Candidate| (b * b - c.nrmse_validation * c.nrmse_validation) / noise2;
+        let least = MIN_GAIN.max(NUMERICS_MARGIN * floor.nrmse_numerics * floor.nrmse_numerics / noise2);
         let weak = best
             .filter(|c| c.plausible && gain(c) >= least && rivals().all(|r| gain(r) < MAX_RUNNER_UP_RATIO * gain(c)));
         return match weak {

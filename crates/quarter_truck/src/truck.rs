@@ -109,6 +109,10 @@ impl Params {
 }
 
 #[cfg(test)]
+#[allow(
+    clippy::disallowed_methods,
+    reason = "a test: the platform's math is an independent reference and makes inputs"
+)]
 mod tests {
     use super::*;
 
