@@ -12,6 +12,7 @@ The FMU (target/fmu/SemiActiveDamper.fmu) holds
     binaries/win64/SemiActiveDamper.dll       (copy of target/x86_64-pc-windows-gnu/release/semi_active_damper.dll)
     documentation/index.html                  (generated here from modelDescription.xml)
     documentation/physics.md                  (copy of docs/physics.md: equations, parameter reasoning)
+    documentation/licenses/                   (the project's licences and those of the code in the binaries)
 
 The Windows binary is cross-compiled with cargo's x86_64-pc-windows-gnu target and the MinGW-w64
 linker (.cargo/config.toml); scripts/setup.sh installs both. By default (--platforms auto) it is
@@ -23,12 +24,14 @@ the same bytes.
 
 import argparse
 import html
+import json
 import math
 import os
 import re
 import shutil
 import subprocess
 import sys
+import textwrap
 import xml.etree.ElementTree as ET
 import zipfile
 from pathlib import Path
@@ -47,13 +50,26 @@ REQUIRED_SYMBOLS = ("fmi2Instantiate", "fmi2DoStep", "fmi2GetReal", "fmi2SetReal
 # The model's physics document. Both FMUs ship it as documentation/physics.md, because the variable
 # descriptions cite its sections ("see physics.md §x") and a user of the FMU has no repository.
 PHYSICS_DOC = REPO / "docs" / "physics.md"
-# Link to it from index.html (relative, so it resolves inside the unpacked FMU).
+# Link to it, and to the licences, from index.html (relative: they resolve inside the unpacked FMU).
 PHYSICS_LINK = ('<p>The equations of every component, the reasoning and source of every parameter value '
                 'and the checks behind them are in <a href="physics.md">physics.md</a> '
                 '(<code>documentation/physics.md</code> in this FMU); a reference "physics.md §x" in a '
-                'variable description names one of its sections.</p>')
+                'variable description names one of its sections.</p>'
+                '<p>Licence: MIT OR Apache-2.0. The licences of this FMU and of the code compiled into its '
+                'binaries are in <a href="licenses/THIRD-PARTY.txt">licenses/</a>.</p>')
 
 
+
+# Licences. The project's own, and those of the code compiled into the binaries: the crates' MIT and
+# Apache licences ask that their notices travel with the binaries. Gathered here from cargo's own
+# dependency tree and metadata (some forty lines) rather than with cargo-about, which CI would have to
+# build from source for this one job.
+PROJECT_LICENCES = ("LICENSE-MIT", "LICENSE-APACHE")
+LICENCE_FILE = re.compile(r"(LICEN[CS]E|COPYING|COPYRIGHT|NOTICE|UNLICENSE)", re.IGNORECASE)
+# cargo tree's target for each FMI platform folder (the host's toolchain builds linux64)
+TREE_TARGETS = {"linux64": "x86_64-unknown-linux-gnu", "win64": "x86_64-pc-windows-gnu"}
+# Debian's copyright file of the MinGW-w64 runtime that the win64 binaries' start-up code comes from
+MINGW_COPYRIGHT = Path("/usr/share/doc/mingw-w64-x86-64-dev/copyright")
 
 # Style of the FMUs' documentation/index.html.
 CSS = """body { font-family: sans-serif; max-width: 75em; margin: 1em auto; padding: 0 1em; line-height: 1.4; }
@@ -361,10 +377,76 @@ def write_zip(fmu_path, files):
     tmp.replace(fmu_path)
 
 
-def package(libraries, xml_path, fmu_path, documentation=None):
-    """Zips the FMU, with the binary of each platform in `libraries` ({platform: path});
-    `documentation(model)` writes its index.html (default: the damper's). Both FMUs also carry
-    docs/physics.md as documentation/physics.md."""
+def cargo_json(args):
+    return json.loads(subprocess.run(["cargo", *args], cwd=REPO, check=True, capture_output=True, text=True).stdout)
+
+
+def linked_crates(crate, platforms):
+    """(name, version) of every registry crate compiled into `crate`'s library for `platforms`: cargo
+    tree's normal dependencies, with the features of that build. The workspace's own crates (path
+    dependencies) are the project's; proc-macro crates run in the compiler and leave no code."""
+    found = set()
+    for platform in platforms:
+        out = subprocess.run(["cargo", "tree", "--locked", "-p", crate, "-e", "normal", "--prefix", "none",
+                              "--format", "{p}", "--target", TREE_TARGETS[platform]],
+                             cwd=REPO, check=True, capture_output=True, text=True).stdout
+        for line in out.splitlines():
+            match = re.fullmatch(r"(\S+) v(\S+)(?: \(\*\))?", line.strip())
+            if match:
+                found.add((match[1], match[2]))
+    return sorted(found)
+
+
+def third_party_notice(crate, platforms):
+    """documentation/licenses/THIRD-PARTY.txt: each crate in the binaries, its licence and the text of
+    its licence files. A crate without a licence file stops the packaging (nothing is left out)."""
+    metadata = cargo_json(["metadata", "--format-version", "1", "--locked"])
+    packages = {(p["name"], p["version"]): p for p in metadata["packages"]}
+    crates = linked_crates(crate, platforms)
+    about = ("The binaries are built with Rust from this project's code (MIT OR Apache-2.0: LICENSE-MIT, "
+             "LICENSE-APACHE) and contain code of the Rust standard library (MIT OR Apache-2.0; its notices: "
+             "rust-standard-library.html)" + (" and of the crates below, each with the text of its licence files."
+                                               if crates else ", and of no other crate."))
+    if "win64" in platforms:
+        about += (" The win64 binary also contains start-up code of the MinGW-w64 runtime (its licences: "
+                  "mingw-w64-runtime.txt) and libgcc's unwinder (GPL-3.0 with the GCC Runtime Library Exception, "
+                  "which asks for no notice).")
+    lines = [f"Third-party code in the binaries of this FMU ({', '.join(platforms)})", "", textwrap.fill(about, 78)]
+    if crates:
+        lines += ["", textwrap.fill("Crates: " + ", ".join(f"{n} {v}" for n, v in crates) + ".", 78)]
+    for name, version in crates:
+        meta = packages[(name, version)]
+        folder = Path(meta["manifest_path"]).parent
+        files = sorted(f for f in folder.iterdir() if f.is_file() and LICENCE_FILE.match(f.name))
+        if not files:
+            raise SystemExit(f"package_fmu: {name} {version} ({folder}) has no licence file; its licence is "
+                             f"{meta['license'] or meta['license_file']}: add its text before shipping it")
+        lines += ["", "=" * 78, f"{name} {version}: {meta['license']}, {meta.get('repository') or ''}".rstrip(", "),
+                  "=" * 78]
+        for f in files:
+            lines += ["", f"--- {f.name} ---", "", f.read_text(encoding="utf-8", errors="replace").rstrip()]
+    return "\n".join(lines) + "\n"
+
+
+def licence_files(crate, platforms):
+    """The (archive name, bytes) pairs of documentation/licenses/."""
+    sysroot = subprocess.run(["rustc", "--print", "sysroot"], check=True, capture_output=True, text=True).stdout
+    files = [(f"documentation/licenses/{name}", (REPO / name).read_bytes()) for name in PROJECT_LICENCES]
+    files.append(("documentation/licenses/THIRD-PARTY.txt", third_party_notice(crate, platforms).encode("utf-8")))
+    files.append(("documentation/licenses/rust-standard-library.html",
+                  (Path(sysroot.strip()) / "share" / "doc" / "rust" / "COPYRIGHT-library.html").read_bytes()))
+    if "win64" in platforms:
+        if not MINGW_COPYRIGHT.exists():
+            raise SystemExit(f"package_fmu: {MINGW_COPYRIGHT} (the MinGW-w64 runtime's licences) is missing: "
+                             "bash scripts/setup.sh installs it with the Windows linker")
+        files.append(("documentation/licenses/mingw-w64-runtime.txt", MINGW_COPYRIGHT.read_bytes()))
+    return files
+
+
+def package(libraries, xml_path, fmu_path, documentation=None, crate=CRATE):
+    """Zips the FMU, with the binary of each platform in `libraries` ({platform: path}) built from
+    `crate`; `documentation(model)` writes its index.html (default: the damper's). Both FMUs also
+    carry docs/physics.md as documentation/physics.md, and the licences."""
     model = read_model(xml_path)
     model["platforms"] = list(libraries)
     binaries = [(f"binaries/{platform}/{model['modelIdentifier']}{PLATFORMS[platform][2]}", path.read_bytes())
@@ -374,6 +456,7 @@ def package(libraries, xml_path, fmu_path, documentation=None):
         *binaries,
         ("documentation/index.html", (documentation or documentation_html)(model).encode("utf-8")),
         ("documentation/physics.md", PHYSICS_DOC.read_bytes()),
+        *licence_files(crate, list(libraries)),
     ]
     write_zip(fmu_path, files)
     return fmu_path

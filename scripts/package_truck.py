@@ -11,6 +11,7 @@ The FMU (target/fmu/QuarterTruck.fmu) holds
     binaries/win64/QuarterTruck.dll       (copy of target/x86_64-pc-windows-gnu/release/quarter_truck.dll)
     documentation/index.html              (generated here from modelDescription.xml)
     documentation/physics.md              (copy of docs/physics.md, shared with the damper's FMU)
+    documentation/licenses/               (as in the damper's FMU)
 
 It takes the options of scripts/package_fmu.py (--platforms among them) and reuses its zip and
 documentation helpers (same fixed time stamps, so the same inputs give the same bytes).
@@ -70,7 +71,7 @@ SemiActiveDamper.fmu's inputs and its <code>F_damper</code> (with <code>tare_loa
 
 
 def package(libraries, xml_path=XML, fmu_path=OUTPUT):
-    return package_fmu.package(libraries, xml_path, fmu_path, documentation_html)
+    return package_fmu.package(libraries, xml_path, fmu_path, documentation_html, CRATE)
 
 
 def main(argv=None):
