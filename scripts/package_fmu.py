@@ -65,6 +65,8 @@ PHYSICS_LINK = ('<p>The equations of every component, the reasoning and source o
 # dependency tree and metadata (some forty lines) rather than with cargo-about, which CI would have to
 # build from source for this one job.
 PROJECT_LICENCES = ("LICENSE-MIT", "LICENSE-APACHE")
+# the texts of the licences a crate may declare without shipping a licence file
+SPDX_TEXTS = {"MIT": "LICENSE-MIT", "Apache-2.0": "LICENSE-APACHE"}
 LICENCE_FILE = re.compile(r"(LICEN[CS]E|COPYING|COPYRIGHT|NOTICE|UNLICENSE)", re.IGNORECASE)
 # cargo tree's target for each FMI platform folder (the host's toolchain builds linux64)
 TREE_TARGETS = {"linux64": "x86_64-unknown-linux-gnu", "win64": "x86_64-pc-windows-gnu"}
@@ -363,8 +365,9 @@ solenoid hysteresis and spool stiction, pipe fluid inertia, load-cell filtering.
 """
 
 
-def write_zip(fmu_path, files):
-    """Writes (archive name, bytes) pairs into a deflated zip with fixed time stamps."""
+def write_zip(fmu_path, files, executable=lambda name: name.startswith("binaries/")):
+    """Writes (archive name, bytes) pairs into a deflated zip with fixed time stamps; the entries
+    `executable(name)` picks get mode 755, the others 644."""
     fmu_path.parent.mkdir(parents=True, exist_ok=True)
     tmp = fmu_path.with_suffix(".fmu.tmp")
     with zipfile.ZipFile(tmp, "w", compression=zipfile.ZIP_DEFLATED) as z:
@@ -372,7 +375,7 @@ def write_zip(fmu_path, files):
             assert "\\" not in name
             info = zipfile.ZipInfo(name, date_time=ZIP_DATE)
             info.compress_type = zipfile.ZIP_DEFLATED
-            info.external_attr = (0o755 if name.startswith("binaries/") else 0o644) << 16
+            info.external_attr = (0o755 if executable(name) else 0o644) << 16
             z.writestr(info, data)
     tmp.replace(fmu_path)
 
@@ -398,8 +401,8 @@ def linked_crates(crate, platforms):
 
 
 def third_party_notice(crate, platforms):
-    """documentation/licenses/THIRD-PARTY.txt: each crate in the binaries, its licence and the text of
-    its licence files. A crate without a licence file stops the packaging (nothing is left out)."""
+    """THIRD-PARTY.txt: each crate compiled into `crate`'s binaries, its licence and the text of its
+    licence files (or of its declared licences, for a crate published without one)."""
     metadata = cargo_json(["metadata", "--format-version", "1", "--locked"])
     packages = {(p["name"], p["version"]): p for p in metadata["packages"]}
     crates = linked_crates(crate, platforms)
@@ -417,15 +420,33 @@ def third_party_notice(crate, platforms):
     for name, version in crates:
         meta = packages[(name, version)]
         folder = Path(meta["manifest_path"]).parent
-        files = sorted(f for f in folder.iterdir() if f.is_file() and LICENCE_FILE.match(f.name))
-        if not files:
-            raise SystemExit(f"package_fmu: {name} {version} ({folder}) has no licence file; its licence is "
-                             f"{meta['license'] or meta['license_file']}: add its text before shipping it")
         lines += ["", "=" * 78, f"{name} {version}: {meta['license']}, {meta.get('repository') or ''}".rstrip(", "),
                   "=" * 78]
+        files = sorted(f for f in folder.iterdir() if f.is_file() and LICENCE_FILE.match(f.name))
         for f in files:
             lines += ["", f"--- {f.name} ---", "", f.read_text(encoding="utf-8", errors="replace").rstrip()]
+        if not files:
+            lines += declared_licence_texts(name, version, meta, folder)
     return "\n".join(lines) + "\n"
+
+
+def declared_licence_texts(name, version, meta, folder):
+    """For a crate published without a licence file: the texts of the licences its expression names
+    (MIT and Apache-2.0, the project's own texts; MIT's copyright line names the crate's authors).
+    Any other licence stops the packaging, naming the crate."""
+    offered = [term.strip() for term in re.split(r" OR |/", meta["license"] or "")]
+    known = [term for term in offered if term in SPDX_TEXTS]
+    if not known:
+        raise SystemExit(f"package_fmu: {name} {version} ({folder}) has no licence file, and its licence "
+                         f"{meta['license'] or meta['license_file']!r} is not one whose text this script has")
+    authors = ", ".join(meta.get("authors") or []) or f"the authors of {name}"
+    lines = ["", f"(No licence file in the crate: the texts of the licences it declares, {meta['license']}.)"]
+    for term in known:
+        text = (REPO / SPDX_TEXTS[term]).read_text(encoding="utf-8").rstrip()
+        if term == "MIT":
+            text = re.sub(r"^Copyright \(c\) .*$", f"Copyright (c) {authors}", text, flags=re.M)
+        lines += ["", f"--- {term} ---", "", text]
+    return lines
 
 
 def licence_files(crate, platforms):

@@ -147,3 +147,22 @@ def dask_client():
     with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster, \
             Client(cluster) as client:
         yield client
+
+
+@pytest.fixture(scope="session")
+def crates_compiled_in():
+    """A function: the {(name, version)} of the registry crates compiled into a workspace crate's
+    binary for an FMI platform, as `cargo tree` lists its normal dependencies."""
+    targets = {"linux64": "x86_64-unknown-linux-gnu", "win64": "x86_64-pc-windows-gnu"}
+
+    def crates(crate, platform):
+        out = subprocess.run(["cargo", "tree", "--locked", "-p", crate, "-e", "normal", "--prefix", "none",
+                              "--target", targets[platform]], cwd=REPO, check=True, capture_output=True, text=True)
+        found = set()
+        for line in out.stdout.splitlines():
+            name, version, *rest = line.split()
+            if not rest or rest == ["(*)"]:  # "(/path)" marks the workspace's own crates
+                found.add((name, version.removeprefix("v")))
+        return found
+
+    return crates

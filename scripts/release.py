@@ -1,0 +1,132 @@
+#!/usr/bin/env python3
+"""Pack a release: both FMUs and the `damper` program, for Linux and Windows, in one zip archive
+(standard library only).
+
+    python3 scripts/release.py              # build everything (package_fmu, package_truck, build_cli), then pack
+    python3 scripts/release.py --no-build   # pack what target/ already holds
+
+writes target/dist/semi-active-damper-<version>.zip, whose one folder holds
+
+    README.txt                    what is in the archive and how to start (written here)
+    LICENSE-MIT, LICENSE-APACHE   the project's licences
+    fmu/SemiActiveDamper.fmu      the damper (linux64 and win64 binaries; its licences inside)
+    fmu/QuarterTruck.fmu          the quarter truck with the clipped Modified Skyhook demand
+    bin/linux64/damper            the diagnosis and calibration program for Linux (glibc >= 2.34)
+    bin/win64/damper.exe          the same for Windows 10 or later
+    bin/THIRD-PARTY.txt           the crates compiled into the program, with their licences' text
+    examples/rig_valve_test.csv   a rig record to diagnose (a hidden effect: the README says which)
+    docs/cli.md, docs/physics.md  the program's command line; the model's equations and parameters
+
+The version is the crates'; the model descriptions and the program must agree with it. Entries are
+sorted and carry a fixed time stamp, so the same inputs give the same archive, byte for byte.
+"""
+
+import argparse
+import re
+import subprocess
+import sys
+import tomllib
+import zipfile
+from pathlib import Path
+
+# Run as a script, Python puts scripts/ first on sys.path, so the siblings are found.
+import build_cli
+import package_fmu
+import package_truck
+
+REPO = package_fmu.REPO
+PLATFORMS = ("linux64", "win64")
+EXAMPLE = REPO / "data" / "measurements" / "rig_valve_test.csv"
+DOCS = ("cli.md", "physics.md")
+
+README = """Semi-active truck damper {version}: FMI 2.0 Co-Simulation FMUs and the damper program
+
+A model of the continuously variable semi-active damper for heavy trucks of Kitching, Cole and
+Cebon, "The development of a semi-active truck damper": the master gives the damper velocity and a
+force demand, the FMU returns the force its load cell measures.
+
+fmu/SemiActiveDamper.fmu   the damper; binaries for linux64 (glibc >= 2.34) and win64 (Windows 10+).
+                           Inputs v_damper [m/s, extension +], F_demand [N, tension +]; output
+                           F_damper [N]. Its documentation/index.html lists every variable.
+fmu/QuarterTruck.fmu       the paper's quarter truck (Table 1) with the clipped Modified Skyhook
+                           demand, to couple with the damper on a road.
+bin/linux64/damper         compares the model with a measurement and names the physical effect
+bin/win64/damper.exe       the model misses (diagnose), fits nominal parameters (calibrate), makes
+                           measurement-like records (generate); docs/cli.md is its help.
+examples/rig_valve_test.csv  a rig record with a hidden effect, to try the diagnosis on:
+
+    bin/linux64/damper diagnose examples/rig_valve_test.csv --out diagnosis --load-cell-lowpass 400
+    bin\\win64\\damper.exe diagnose examples\\rig_valve_test.csv --out diagnosis --load-cell-lowpass 400
+
+  then open diagnosis/report.html. With --fmu fmu/SemiActiveDamper.fmu the program runs the
+  packaged FMU instead of its built-in copy of the model.
+
+docs/physics.md            every equation and parameter, with its unit, source and reasoning (the
+                           FMUs carry it too, as documentation/physics.md).
+
+Both platforms compute the same results, bit for bit. Licence: MIT OR Apache-2.0 (LICENSE-MIT,
+LICENSE-APACHE); the licences of the code compiled into the FMUs are in each FMU's
+documentation/licenses/, those of the program in bin/THIRD-PARTY.txt.
+"""
+
+
+def version():
+    """The crates' version, after checking that both model descriptions and the program agree."""
+    crate = tomllib.loads((REPO / "Cargo.toml").read_text(encoding="utf-8"))["package"]["version"]
+    for xml in (REPO / "modelDescription.xml", package_truck.XML):
+        found = re.search(r'<fmiModelDescription[^>]*\sversion="([^"]+)"', xml.read_text(encoding="utf-8"))
+        if not found or found[1] != crate:
+            sys.exit(f"release: {xml.relative_to(REPO)} says version {found and found[1]!r}, the crates {crate!r}")
+    program = tomllib.loads((REPO / "crates" / "damper_cli" / "Cargo.toml").read_text(encoding="utf-8"))
+    if program["package"]["version"] != crate:
+        sys.exit(f"release: crates/damper_cli/Cargo.toml says version {program['package']['version']!r}, "
+                 f"the damper crate {crate!r}")
+    return crate
+
+
+def contents(version, fmus, programs):
+    """(archive name, bytes) of every entry, sorted by name."""
+    folder = f"semi-active-damper-{version}/"
+    files = {
+        "README.txt": README.format(version=version).encode("utf-8"),
+        "bin/THIRD-PARTY.txt": package_fmu.third_party_notice("damper_cli", list(programs)).encode("utf-8"),
+        "examples/rig_valve_test.csv": EXAMPLE.read_bytes(),
+        **{f"fmu/{path.name}": path.read_bytes() for path in fmus},
+        **{f"bin/{platform}/{path.name}": path.read_bytes() for platform, path in programs.items()},
+        **{f"docs/{name}": (REPO / "docs" / name).read_bytes() for name in DOCS},
+        **{name: (REPO / name).read_bytes() for name in package_fmu.PROJECT_LICENCES},
+    }
+    return [(folder + name, data) for name, data in sorted(files.items())]
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--no-build", action="store_true", help="pack what target/ already holds")
+    parser.add_argument("--out-dir", default=str(package_fmu.target_dir() / "dist"),
+                        help="folder of the archive (default: target/dist)")
+    args = parser.parse_args(argv)
+    release = version()
+    if not args.no_build:
+        for script in ("package_fmu.py", "package_truck.py", "build_cli.py"):
+            # a release has both platforms: each script stops with the reason where one cannot be built
+            subprocess.run([sys.executable, str(REPO / "scripts" / script), "--platforms", ",".join(PLATFORMS)],
+                           check=True)
+    fmus = [REPO / "target" / "fmu" / "SemiActiveDamper.fmu", package_truck.OUTPUT]
+    programs = {platform: build_cli.program_path(platform) for platform in PLATFORMS}
+    missing = [str(p) for p in [*fmus, *programs.values()] if not p.exists()]
+    if missing:
+        sys.exit(f"release: missing {', '.join(missing)}: run without --no-build (bash scripts/setup.sh installs "
+                 "what the Windows build needs)")
+    for fmu in fmus:
+        with zipfile.ZipFile(fmu) as z:
+            lacking = [p for p in PLATFORMS if not any(n.startswith(f"binaries/{p}/") for n in z.namelist())]
+        if lacking:
+            sys.exit(f"release: {fmu} has no {', '.join(lacking)} binary: run without --no-build")
+    archive = Path(args.out_dir) / f"semi-active-damper-{release}.zip"
+    package_fmu.write_zip(archive, contents(release, fmus, programs), executable=lambda name: "/bin/" in name
+                          and not name.endswith(".txt"))
+    print(f"release: wrote {archive} ({archive.stat().st_size / 1e6:.1f} MB)")
+
+
+if __name__ == "__main__":
+    main()
