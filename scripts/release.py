@@ -64,7 +64,8 @@ examples/rig_valve_test.csv  a rig record with a hidden effect, to try the diagn
 docs/physics.md            every equation and parameter, with its unit, source and reasoning (the
                            FMUs carry it too, as documentation/physics.md).
 
-Both platforms compute the same results, bit for bit. Licence: MIT OR Apache-2.0 (LICENSE-MIT,
+The Linux and Windows binaries compute the same results, bit for bit (tested with Windows'
+binaries under Wine, not on Windows itself). Licence: MIT OR Apache-2.0 (LICENSE-MIT,
 LICENSE-APACHE); the licences of the code compiled into the FMUs are in each FMU's
 documentation/licenses/, those of the program in bin/THIRD-PARTY.txt.
 """
