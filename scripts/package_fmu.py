@@ -400,7 +400,15 @@ def linked_crates(crate, platforms):
     return sorted(found)
 
 
-def third_party_notice(crate, platforms):
+def crate_licence_files(name, folder):
+    """A crate's licence files: those at its top, and for a -sys crate, which may bundle a C library
+    with a licence of its own (zstd-sys: zstd/LICENSE), those up to two folders down."""
+    depth = 3 if name.endswith("-sys") else 1
+    return sorted(f for f in folder.rglob("*") if f.is_file() and LICENCE_FILE.match(f.name)
+                  and len(f.relative_to(folder).parts) <= depth)
+
+
+def third_party_notice(crate, platforms, product="this FMU"):
     """THIRD-PARTY.txt: each crate compiled into `crate`'s binaries, its licence and the text of its
     licence files (or of its declared licences, for a crate published without one)."""
     metadata = cargo_json(["metadata", "--format-version", "1", "--locked"])
@@ -414,7 +422,7 @@ def third_party_notice(crate, platforms):
         about += (" The win64 binary also contains start-up code of the MinGW-w64 runtime (its licences: "
                   "mingw-w64-runtime.txt) and libgcc's unwinder (GPL-3.0 with the GCC Runtime Library Exception, "
                   "which asks for no notice).")
-    lines = [f"Third-party code in the binaries of this FMU ({', '.join(platforms)})", "", textwrap.fill(about, 78)]
+    lines = [f"Third-party code in the binaries of {product} ({', '.join(platforms)})", "", textwrap.fill(about, 78)]
     if crates:
         lines += ["", textwrap.fill("Crates: " + ", ".join(f"{n} {v}" for n, v in crates) + ".", 78)]
     for name, version in crates:
@@ -422,9 +430,10 @@ def third_party_notice(crate, platforms):
         folder = Path(meta["manifest_path"]).parent
         lines += ["", "=" * 78, f"{name} {version}: {meta['license']}, {meta.get('repository') or ''}".rstrip(", "),
                   "=" * 78]
-        files = sorted(f for f in folder.iterdir() if f.is_file() and LICENCE_FILE.match(f.name))
+        files = crate_licence_files(name, folder)
         for f in files:
-            lines += ["", f"--- {f.name} ---", "", f.read_text(encoding="utf-8", errors="replace").rstrip()]
+            text = f.read_text(encoding="utf-8", errors="replace").rstrip()
+            lines += ["", f"--- {f.relative_to(folder).as_posix()} ---", "", text]
         if not files:
             lines += declared_licence_texts(name, version, meta, folder)
     return "\n".join(lines) + "\n"
@@ -449,19 +458,26 @@ def declared_licence_texts(name, version, meta, folder):
     return lines
 
 
-def licence_files(crate, platforms):
-    """The (archive name, bytes) pairs of documentation/licenses/."""
+def toolchain_licences(platforms):
+    """(file name, bytes) of the notices of the code the toolchain puts into every binary: the Rust
+    standard library's, and for win64 the MinGW-w64 runtime's."""
     sysroot = subprocess.run(["rustc", "--print", "sysroot"], check=True, capture_output=True, text=True).stdout
-    files = [(f"documentation/licenses/{name}", (REPO / name).read_bytes()) for name in PROJECT_LICENCES]
-    files.append(("documentation/licenses/THIRD-PARTY.txt", third_party_notice(crate, platforms).encode("utf-8")))
-    files.append(("documentation/licenses/rust-standard-library.html",
-                  (Path(sysroot.strip()) / "share" / "doc" / "rust" / "COPYRIGHT-library.html").read_bytes()))
+    files = [("rust-standard-library.html",
+              (Path(sysroot.strip()) / "share" / "doc" / "rust" / "COPYRIGHT-library.html").read_bytes())]
     if "win64" in platforms:
         if not MINGW_COPYRIGHT.exists():
             raise SystemExit(f"package_fmu: {MINGW_COPYRIGHT} (the MinGW-w64 runtime's licences) is missing: "
                              "bash scripts/setup.sh installs it with the Windows linker")
-        files.append(("documentation/licenses/mingw-w64-runtime.txt", MINGW_COPYRIGHT.read_bytes()))
+        files.append(("mingw-w64-runtime.txt", MINGW_COPYRIGHT.read_bytes()))
     return files
+
+
+def licence_files(crate, platforms):
+    """The (archive name, bytes) pairs of documentation/licenses/."""
+    files = [(name, (REPO / name).read_bytes()) for name in PROJECT_LICENCES]
+    files.append(("THIRD-PARTY.txt", third_party_notice(crate, platforms).encode("utf-8")))
+    files += toolchain_licences(platforms)
+    return [(f"documentation/licenses/{name}", data) for name, data in files]
 
 
 def package(libraries, xml_path, fmu_path, documentation=None, crate=CRATE):
