@@ -23,6 +23,7 @@ sorted and carry a fixed time stamp, so the same inputs give the same archive, b
 """
 
 import argparse
+import posixpath
 import re
 import subprocess
 import sys
@@ -39,6 +40,8 @@ REPO = package_fmu.REPO
 PLATFORMS = ("linux64", "win64")
 EXAMPLE = REPO / "data" / "measurements" / "rig_valve_test.csv"
 DOCS = ("cli.md", "physics.md")
+# a Markdown link to a file (not to a web address or an anchor)
+FILE_LINK = re.compile(r"\[([^\]]+)\]\(((?![a-z]+:|#)[^)\s]+)\)")
 
 README = """Semi-active truck damper {version}: FMI 2.0 Co-Simulation FMUs and the damper program
 
@@ -63,7 +66,9 @@ examples/rig_valve_test.csv  a rig record with a hidden effect, to try the diagn
   packaged FMU instead of its built-in copy of the model.
 
 docs/physics.md            every equation and parameter, with its unit, source and reasoning (the
-                           FMUs carry it too, as documentation/physics.md).
+                           FMUs carry it too, as documentation/physics.md). A path in backticks that
+                           the archive lacks, such as `docs/diagnose.md`, is in the project's
+                           repository.
 
 The Linux and Windows binaries compute the same results, bit for bit (tested with Windows'
 binaries under Wine, not on Windows itself). Licence: MIT OR Apache-2.0 (LICENSE-MIT,
@@ -86,6 +91,15 @@ def version():
     return crate
 
 
+def without_dangling_links(text, shipped):
+    """A document of docs/ for the archive: a link to a file the archive lacks becomes the file's
+    path in the repository, as code (the README.txt says where those are)."""
+    def link(match):
+        path = posixpath.normpath(posixpath.join("docs", match[2].split("#")[0]))
+        return match[0] if path in shipped else f"`{path}`"
+    return FILE_LINK.sub(link, text)
+
+
 def contents(version, fmus, programs):
     """(archive name, bytes) of every entry, sorted by name."""
     folder = f"semi-active-damper-{version}/"
@@ -97,7 +111,8 @@ def contents(version, fmus, programs):
         "examples/rig_valve_test.csv": EXAMPLE.read_bytes(),
         **{f"fmu/{path.name}": path.read_bytes() for path in fmus},
         **{f"bin/{platform}/{path.name}": path.read_bytes() for platform, path in programs.items()},
-        **{f"docs/{name}": (REPO / "docs" / name).read_bytes() for name in DOCS},
+        **{f"docs/{name}": without_dangling_links((REPO / "docs" / name).read_text(encoding="utf-8"),
+                                                  {f"docs/{d}" for d in DOCS}).encode("utf-8") for name in DOCS},
         **{name: (REPO / name).read_bytes() for name in package_fmu.PROJECT_LICENCES},
     }
     return [(folder + name, data) for name, data in sorted(files.items())]

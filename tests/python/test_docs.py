@@ -9,6 +9,7 @@
 """
 
 import math
+import posixpath
 import re
 import subprocess
 import xml.etree.ElementTree as ET
@@ -173,8 +174,13 @@ def test_fmu_ships_the_physics_document(which, request):
         assert "documentation/physics.md" in z.namelist(), f"{fmu.name}: {sorted(z.namelist())}"
         shipped = z.read("documentation/physics.md")
         index = z.read("documentation/index.html").decode("utf-8")
+        names = set(z.namelist())
     assert shipped == PHYSICS.read_bytes(), f"{fmu.name} carries an outdated physics.md: repackage it"
     assert 'href="physics.md"' in index
+    # a user of the FMU has no repository: its documents link only to what the FMU holds
+    targets = re.findall(r"\]\(([^)\s]+)\)", shipped.decode("utf-8")) + re.findall(r'href="([^"]+)"', index)
+    local = {t.split("#")[0] for t in targets if not re.match(r"[a-z]+:|#", t)}
+    assert {t for t in local if posixpath.normpath(f"documentation/{t}") not in names} == set()
 
 
 def test_hand_checked_numbers_in_the_document():

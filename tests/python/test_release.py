@@ -3,6 +3,8 @@ Windows in one zip, as a user unpacks it. The program from the archive diagnoses
 through the FMU from the archive; the program's THIRD-PARTY.txt lists every crate compiled into it;
 the same inputs give the same archive, byte for byte."""
 
+import posixpath
+import re
 import subprocess
 import sys
 import zipfile
@@ -44,6 +46,16 @@ def test_the_archive_holds_both_fmus_and_both_programs(archive):
         "bin/mingw-w64-runtime.txt", "examples/rig_valve_test.csv",
         "docs/cli.md", "docs/physics.md"}
     assert {name for name, mode in modes.items() if mode & 0o111} == {"bin/linux64/damper", "bin/win64/damper.exe"}
+
+
+def test_the_archive_s_documents_link_only_to_what_it_holds(archive):
+    with zipfile.ZipFile(archive) as z:
+        names = set(z.namelist())
+        for name in [n for n in names if n.endswith(".md")]:
+            targets = re.findall(r"\]\(([^)\s]+)\)", z.read(name).decode("utf-8"))
+            local = {posixpath.normpath(posixpath.join(posixpath.dirname(name), t.split("#")[0]))
+                     for t in targets if not re.match(r"[a-z]+:|#", t)}
+            assert local <= names, name
 
 
 def test_the_program_in_the_archive_runs_the_fmu_in_the_archive(archive, tmp_path):
