@@ -70,6 +70,8 @@ SPDX_TEXTS = {"MIT": "LICENSE-MIT", "Apache-2.0": "LICENSE-APACHE"}
 LICENCE_FILE = re.compile(r"(LICEN[CS]E|COPYING|COPYRIGHT|NOTICE|UNLICENSE)", re.IGNORECASE)
 # cargo tree's target for each FMI platform folder (the host's toolchain builds linux64)
 TREE_TARGETS = {"linux64": "x86_64-unknown-linux-gnu", "win64": "x86_64-pc-windows-gnu"}
+# the FMI 2.0 headers' licence: the FMI layer transcribes their types (the program's importer binds them)
+FMI_HEADERS_LICENCE = REPO / "crates" / "fmi2_slave" / "FMI-HEADERS-LICENSE.txt"
 # Debian's copyright file of the MinGW-w64 runtime that the win64 binaries' start-up code comes from
 MINGW_COPYRIGHT = Path("/usr/share/doc/mingw-w64-x86-64-dev/copyright")
 
@@ -415,7 +417,8 @@ def third_party_notice(crate, platforms, product="this FMU"):
     packages = {(p["name"], p["version"]): p for p in metadata["packages"]}
     crates = linked_crates(crate, platforms)
     about = ("The binaries are built with Rust from this project's code (MIT OR Apache-2.0: LICENSE-MIT, "
-             "LICENSE-APACHE) and contain code of the Rust standard library (MIT OR Apache-2.0; its notices: "
+             "LICENSE-APACHE), with the C types of the FMI 2.0 standard's headers (2-Clause BSD: "
+             "FMI-2.0-headers.txt), and contain code of the Rust standard library (MIT OR Apache-2.0; its notices: "
              "rust-standard-library.html)" + (" and of the crates below, each with the text of its licence files."
                                                if crates else ", and of no other crate."))
     if "win64" in platforms:
@@ -458,11 +461,12 @@ def declared_licence_texts(name, version, meta, folder):
     return lines
 
 
-def toolchain_licences(platforms):
-    """(file name, bytes) of the notices of the code the toolchain puts into every binary: the Rust
-    standard library's, and for win64 the MinGW-w64 runtime's."""
+def common_licences(platforms):
+    """(file name, bytes) of the notices every binary of the project needs beside THIRD-PARTY.txt: the
+    FMI 2.0 headers' and, for the code the toolchain puts in, the Rust standard library's and for
+    win64 the MinGW-w64 runtime's."""
     sysroot = subprocess.run(["rustc", "--print", "sysroot"], check=True, capture_output=True, text=True).stdout
-    files = [("rust-standard-library.html",
+    files = [("FMI-2.0-headers.txt", FMI_HEADERS_LICENCE.read_bytes()), ("rust-standard-library.html",
               (Path(sysroot.strip()) / "share" / "doc" / "rust" / "COPYRIGHT-library.html").read_bytes())]
     if "win64" in platforms:
         if not MINGW_COPYRIGHT.exists():
@@ -476,7 +480,7 @@ def licence_files(crate, platforms):
     """The (archive name, bytes) pairs of documentation/licenses/."""
     files = [(name, (REPO / name).read_bytes()) for name in PROJECT_LICENCES]
     files.append(("THIRD-PARTY.txt", third_party_notice(crate, platforms).encode("utf-8")))
-    files += toolchain_licences(platforms)
+    files += common_licences(platforms)
     return [(f"documentation/licenses/{name}", data) for name, data in files]
 
 

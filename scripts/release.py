@@ -14,7 +14,7 @@ writes target/dist/semi-active-damper-<version>.zip, whose one folder holds
     bin/linux64/damper            the diagnosis and calibration program for Linux (glibc >= 2.34)
     bin/win64/damper.exe          the same for Windows 10 or later
     bin/THIRD-PARTY.txt           the crates compiled into the program, with their licences' text
-    bin/rust-standard-library.html, bin/mingw-w64-runtime.txt   the toolchain's code in the program
+    bin/FMI-2.0-headers.txt, rust-standard-library.html, mingw-w64-runtime.txt   the files it names
     examples/rig_valve_test.csv   a rig record to diagnose (a hidden effect: the README says which)
     docs/cli.md, docs/physics.md  the program's command line; the model's equations and parameters
 
@@ -73,7 +73,7 @@ docs/physics.md            every equation and parameter, with its unit, source a
 The Linux and Windows binaries compute the same results, bit for bit (tested with Windows'
 binaries under Wine, not on Windows itself). Licence: MIT OR Apache-2.0 (LICENSE-MIT,
 LICENSE-APACHE); the licences of the code compiled into the FMUs are in each FMU's
-documentation/licenses/, those of the program in bin/ (THIRD-PARTY.txt and the two files it names).
+documentation/licenses/, those of the program in bin/ (THIRD-PARTY.txt and the files it names).
 """
 
 
@@ -107,7 +107,7 @@ def contents(version, fmus, programs):
         "README.txt": README.format(version=version).encode("utf-8"),
         "bin/THIRD-PARTY.txt": package_fmu.third_party_notice("damper_cli", list(programs),
                                                               "the damper program").encode("utf-8"),
-        **{f"bin/{name}": data for name, data in package_fmu.toolchain_licences(list(programs))},
+        **{f"bin/{name}": data for name, data in package_fmu.common_licences(list(programs))},
         "examples/rig_valve_test.csv": EXAMPLE.read_bytes(),
         **{f"fmu/{path.name}": path.read_bytes() for path in fmus},
         **{f"bin/{platform}/{path.name}": path.read_bytes() for platform, path in programs.items()},

@@ -1,6 +1,7 @@
 """Each FMU carries the licences of the code in its binaries (documentation/licenses/): the project's
-own, the Rust standard library's notices, the MinGW-w64 runtime's where there is a win64 binary, and
-THIRD-PARTY.txt with every crate compiled in and the text of its licence files.
+own, the FMI 2.0 headers' (the FMI layer transcribes their types), the Rust standard library's
+notices, the MinGW-w64 runtime's where there is a win64 binary, and THIRD-PARTY.txt with every crate
+compiled in and the text of its licence files.
 
 The crates expected are asked of `cargo tree` here, per platform, and each crate's section must hold
 a text of one of the licences its expression offers."""
@@ -32,13 +33,15 @@ def test_the_fmu_carries_the_licences_of_what_its_binaries_contain(fmus, which, 
         index = fmu.read("documentation/index.html").decode("utf-8")
     assert 'href="licenses/THIRD-PARTY.txt"' in index  # from documentation/index.html
 
-    expected_files = {"LICENSE-MIT", "LICENSE-APACHE", "THIRD-PARTY.txt", "rust-standard-library.html"}
+    expected_files = {"LICENSE-MIT", "LICENSE-APACHE", "THIRD-PARTY.txt", "FMI-2.0-headers.txt",
+                      "rust-standard-library.html"}
     if "win64" in platforms:
         expected_files.add("mingw-w64-runtime.txt")
     assert set(licences) == expected_files
     for name in ["LICENSE-MIT", "LICENSE-APACHE"]:
         assert licences[name] == (REPO / name).read_bytes()
     assert b"Rust Standard Library" in licences["rust-standard-library.html"]
+    assert b'Modelica Association Project "FMI"' in licences["FMI-2.0-headers.txt"]
 
     sections = third_party_sections(licences["THIRD-PARTY.txt"].decode("utf-8"))
     assert set(sections) == set().union(*(crates_compiled_in(CRATES[which], p) for p in platforms))

@@ -42,7 +42,8 @@ def test_the_archive_holds_both_fmus_and_both_programs(archive):
         modes = {info.filename.removeprefix(folder): info.external_attr >> 16 for info in z.infolist()}
     assert set(modes) == {
         "README.txt", "LICENSE-MIT", "LICENSE-APACHE", "fmu/SemiActiveDamper.fmu", "fmu/QuarterTruck.fmu",
-        "bin/linux64/damper", "bin/win64/damper.exe", "bin/THIRD-PARTY.txt", "bin/rust-standard-library.html",
+        "bin/linux64/damper", "bin/win64/damper.exe", "bin/THIRD-PARTY.txt", "bin/FMI-2.0-headers.txt",
+        "bin/rust-standard-library.html",
         "bin/mingw-w64-runtime.txt", "examples/rig_valve_test.csv",
         "docs/cli.md", "docs/physics.md"}
     assert {name for name, mode in modes.items() if mode & 0o111} == {"bin/linux64/damper", "bin/win64/damper.exe"}
