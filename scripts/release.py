@@ -81,9 +81,9 @@ def version():
     """The crates' version, after checking that both model descriptions and the program agree."""
     crate = tomllib.loads((REPO / "Cargo.toml").read_text(encoding="utf-8"))["package"]["version"]
     for xml in (REPO / "modelDescription.xml", package_truck.XML):
-        found = re.search(r'<fmiModelDescription[^>]*\sversion="([^"]+)"', xml.read_text(encoding="utf-8"))
-        if not found or found[1] != crate:
-            sys.exit(f"release: {xml.relative_to(REPO)} says version {found and found[1]!r}, the crates {crate!r}")
+        found = package_fmu.read_model(xml)["version"]
+        if found != crate:
+            sys.exit(f"release: {xml.relative_to(REPO)} says version {found!r}, the crates {crate!r}")
     program = tomllib.loads((REPO / "crates" / "damper_cli" / "Cargo.toml").read_text(encoding="utf-8"))
     if program["package"]["version"] != crate:
         sys.exit(f"release: crates/damper_cli/Cargo.toml says version {program['package']['version']!r}, "
@@ -103,6 +103,7 @@ def without_dangling_links(text, shipped):
 def contents(version, fmus, programs):
     """(archive name, bytes) of every entry, sorted by name."""
     folder = f"semi-active-damper-{version}/"
+    docs = {f"docs/{name}" for name in DOCS}
     files = {
         "README.txt": README.format(version=version).encode("utf-8"),
         "bin/THIRD-PARTY.txt": package_fmu.third_party_notice("damper_cli", list(programs),
@@ -112,7 +113,7 @@ def contents(version, fmus, programs):
         **{f"fmu/{path.name}": path.read_bytes() for path in fmus},
         **{f"bin/{platform}/{path.name}": path.read_bytes() for platform, path in programs.items()},
         **{f"docs/{name}": without_dangling_links((REPO / "docs" / name).read_text(encoding="utf-8"),
-                                                  {f"docs/{d}" for d in DOCS}).encode("utf-8") for name in DOCS},
+                                                  docs).encode("utf-8") for name in DOCS},
         **{name: (REPO / name).read_bytes() for name in package_fmu.PROJECT_LICENCES},
     }
     return [(folder + name, data) for name, data in sorted(files.items())]
