@@ -18,6 +18,8 @@ from pathlib import Path
 
 import pytest
 
+from test_readme import LINK, relative_files
+
 REPO = Path(__file__).resolve().parents[2]
 PHYSICS = REPO / "docs" / "physics.md"
 DAMPER_XML = REPO / "modelDescription.xml"
@@ -178,8 +180,7 @@ def test_fmu_ships_the_physics_document(which, request):
     assert shipped == PHYSICS.read_bytes(), f"{fmu.name} carries an outdated physics.md: repackage it"
     assert 'href="physics.md"' in index
     # a user of the FMU has no repository: its documents link only to what the FMU holds
-    targets = re.findall(r"\]\(([^)\s]+)\)", shipped.decode("utf-8")) + re.findall(r'href="([^"]+)"', index)
-    local = {t.split("#")[0] for t in targets if not re.match(r"[a-z]+:|#", t)}
+    local = relative_files(LINK.findall(shipped.decode("utf-8")) + re.findall(r'href="([^"]+)"', index))
     assert {t for t in local if posixpath.normpath(f"documentation/{t}") not in names} == set()
 
 

@@ -11,6 +11,13 @@ REPO = Path(__file__).resolve().parents[2]
 LINK = re.compile(r"\[[^\]]*\]\(([^)\s]+)\)")
 
 
+def relative_files(targets):
+    """The files that link targets point to (the part before any #anchor): web addresses and links
+    within the page left out. For the documents shipped outside the repository (test_docs,
+    test_release)."""
+    return {t.partition("#")[0] for t in targets if not re.match(r"[a-z]+:|#", t)}
+
+
 def markdown_files() -> list[Path]:
     tracked = subprocess.run(["git", "ls-files", "*.md"], cwd=REPO, check=True, capture_output=True,
                              text=True).stdout.split()

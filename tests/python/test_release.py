@@ -4,7 +4,6 @@ through the FMU from the archive; the program's THIRD-PARTY.txt lists every crat
 the same inputs give the same archive, byte for byte."""
 
 import posixpath
-import re
 import subprocess
 import sys
 import zipfile
@@ -13,6 +12,7 @@ import pytest
 
 from damper_tools import REPO
 from test_licences import third_party_sections
+from test_readme import LINK, relative_files
 
 RELEASE = REPO / "scripts" / "release.py"
 
@@ -53,9 +53,8 @@ def test_the_archive_s_documents_link_only_to_what_it_holds(archive):
     with zipfile.ZipFile(archive) as z:
         names = set(z.namelist())
         for name in [n for n in names if n.endswith(".md")]:
-            targets = re.findall(r"\]\(([^)\s]+)\)", z.read(name).decode("utf-8"))
-            local = {posixpath.normpath(posixpath.join(posixpath.dirname(name), t.split("#")[0]))
-                     for t in targets if not re.match(r"[a-z]+:|#", t)}
+            local = {posixpath.normpath(posixpath.join(posixpath.dirname(name), t))
+                     for t in relative_files(LINK.findall(z.read(name).decode("utf-8")))}
             assert local <= names, name
 
 
