@@ -77,7 +77,10 @@ impl IterationMatrix<N_STATES> for PlantIterationMatrix {
         })
     }
 
-    #[inline]
+    // Always inlined: a step solves four times, and as a call (LLVM's choice) the damper took
+    // 13 % longer in wall-clock time for 3.5 % more instructions; the stalls are likely the
+    // vectors passed and returned through memory (docs/performance.md, ninth round).
+    #[inline(always)]
     fn solve(&self, b: &SVector<f64, N_STATES>) -> SVector<f64, N_STATES> {
         use idx::*;
         let k_coil = b[I_COIL] * self.coil;
