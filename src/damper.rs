@@ -426,19 +426,20 @@ impl Damper {
         Ok(steps)
     }
 
-    /// Samples the controller at the present state; leaves in `self.start` the plant linearised
-    /// there with the new coil command, for the integration step that follows.
+    /// Samples the controller at the present state (the load cell's force from the pressures, as
+    /// [`Plant::force`]); leaves in `self.start` the plant linearised there with the new coil
+    /// command, for the integration step that follows.
     fn sample_controller(&mut self) {
-        self.linearise(0.0);
         let m = Measurements {
-            force: self.start.0.force,
+            force: self.plant().force(&self.state.y),
             x_spool: self.state.y[idx::X_SPOOL],
             v_damper: self.inputs.v_damper,
         };
         let demands = Demands { force: self.inputs.force_demand, x_spool: self.inputs.x_spool_demand };
         self.state.i_command = self.state.controller.sample(&self.params, &self.derived, m, demands);
         self.state.next_sample += 1;
-        // only the coil's equation sees the command
-        self.start.0.dydt[idx::I_COIL] = self.plant().evaluate_coil(&self.state.y);
+        // after the sample, not before it: the controller's chain of dependent operations (the
+        // inverse valve law) then overlaps with the linearisation's work instead of waiting for it
+        self.linearise(0.0);
     }
 }

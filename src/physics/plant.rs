@@ -330,7 +330,7 @@ impl Plant<'_> {
 
     /// The coil current's derivative (A/s) at `y`: the one component that depends on the coil
     /// command.
-    pub fn evaluate_coil(&self, y: &State) -> f64 {
+    fn evaluate_coil(&self, y: &State) -> f64 {
         (self.i_command - y[idx::I_COIL]) / self.p.tau_coil
     }
 
