@@ -8,7 +8,8 @@
 //! at the default and the diagnosis tolerance over twelve inputs of the same kind (seeds 1–12), so
 //! that one input's luck does not stand for the tolerance.
 //! Run: `cargo bench --bench realtime` (release build; `scripts/benchmark.sh` runs it with the
-//! Python cross-check and a diagnosis, docs/performance.md has the results).
+//! Python cross-check and a diagnosis, docs/performance.md has the results);
+//! `cargo bench --bench realtime -- quick [rtol]` prints one line for one tolerance ([`quick`]).
 //!
 //! Input: 10 s of random velocity (a sum of 12 sines, 0.5–15 Hz, random phases, ≈0.25 m/s rms,
 //! stroke within ±60 mm) with a force demand stepping every 100 ms to a random level of 1–20 kN
@@ -178,7 +179,32 @@ fn six(rtol: f64, inputs: &[Vec<(f64, f64)>], threads: usize) -> f64 {
     T_END / start.elapsed().as_secs_f64()
 }
 
+/// `quick [rtol]`: the benchmark's input at one tolerance (default 1e-3), the fastest of 20 runs,
+/// without the per-step timing, and a hash of every force: one line, for comparing two builds
+/// (`scripts/compare_builds.sh` alternates them, process by process).
+fn quick(rtol: f64) {
+    let inputs = scenario(7);
+    let mut hash = 0u64;
+    let fastest = (0..20)
+        .map(|_| {
+            let mut d = damper(rtol, 500e-6);
+            hash = 0;
+            let start = Instant::now();
+            for &input in &inputs {
+                hash = hash.rotate_left(5) ^ step(&mut d, input).to_bits();
+            }
+            start.elapsed().as_secs_f64()
+        })
+        .fold(f64::INFINITY, f64::min);
+    println!("rtol {rtol:e}: {:.0}x real time, forces {hash:016x}", T_END / fastest);
+}
+
 fn main() {
+    let args: Vec<String> = std::env::args().collect();
+    if let Some(at) = args.iter().position(|a| a == "quick") {
+        let rtol = args.get(at + 1).and_then(|r| r.parse().ok()).unwrap_or(DEFAULT_RTOL);
+        return quick(rtol);
+    }
     let inputs = scenario(7);
     let v_rms = rms(inputs.iter().map(|x| x.0));
     let converged = run(1e-9, 5e-6, &inputs);
