@@ -103,6 +103,16 @@ impl Model for Slave {
     }
 
     /// Refuses non-finite values and values outside the XML's [min, max].
+    type Settable = (Parameters, Inputs, bool);
+
+    fn settable(&self) -> Self::Settable {
+        (self.params, self.inputs, self.rtol_set)
+    }
+
+    fn restore_settable(&mut self, (params, inputs, rtol_set): Self::Settable) {
+        (self.params, self.inputs, self.rtol_set) = (params, inputs, rtol_set);
+    }
+
     fn set_real(&mut self, vr: u32, value: f64) -> Result<(), String> {
         let v = RealVar::from_vr(vr).ok_or_else(|| unknown(vr))?;
         check_real(v.name(), value, v.min(), v.max())?;

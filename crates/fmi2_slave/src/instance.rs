@@ -215,18 +215,21 @@ impl<M: Model> Instance<M> {
         self.commit_all(function, vrs.iter().copied().zip(values.iter().copied()), set)
     }
 
-    /// Applies the values to a copy of the model that replaces it only if every one is accepted.
+    /// Applies the values, all or nothing: if one is refused, the model's settable part
+    /// ([`Model::settable`]) is put back as it was before the first.
     fn commit_all<T>(
         &mut self,
         function: &str,
         values: impl Iterator<Item = (u32, T)>,
         set: impl Fn(&mut M, u32, T) -> Result<(), String>,
     ) -> Outcome {
-        let mut next = self.slave.clone();
+        let before = self.slave.settable();
         for (vr, value) in values {
-            set(&mut next, vr, value).map_err(|e| self.error(format_args!("{function}: {e}")))?;
+            if let Err(e) = set(&mut self.slave, vr, value) {
+                self.slave.restore_settable(before);
+                return Err(self.error(format_args!("{function}: {e}")));
+            }
         }
-        self.slave = next;
         Ok(())
     }
 

@@ -58,6 +58,15 @@ pub trait Model: Clone + Default {
     fn get_real(&self, vr: u32) -> Result<f64, String>;
     fn get_integer(&self, vr: u32) -> Result<i32, String>;
     fn get_boolean(&self, vr: u32) -> Result<bool, String>;
+    /// What the `set_*` functions below change (the parameters, the inputs and what goes with
+    /// them). A batch of values is applied all or nothing: the FMI layer keeps a copy of this
+    /// part, not of the whole model, and puts it back when one value is refused. (Copying the
+    /// damper's whole model, integrator state and tables, at every fmi2SetReal cost more than
+    /// its communication step: docs/performance.md, ninth round.)
+    type Settable;
+    fn settable(&self) -> Self::Settable;
+    fn restore_settable(&mut self, settable: Self::Settable);
+
     /// Sets a value, refusing non-finite or out-of-range values with a message.
     fn set_real(&mut self, vr: u32, value: f64) -> Result<(), String>;
     fn set_integer(&mut self, vr: u32, value: i32) -> Result<(), String>;

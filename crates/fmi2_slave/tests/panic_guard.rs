@@ -47,6 +47,13 @@ impl Model for Fragile {
     fn get_boolean(&self, _: u32) -> Result<bool, String> {
         unreachable!()
     }
+    type Settable = f64;
+    fn settable(&self) -> f64 {
+        self.input
+    }
+    fn restore_settable(&mut self, input: f64) {
+        self.input = input;
+    }
     fn set_real(&mut self, _: u32, value: f64) -> Result<(), String> {
         self.input = value;
         Ok(())

@@ -107,6 +107,16 @@ impl Model for Slave {
         Err(unknown(vr))
     }
 
+    type Settable = (Params, Inputs);
+
+    fn settable(&self) -> Self::Settable {
+        (self.params, self.inputs)
+    }
+
+    fn restore_settable(&mut self, (params, inputs): Self::Settable) {
+        (self.params, self.inputs) = (params, inputs);
+    }
+
     fn set_real(&mut self, vr: u32, value: f64) -> Result<(), String> {
         let v = RealVar::from_vr(vr).ok_or_else(|| unknown(vr))?;
         check_real(v.name(), value, v.min(), v.max())?;
