@@ -4,10 +4,10 @@
 //! interruptions), the page faults in the loop, and the RMS force error against a converged run (rtol
 //! 1e-9, steps ≤ 5 µs), in newtons, in % of the RMS force and in sigmas of the rig's load cell
 //! (20 N); then the same input through the FMU's C API, in process, as a master calls it, against
-//! the damper called directly; then six dampers (a full truck), each on its own input: run one by one (the sum of
-//! their times), stepped in lockstep in one thread, and on two threads; last, the RMS force error
-//! at the default and the diagnosis tolerance over twelve inputs of the same kind (seeds 1–12), so
-//! that one input's luck does not stand for the tolerance.
+//! the damper called directly; then six dampers (a full truck), each on its own input: run one by
+//! one (the sum of their times), stepped in lockstep in one thread, and on two threads; last, the
+//! RMS force error at the default and the diagnosis tolerance over twelve inputs of the same kind
+//! (seeds 1–12), so that one input's luck does not stand for the tolerance.
 //! Run: `cargo bench --bench realtime` (release build; `scripts/benchmark.sh` runs it with the
 //! Python cross-check and a diagnosis, docs/performance.md has the results);
 //! `cargo bench --bench realtime -- quick [rtol]` prints one line for one tolerance ([`quick`]).
