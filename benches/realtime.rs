@@ -203,7 +203,7 @@ fn through_c_api(inputs: &[(f64, f64)]) -> (f64, Vec<f64>) {
 
 /// `quick [rtol]`: the benchmark's input at one tolerance (default 1e-3), the fastest of 20 runs,
 /// without the per-step timing, and a hash of every force: one line, for comparing two builds
-/// (`scripts/compare_builds.sh` alternates them, process by process).
+/// (`scripts/compare_builds.py` alternates them, process by process).
 fn quick(rtol: f64) {
     let inputs = scenario(7);
     let mut hash = 0u64;

@@ -102,7 +102,6 @@ impl Model for Slave {
         boolean_parameter(&mut params, v).map(|x| *x).ok_or_else(|| unknown(vr))
     }
 
-    /// Refuses non-finite values and values outside the XML's [min, max].
     type Settable = (Parameters, Inputs, bool);
 
     fn settable(&self) -> Self::Settable {
@@ -113,6 +112,7 @@ impl Model for Slave {
         (self.params, self.inputs, self.rtol_set) = (params, inputs, rtol_set);
     }
 
+    /// Refuses non-finite values and values outside the XML's [min, max].
     fn set_real(&mut self, vr: u32, value: f64) -> Result<(), String> {
         let v = RealVar::from_vr(vr).ok_or_else(|| unknown(vr))?;
         check_real(v.name(), value, v.min(), v.max())?;

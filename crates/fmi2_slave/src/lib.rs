@@ -40,7 +40,7 @@ pub struct VarInfo {
 
 /// A co-simulation model without FMI types. Value references are checked with the `*_info`
 /// functions before the getters and setters are called with them.
-pub trait Model: Clone + Default {
+pub trait Model: Default {
     /// GUID of the model description.
     const GUID: &'static str;
     /// Everything that defines the model's present condition (the FMU state).
