@@ -12,23 +12,19 @@
 //! ```
 
 use crate::solver::{cube_root_estimate, cube_root_halley_step};
-use std::f64::consts::{FRAC_PI_2, PI};
+use std::f64::consts::PI;
+
+/// Pieces of each of the port law's tables below.
+const PIECES: usize = 8;
 
 /// The inverse port law's table ([`ValvePorts::position_for_area`]): with φ the root of Kepler's
 /// equation φ − sin φ = M (eccentricity 1) and t = (6M)^(2/3), the opening fraction
-/// sin²(φ/4) = (t/16)·W(t), W smooth on 0 ≤ t ≤ (6π)^(2/3) (M ≤ π; the upper half by symmetry).
-/// W is a polynomial of degree 8 on each of `KEPLER_PIECES` equal pieces of t, in the piece's own
-/// z ∈ [−1, 1], coefficients lowest first: Chebyshev least-squares fits at 60 nodes per piece,
-/// printed by `scripts/fit_valve_inverse.py`, within 1.2e-14 of sin²(φ/4) relative. The test
-/// `the_opening_table_is_within_its_bound` holds that against a bisection, and
-/// tests/python/test_valve_inverse_table.py that the table is the script's. It replaced a starter,
-/// a Halley iteration and a `sincos`: 4 % faster for the whole damper (docs/performance.md, tenth
-/// round).
-const KEPLER_PIECES: usize = 8;
-/// (6π)^(2/3): t at M = π.
-const KEPLER_T_MAX: f64 = 7.082731016000907;
+/// sin²(φ/4) = (t/16)·W(t), W smooth on 0 ≤ t ≤ (6π)^(2/3) (M ≤ π; the upper half by symmetry),
+/// within 1.2e-14 relative. It replaced a starter, a Halley iteration and a `sincos`: 4 % faster
+/// for the whole damper (docs/performance.md, tenth round). The form of the tables: see
+/// [`piecewise_octic`].
 #[rustfmt::skip]
-const KEPLER_OPENING: [[f64; 9]; KEPLER_PIECES] = [
+const KEPLER_OPENING: [[f64; 9]; PIECES] = [
     [1.0056318858522755, 0.005732722998360747, 0.00010323556933359022, 2.463822096474043e-06, 6.733298525562937e-08, 1.994515492681072e-09, 6.234487498446378e-11, 2.0299671747832032e-12, 6.370055664254952e-14],
     [1.017531130122818, 0.006177558308675384, 0.00011981050926690522, 3.093509304081895e-06, 9.167149451145163e-08, 2.9483089805616355e-09, 1.001363258317739e-10, 3.5466561431711377e-12, 1.252924481494468e-13],
     [1.0303918048381184, 0.0066971127629285076, 0.00014083420772312868, 3.963073460519358e-06, 1.283182359761885e-07, 4.515715815699434e-09, 1.679705047446446e-10, 6.520651797434305e-12, 2.53580080778128e-13],
@@ -38,17 +34,58 @@ const KEPLER_OPENING: [[f64; 9]; KEPLER_PIECES] = [
     [1.0957488853614452, 0.010118471485712604, 0.00032639408873835963, 1.4522213617363033e-05, 7.543016560521048e-07, 4.291968296923519e-08, 2.5933381239923624e-09, 1.651167688866821e-10, 1.0764976842649257e-11],
     [1.1174212147433318, 0.011626469740436456, 0.00043581959213192097, 2.280377816344151e-05, 1.400505594833425e-06, 9.448757412928234e-08, 6.780591469573338e-09, 5.153890960286346e-10, 4.00005845060521e-11],
 ];
+/// (6π)^(2/3): t at M = π.
+const KEPLER_T_MAX: f64 = 7.082731016000907;
 
-/// The opening fraction sin²(φ/4) of the port at t = (6M)^(2/3) (see `KEPLER_OPENING`), by
-/// Estrin's scheme (a shorter chain of dependent operations than Horner's).
-fn opening_fraction(t: f64) -> f64 {
-    let piece = ((t * (KEPLER_PIECES as f64 / KEPLER_T_MAX)) as usize).min(KEPLER_PIECES - 1);
-    let z = t * (2.0 * KEPLER_PIECES as f64 / KEPLER_T_MAX) - (2 * piece + 1) as f64;
-    let c = &KEPLER_OPENING[piece];
+/// The port law's table ([`ValvePorts::area`]): with u = h/r ≤ 1 a port's open area is
+/// r²·u^(3/2)·G(u), G smooth on 0 ≤ u ≤ 1, within 1.2e-15 relative (the other half by symmetry).
+/// It replaced an arcsine's rational approximation, its division and a square root: 2 % faster.
+#[rustfmt::skip]
+const SEGMENT_AREA: [[f64; 9]; PIECES] = [
+    [1.8678405475617217, -0.01787863992757079, -0.00010236284388429582, -1.279170056242606e-06, -2.104442443752315e-08, -4.013101620878269e-10, -8.39709137547688e-12, -1.8383479250728114e-13, -9.887303978669186e-15],
+    [1.8316632328550968, -0.018304148571797595, -0.00011057718579467256, -1.4650355516859606e-06, -2.5619524386987636e-08, -5.200886013665889e-10, -1.1614621292046668e-11, -2.8530336653634683e-13, -8.261632617666122e-16],
+    [1.794600479348351, -0.018764901533841305, -0.000120026859786939, -1.6928206410984832e-06, -3.1602687580418565e-08, -6.86055993413986e-10, -1.638718373347887e-11, -4.2243738125898607e-13, -1.0308768779724624e-14],
+    [1.7565764975741476, -0.019266392337316213, -0.0001310013683365246, -1.9759624283870063e-06, -3.9577468840159045e-08, -9.235241944115938e-10, -2.373386511729043e-11, -6.626396072190059e-13, -2.204684273227561e-14],
+    [1.717503235326162, -0.019815454592542574, -0.0001438870573795543, -2.3337242479526196e-06, -5.0443457422354034e-08, -1.2729350239636244e-09, -3.5403843149576915e-11, -1.0521422025429847e-12, -4.350534285751791e-14],
+    [1.6772772578772654, -0.020420730848907463, -0.00015921115621993787, -2.794513932444428e-06, -6.563573452145866e-08, -1.80401200619993e-09, -5.4793061121102255e-11, -1.7779809340652593e-12, -4.775454358782699e-14],
+    [1.6357754837931664, -0.021093365686108794, -0.00017771227893974967, -3.401642129901918e-06, -8.753855538344998e-08, -2.6431858550383155e-09, -8.83224507034864e-11, -3.1718885962988314e-12, -1.0525810015582878e-13],
+    [1.5928491988799853, -0.021848065700743123, -0.0002004580669076462, -4.223819066434548e-06, -1.2030920091145002e-07, -4.033063484843127e-09, -1.4985620150971235e-10, -6.0016808797846425e-12, -2.4891914415694027e-13],
+];
+
+/// A table of the port law at x (0 ≤ x ≤ `x_max`): on each of `PIECES` equal pieces of
+/// [0, `x_max`] a polynomial of degree 8 in the piece's own z ∈ [−1, 1], coefficients lowest
+/// first, evaluated by Estrin's scheme (a shorter chain of dependent operations than Horner's).
+/// The tables are Chebyshev least-squares fits that `scripts/fit_port_tables.py` prints; the
+/// tests `the_opening_table_is_within_its_bound` (against a bisection),
+/// `the_segment_area_is_the_circle_segments` (against the library's `acos`) and
+/// tests/python/test_port_tables.py (that they are the script's) hold them.
+#[inline]
+fn piecewise_octic(table: &[[f64; 9]; PIECES], x: f64, x_max: f64) -> f64 {
+    let piece = ((x * (PIECES as f64 / x_max)) as usize).min(PIECES - 1);
+    let z = x * (2.0 * PIECES as f64 / x_max) - (2 * piece + 1) as f64;
+    let c = &table[piece];
     let (z2, z4) = (z * z, z * z * z * z);
     let low = (c[0] + c[1] * z) + z2 * (c[2] + c[3] * z);
     let high = (c[4] + c[5] * z) + z2 * (c[6] + c[7] * z);
-    t * (1.0 / 16.0) * ((low + z4 * high) + z4 * z4 * c[8])
+    (low + z4 * high) + z4 * z4 * c[8]
+}
+
+/// The opening fraction sin²(φ/4) of a port at t = (6M)^(2/3) (see `KEPLER_OPENING`).
+fn opening_fraction(t: f64) -> f64 {
+    t * (1.0 / 16.0) * piecewise_octic(&KEPLER_OPENING, t, KEPLER_T_MAX)
+}
+
+/// The open area of a port of unit radius at the opening u = h/r, 0 < u < 2: α(u) = acos(1 − u) −
+/// (1 − u)·sqrt(u(2 − u)), from `SEGMENT_AREA` and α(u) = π − α(2 − u).
+fn segment_area(u: f64) -> f64 {
+    let upper = u > 1.0;
+    let w = if upper { 2.0 - u } else { u };
+    let area = w * w.sqrt() * piecewise_octic(&SEGMENT_AREA, w, 1.0);
+    if upper {
+        PI - area
+    } else {
+        area
+    }
 }
 
 /// Port geometry of the valve.
@@ -72,7 +109,7 @@ impl ValvePorts {
         } else if h >= 2.0 * r {
             PI * r * r
         } else {
-            r * r * acos_one_minus(h / r) - (r - h) * (2.0 * r * h - h * h).sqrt()
+            r * r * segment_area(h / r)
         };
         self.n_ports * one
     }
@@ -115,39 +152,6 @@ impl ValvePorts {
         let opening = 2.0 * r * opening_fraction(s * s);
         self.x_lap + if upper { 2.0 * r - opening } else { opening }
     }
-}
-
-/// acos(1 − u) (rad) for 0 ≤ u ≤ 2, the half angle of a port's uncovered segment at the opening
-/// u = h/r, within a few ulps: an arcsine on |z| ≤ 1/2 only, through the half-angle identities
-/// acos(1 − u) = 2 asin(√(u/2)) and π − 2 asin(√(1 − u/2)) at the ends. Every evaluation of the
-/// plant takes the port area, and glibc's `acos` (with its argument reduction for the whole
-/// range) was 4 % of the damper's instructions.
-fn acos_one_minus(u: f64) -> f64 {
-    if u <= 0.5 {
-        2.0 * asin_within_half((0.5 * u).sqrt())
-    } else if u < 1.5 {
-        FRAC_PI_2 - asin_within_half(1.0 - u)
-    } else {
-        PI - 2.0 * asin_within_half((1.0 - 0.5 * u).sqrt())
-    }
-}
-
-/// asin z for |z| ≤ 1/2, within an ulp: z + z·t·P(t)/Q(t), t = z², with fdlibm's coefficients
-/// (e_asin.c, the rational approximation it uses on the same range).
-fn asin_within_half(z: f64) -> f64 {
-    const P: [f64; 6] = [
-        0.16666666666666666,
-        -0.3255658186224009,
-        0.20121253213486293,
-        -0.04005553450067941,
-        0.0007915349942898145,
-        3.479331075960212e-05,
-    ];
-    const Q: [f64; 4] = [-2.403394911734414, 2.0209457602335057, -0.6882839716054533, 0.07703815055590194];
-    let t = z * z;
-    let p = t * (P[0] + t * (P[1] + t * (P[2] + t * (P[3] + t * (P[4] + t * P[5])))));
-    let q = 1.0 + t * (Q[0] + t * (Q[1] + t * (Q[2] + t * Q[3])));
-    z + z * (p / q)
 }
 
 /// Force (N) of the proportional solenoid with force constant `k_sol` (N/A) at current `i` (A),
@@ -228,44 +232,47 @@ mod tests {
         assert!((PORTS.position_for_area(1.0) - 6.3e-3).abs() < 1e-15);
     }
 
+    /// φ − sin φ without cancellation: its series below φ = 1 (terms to φ²⁵, under 1e-20).
+    fn kepler(phi: f64) -> f64 {
+        if phi >= 1.0 {
+            return phi - phi.sin();
+        }
+        let x2 = phi * phi;
+        let (mut term, mut total) = (phi * x2 / 6.0, 0.0);
+        for k in 1..=12 {
+            total += term;
+            let n = 2.0 * k as f64 + 1.0;
+            term *= -x2 / ((n + 1.0) * (n + 2.0));
+        }
+        total
+    }
+
     #[test]
-    fn acos_one_minus_is_the_library_acos() {
-        // at arguments x whose 1 − x is exact, so that both see the same angle
-        let check = |x: f64| {
-            let u = 1.0 - x;
-            assert_eq!(1.0 - u, x);
-            let (fast, library) = (acos_one_minus(u), x.acos());
-            assert!((fast - library).abs() <= 4.0 * f64::EPSILON * library, "u {u:e}: {fast} vs {library}");
+    fn the_segment_area_is_the_circle_segments() {
+        // the segment's area acos(1 − u) − (1 − u)·sqrt(u(2 − u)) from the library's acos where its
+        // two terms do not cancel, and below u = 1/2 as (φ − sin φ)/2 with φ = 4 asin(sqrt(u/2))
+        let reference = |u: f64| {
+            if u >= 0.5 {
+                (1.0 - u).acos() - (1.0 - u) * (u * (2.0 - u)).sqrt()
+            } else {
+                0.5 * kepler(4.0 * (0.5 * u).sqrt().asin())
+            }
         };
-        for k in 0..=20_000 {
-            check(1.0 - 2.0 * k as f64 / 20_000.0);
+        let mut worst = 0.0f64;
+        let openings = (1..40_000).map(|k| 2.0 * k as f64 / 40_000.0);
+        // small openings down to 1e-15 of the radius, and the last ones before the port is open
+        let ends = (0..=300).flat_map(|k| {
+            let u = 10f64.powf(-15.0 + 14.0 * k as f64 / 300.0);
+            [u, 2.0 - u]
+        });
+        for u in openings.chain(ends) {
+            worst = worst.max((segment_area(u) / reference(u) - 1.0).abs());
         }
-        // small openings, where the segment's area is a small difference of its two terms
-        for k in 0..=300 {
-            check(1.0 - 10f64.powf(-15.0 + 14.0 * k as f64 / 300.0));
-        }
-        assert_eq!(acos_one_minus(0.0), 0.0);
-        assert_eq!(acos_one_minus(2.0), PI);
+        assert!(worst < 4e-15, "worst relative error {worst:e}");
     }
 
     #[test]
     fn the_opening_table_is_within_its_bound() {
-        // φ − sin φ without cancellation: its series below φ = 1 (terms to φ²⁵, under 1e-20)
-        let kepler = |phi: f64| {
-            if phi < 1.0 {
-                let x2 = phi * phi;
-                let mut term = phi * x2 / 6.0;
-                let mut total = 0.0;
-                for k in 1..=12 {
-                    total += term;
-                    let n = 2.0 * k as f64 + 1.0;
-                    term *= -x2 / ((n + 1.0) * (n + 2.0));
-                }
-                total
-            } else {
-                phi - phi.sin()
-            }
-        };
         let t_max = (6.0 * PI).powf(2.0 / 3.0);
         assert!((t_max / KEPLER_T_MAX - 1.0).abs() < 4.0 * f64::EPSILON);
         let mut worst = 0.0f64;
