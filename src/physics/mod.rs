@@ -5,5 +5,6 @@ pub mod hydraulics;
 pub mod iteration_matrix;
 pub mod mount;
 pub mod params;
+pub mod piecewise;
 pub mod plant;
 pub mod valve;

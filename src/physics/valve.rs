@@ -11,20 +11,18 @@
 //!   F_flow = 2 C_d C_v cos θ · A · max(Δp, 0)
 //! ```
 
+use super::piecewise::octic;
 use crate::solver::{cube_root_estimate, cube_root_halley_step};
 use std::f64::consts::PI;
-
-/// Pieces of each of the port law's tables below.
-const PIECES: usize = 8;
 
 /// The inverse port law's table ([`ValvePorts::position_for_area`]): with φ the root of Kepler's
 /// equation φ − sin φ = M (eccentricity 1) and t = (6M)^(2/3), the opening fraction
 /// sin²(φ/4) = (t/16)·W(t), W smooth on 0 ≤ t ≤ (6π)^(2/3) (M ≤ π; the upper half by symmetry),
 /// within 1.2e-14 relative. It replaced a starter, a Halley iteration and a `sincos`: 4 % faster
-/// for the whole damper (docs/performance.md, tenth round). The form of the tables: see
-/// [`piecewise_octic`].
+/// for the whole damper (docs/performance.md, tenth round). Its form, where it comes from and
+/// what tests it: [`super::piecewise`]; here, `the_opening_table_is_within_its_bound`.
 #[rustfmt::skip]
-const KEPLER_OPENING: [[f64; 9]; PIECES] = [
+const KEPLER_OPENING: [[f64; 9]; 8] = [
     [1.0056318858522755, 0.005732722998360747, 0.00010323556933359022, 2.463822096474043e-06, 6.733298525562937e-08, 1.994515492681072e-09, 6.234487498446378e-11, 2.0299671747832032e-12, 6.370055664254952e-14],
     [1.017531130122818, 0.006177558308675384, 0.00011981050926690522, 3.093509304081895e-06, 9.167149451145163e-08, 2.9483089805616355e-09, 1.001363258317739e-10, 3.5466561431711377e-12, 1.252924481494468e-13],
     [1.0303918048381184, 0.0066971127629285076, 0.00014083420772312868, 3.963073460519358e-06, 1.283182359761885e-07, 4.515715815699434e-09, 1.679705047446446e-10, 6.520651797434305e-12, 2.53580080778128e-13],
@@ -40,8 +38,9 @@ const KEPLER_T_MAX: f64 = 7.082731016000907;
 /// The port law's table ([`ValvePorts::area`]): with u = h/r ≤ 1 a port's open area is
 /// r²·u^(3/2)·G(u), G smooth on 0 ≤ u ≤ 1, within 1.2e-15 relative (the other half by symmetry).
 /// It replaced an arcsine's rational approximation, its division and a square root: 2 % faster.
+/// Tested here by `the_segment_area_is_the_circle_segments`.
 #[rustfmt::skip]
-const SEGMENT_AREA: [[f64; 9]; PIECES] = [
+const SEGMENT_AREA: [[f64; 9]; 8] = [
     [1.8678405475617217, -0.01787863992757079, -0.00010236284388429582, -1.279170056242606e-06, -2.104442443752315e-08, -4.013101620878269e-10, -8.39709137547688e-12, -1.8383479250728114e-13, -9.887303978669186e-15],
     [1.8316632328550968, -0.018304148571797595, -0.00011057718579467256, -1.4650355516859606e-06, -2.5619524386987636e-08, -5.200886013665889e-10, -1.1614621292046668e-11, -2.8530336653634683e-13, -8.261632617666122e-16],
     [1.794600479348351, -0.018764901533841305, -0.000120026859786939, -1.6928206410984832e-06, -3.1602687580418565e-08, -6.86055993413986e-10, -1.638718373347887e-11, -4.2243738125898607e-13, -1.0308768779724624e-14],
@@ -52,27 +51,9 @@ const SEGMENT_AREA: [[f64; 9]; PIECES] = [
     [1.5928491988799853, -0.021848065700743123, -0.0002004580669076462, -4.223819066434548e-06, -1.2030920091145002e-07, -4.033063484843127e-09, -1.4985620150971235e-10, -6.0016808797846425e-12, -2.4891914415694027e-13],
 ];
 
-/// A table of the port law at x (0 ≤ x ≤ `x_max`): on each of `PIECES` equal pieces of
-/// [0, `x_max`] a polynomial of degree 8 in the piece's own z ∈ [−1, 1], coefficients lowest
-/// first, evaluated by Estrin's scheme (a shorter chain of dependent operations than Horner's).
-/// The tables are Chebyshev least-squares fits that `scripts/fit_port_tables.py` prints; the
-/// tests `the_opening_table_is_within_its_bound` (against a bisection),
-/// `the_segment_area_is_the_circle_segments` (against the library's `acos`) and
-/// tests/python/test_port_tables.py (that they are the script's) hold them.
-#[inline]
-fn piecewise_octic(table: &[[f64; 9]; PIECES], x: f64, x_max: f64) -> f64 {
-    let piece = ((x * (PIECES as f64 / x_max)) as usize).min(PIECES - 1);
-    let z = x * (2.0 * PIECES as f64 / x_max) - (2 * piece + 1) as f64;
-    let c = &table[piece];
-    let (z2, z4) = (z * z, z * z * z * z);
-    let low = (c[0] + c[1] * z) + z2 * (c[2] + c[3] * z);
-    let high = (c[4] + c[5] * z) + z2 * (c[6] + c[7] * z);
-    (low + z4 * high) + z4 * z4 * c[8]
-}
-
 /// The opening fraction sin²(φ/4) of a port at t = (6M)^(2/3) (see `KEPLER_OPENING`).
 fn opening_fraction(t: f64) -> f64 {
-    t * (1.0 / 16.0) * piecewise_octic(&KEPLER_OPENING, t, KEPLER_T_MAX)
+    t * (1.0 / 16.0) * octic(&KEPLER_OPENING, t, KEPLER_T_MAX)
 }
 
 /// The open area of a port of unit radius at the opening u = h/r, 0 < u < 2: α(u) = acos(1 − u) −
@@ -80,7 +61,7 @@ fn opening_fraction(t: f64) -> f64 {
 fn segment_area(u: f64) -> f64 {
     let upper = u > 1.0;
     let w = if upper { 2.0 - u } else { u };
-    let area = w * w.sqrt() * piecewise_octic(&SEGMENT_AREA, w, 1.0);
+    let area = w * w.sqrt() * octic(&SEGMENT_AREA, w, 1.0);
     if upper {
         PI - area
     } else {
