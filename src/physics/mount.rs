@@ -10,7 +10,8 @@
 use super::piecewise::octic;
 
 /// The cubic share ε = k3 u²/k1 up to which [`CubicMount::deflection`] takes the root from
-/// `MOUNT_DEFLECTION`: forces up to 46 kN with the default mount, beyond the relief valve's cap.
+/// `MOUNT_DEFLECTION`: forces up to 39.5 kN with the default mount, beyond the relief valve's cap
+/// of 36.7 kN.
 const MOUNT_SHARE_MAX: f64 = 0.25;
 /// P(ε) on 0 ≤ ε ≤ `MOUNT_SHARE_MAX`, within 9e-16 relative (see [`super::piecewise`]; tested
 /// here by `the_table_reaches_rounding_up_to_its_limit`).
