@@ -14,7 +14,8 @@ pub fn octic<const P: usize>(table: &[[f64; 9]; P], x: f64, x_max: f64) -> f64 {
     let piece = ((x * (P as f64 / x_max)) as usize).min(P - 1);
     let z = x * (2.0 * P as f64 / x_max) - (2 * piece + 1) as f64;
     let c = &table[piece];
-    let (z2, z4) = (z * z, z * z * z * z);
+    let z2 = z * z;
+    let z4 = z2 * z2;
     let low = (c[0] + c[1] * z) + z2 * (c[2] + c[3] * z);
     let high = (c[4] + c[5] * z) + z2 * (c[6] + c[7] * z);
     (low + z4 * high) + z4 * z4 * c[8]
