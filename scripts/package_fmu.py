@@ -292,7 +292,7 @@ directions of motion, and a gas-charged reservoir takes the rod volume. A digita
 (2 kHz by default) closes an inner loop on spool position (PID plus a flow-force compensation current)
 and an outer loop on damper force. The master gives the damper velocity and a force demand; the FMU
 returns the force measured by the load cell and the internal signals of the valve and the chambers.
-The plant is integrated inside every <code>fmi2DoStep</code> by a stiff Rosenbrock method (Rodas3)
+The plant is integrated inside every <code>fmi2DoStep</code> by a stiff Rosenbrock method of order 3
 with step-size control inside each controller sample (tolerance <code>rtol</code>, steps of at most
 <code>h_max</code>); the controller samples on the grid start time + k·<code>T_sample</code>, whatever
 the communication steps are.</p>

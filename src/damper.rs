@@ -1,6 +1,6 @@
 //! The damper as a co-simulation unit, with no FMI types. The controller is sampled every
 //! `T_sample` on the grid `t_start + k·T_sample`, whatever the communication steps are; between
-//! samples the plant is integrated by Rodas3 with step-size control (embedded error estimate,
+//! samples the plant is integrated by a Rosenbrock method of order 3 (two evaluations a step) with step-size control (embedded error estimate,
 //! steps ≤ `h_max`), so a smooth stretch costs one step per sample and a check valve switching
 //! gets small steps. The step sequence depends only on the sample grid and the inputs, so results
 //! are deterministic and do not depend on the communication step when it is a multiple of
@@ -11,7 +11,7 @@ use crate::control::{Controller, Demands, Measurements};
 use crate::physics::iteration_matrix::PlantIterationMatrix;
 use crate::physics::params::{Derived, Parameters};
 use crate::physics::plant::{idx, rest_current, Linearisation, Plant, PlantOutputs, State, N_STATES};
-use crate::solver::{cube_root_estimate, rodas3_step_from, SolverError, StepStart};
+use crate::solver::{cube_root_estimate, rosenbrock_step_from, SolverError, StepStart};
 use crate::step_error::{StepError, GRID_RESOLUTION, MAX_SAMPLES_PER_STEP, MAX_STEPS_PER_SAMPLE, MIN_STEP};
 use std::cell::Cell;
 
@@ -361,7 +361,7 @@ impl Damper {
         self.start.0 = plant.linearise(&self.state.y, &mut self.start.1);
     }
 
-    /// One Rodas3 step of `step` (s) from the present state, `from` (s) into the velocity's ramp,
+    /// One Rosenbrock step of `step` (s) from the present state, `from` (s) into the velocity's ramp,
     /// from the plant linearised there (`self.start`).
     fn rosenbrock(&self, step: f64, from: f64) -> Result<(State, State), SolverError> {
         let (out, lin) = &self.start;
@@ -370,7 +370,7 @@ impl Damper {
         let f_t = (a != 0.0).then(|| lin.df_dv * a);
         let start = StepStart { f0: &out.dydt, jacobian: &lin.jacobian, f_t };
         let at_end = self.plant_at(from + step);
-        rodas3_step_from::<N_STATES, PlantIterationMatrix>(&start, |y| at_end.evaluate(y).dydt, &self.state.y, step)
+        rosenbrock_step_from::<N_STATES, PlantIterationMatrix>(&start, |y| at_end.evaluate(y).dydt, &self.state.y, step)
     }
 
     /// Integrates over `span` (s) with step-size control; returns the number of steps taken.

@@ -6,7 +6,7 @@ Both run one input in spool-position control (control_mode 1): a velocity that i
 held over each 1 ms communication step, and a spool demand stepping every 50 ms. The Python model is
 docs/physics.md §3-4 written again (src/physics/plant.rs, src/control/spool_loop.rs, amplifier.rs,
 the sampling of src/damper.rs) with other numerics: scipy's Radau over each controller sample
-interval instead of Rodas3. Every parameter is a start value of the FMU's modelDescription.xml. It
+interval instead of the FMU's Rosenbrock method. Every parameter is a start value of the FMU's modelDescription.xml. It
 prints the wall time per simulated second of each and their force difference, and plots both forces.
 Scope: the default effects (friction and leakage off) and an untared load cell; else it refuses.
 """
@@ -226,7 +226,7 @@ def crosscheck(fmu: Path = DAMPER_FMU, duration: float = 1.0, rtol: float = 1e-7
 
 def table(r: dict) -> str:
     """The figures as a Markdown table."""
-    return f"""| {r['simulated']:g} s simulated | Python (scipy Radau) | FMU (Rodas3, through fmpy) |
+    return f"""| {r['simulated']:g} s simulated | Python (scipy Radau) | FMU (Rosenbrock, through fmpy) |
 |---|---|---|
 | rtol | {r['rtol']:g} | {r['fmu_rtol']:g} |
 | wall time per simulated second | {r['python_s_per_s']:.3g} s | {r['fmu_s_per_s']:.3g} s \
@@ -245,7 +245,7 @@ def plot(path: Path, r: dict) -> None:
     ax[0].plot(r["t"], r["v"], "k", lw=0.8, label="v_damper (m/s)")
     ax[0].plot(r["t"], r["x_dem"] * 1e2, "tab:green", lw=0.8, label="x_spool_demand (cm)")
     ax[0].set_title("Input: velocity held over each 1 ms step, spool demand (control_mode 1)")
-    ax[1].plot(r["t"], r["F_fmu"] / 1e3, "tab:blue", lw=1.6, label=f"FMU (Rodas3, rtol {r['fmu_rtol']:g})")
+    ax[1].plot(r["t"], r["F_fmu"] / 1e3, "tab:blue", lw=1.6, label=f"FMU (Rosenbrock, rtol {r['fmu_rtol']:g})")
     ax[1].plot(r["t"], r["F_py"] / 1e3, "tab:orange", lw=0.8, ls="--", label=f"Python (Radau, rtol {r['rtol']:g})")
     ax[1].set_ylabel("F_damper (kN), tension +")
     ax[2].plot(r["t"], r["F_fmu"] - r["F_py"], "tab:red", lw=0.8)

@@ -10,7 +10,7 @@
 //! directly; substituted into the other four rows (p_A, p_B, V_g, v_s) they leave a 4×4 system.
 //! Its LU costs a fifth of the 7×7 one (4³ against 7³ operations) and each stage's solve a third,
 //! which was a quarter of the damper's instructions (`cargo bench --bench realtime`,
-//! docs/performance.md).
+//! docs/performance.md); the stages then multiply by its inverse (see `kept_inverse`).
 
 use super::plant::{idx, N_STATES};
 use crate::solver::{IterationMatrix, Lu};
@@ -22,8 +22,11 @@ const KEPT: [usize; 4] = [idx::P_A, idx::P_B, idx::V_GAS, idx::V_SPOOL];
 /// M factorised through its structure.
 #[derive(Clone, Copy, Debug)]
 pub struct PlantIterationMatrix {
-    /// LU of the 4×4 system on the kept states.
-    kept: Lu<4>,
+    /// The inverse of the 4×4 system on the kept states (from its LU), row by row: each of a
+    /// step's four solves is then a product whose rows are independent sums of four terms, where
+    /// the LU's substitutions are a chain of eight dependent operations (+6 % real-time factor
+    /// with the two-evaluation Rosenbrock method, docs/performance.md, eleventh round).
+    kept_inverse: [[f64; 4]; 4],
     /// γh (s).
     gamma_h: f64,
     /// 1/(c − J_ii): k_i = b_i · this.
@@ -68,7 +71,7 @@ impl IterationMatrix<N_STATES> for PlantIterationMatrix {
             })
         });
         Some(PlantIterationMatrix {
-            kept: Lu::factor_rows(rows)?,
+            kept_inverse: Lu::factor_rows(rows)?.inverse_rows(),
             gamma_h,
             coil,
             spool_position,
@@ -88,7 +91,10 @@ impl IterationMatrix<N_STATES> for PlantIterationMatrix {
         let rhs: [f64; 4] = std::array::from_fn(|r| {
             b[KEPT[r]] - self.spool_position[r] * b[X_SPOOL] - self.coil_current[r] * k_coil - self.stroke[r] * k_stroke
         });
-        let kept = self.kept.solve_array(&rhs);
+        let kept: [f64; 4] = std::array::from_fn(|i| {
+            let row = &self.kept_inverse[i];
+            (row[0] * rhs[0] + row[1] * rhs[1]) + (row[2] * rhs[2] + row[3] * rhs[3])
+        });
         let mut k = SVector::<f64, N_STATES>::zeros();
         for r in 0..4 {
             k[KEPT[r]] = kept[r];

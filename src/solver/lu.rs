@@ -82,6 +82,15 @@ impl<const N: usize> Lu<N> {
         }
         x
     }
+
+    /// The inverse A⁻¹, row by row: its columns solved from the unit vectors. Four independent
+    /// solves, which the processor overlaps, buy products by A⁻¹ whose chain of dependent
+    /// operations is three long (a product, two sums) instead of the 2N of a solve.
+    pub fn inverse_rows(&self) -> [[f64; N]; N] {
+        let columns: [[f64; N]; N] =
+            std::array::from_fn(|j| self.solve_array(&std::array::from_fn(|i| if i == j { 1.0 } else { 0.0 })));
+        std::array::from_fn(|i| std::array::from_fn(|j| columns[j][i]))
+    }
 }
 
 #[cfg(test)]

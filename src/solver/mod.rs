@@ -1,10 +1,10 @@
-//! Stiff integration: a linearly-implicit, L-stable Rosenbrock method (Rodas3) on fixed-size nalgebra
+//! Stiff integration: a linearly-implicit, L-stable Rosenbrock method of order 3 on fixed-size nalgebra
 //! vectors (no heap allocation, fixed operation sequence, hence bitwise deterministic).
 mod lu;
 mod rosenbrock;
 
 pub use lu::Lu;
-pub use rosenbrock::{rodas3_step, rodas3_step_from, StepStart};
+pub use rosenbrock::{rosenbrock_step, rosenbrock_step_from, StepStart};
 
 use nalgebra::{SMatrix, SVector};
 

@@ -1,31 +1,40 @@
-//! Rodas3, the damper's integrator: a Rosenbrock method of order 3, L-stable and stiffly accurate,
-//! with an embedded error estimate; one Jacobian and one LU factorisation per step, four stages
-//! and three evaluations, the last at the step's end:
+//! The damper's integrator: a Rosenbrock method of order 3, L-stable and stiffly accurate, with an
+//! embedded error estimate, that evaluates the right-hand side twice a step: at the step's start,
+//! with the Jacobian, and at its end. Four stages share one LU; the first three solve with f(y₀)
+//! alone, the fourth with the evaluation at the end:
 //!
 //! ```text
-//! (I/(γh) − J) k_i = f(t + α_i h, y + Σ_j a_ij k_j) + Σ_j (c_ij/h) k_j + γ_i h ∂f/∂t ,   i = 1..4
-//! y₁ = y₀ + Σ m_i k_i ,   error estimate e = Σ e_i k_i
+//! (I/(γh) − J) u_i = f(y + Σ_j a_ij u_j) + Σ_j (c_ij/h) u_j + γ_i h ∂f/∂t ,   i = 1..4,   γ = 1/3
+//! u₁ ← f₀ + h f_t/3,   u₂ ← f₀ + 3u₁/h + 2h f_t/3,   u₃ ← f₀ − (3/2) u₂/h
+//! y₄ = y − 3u₁ + 3u₂ + u₃   (the end's point, an embedded solution of order 2)
+//! u₄ ← f(y₄) + (3u₃ − (3/2) u₂)/h,   y₁ = y₄ + u₄ (stiffly accurate),   error estimate e = u₄
 //! ```
+//! With f evaluated at the start and at the end only, Σ b α² = ⅓ fixes γ = ⅓, within the
+//! L-stable range of four stages; the three free parameters reach only order 5, and were chosen
+//! for small coefficients. `scripts/derive_rosenbrock.py` derives it in exact fractions and checks
+//! every condition (Hairer & Wanner, Solving ODEs II, §IV.7, Table 7.1); so does the test below.
 //!
-//! Ros3 (Sandu et al. 1997: three stages, two evaluations, L-stable) was tried in its place: 16 %
-//! faster and more accurate on average (at rtol 1e-3, 18.9 N RMS force error against 24.1 N;
-//! 0.60 N against 0.88 N at 3e-5), but it evaluates f only at the step's start and at 0.44 h, so
-//! an event in the rest of the step (the relief valve cracking) is invisible to its error
-//! estimate: against the Python cross-check at rtol 1e-6 one sample was 2.4 N off (60× the
-//! tolerance; Rodas3 0.006 N). Hairer & Wanner's L-stable ROS4 (order 4, the cost of Rodas3) was
-//! no better than Rodas3 (1.9 N at 160× against 2 N at about 165×).
+//! It replaced Rodas3 (Sandu et al. 1997; four stages and three evaluations, two of them at the
+//! step's end), one plain evaluation more a step. On the benchmark's input Rodas3 is the more
+//! accurate at one step per 2 kHz sample (24 N RMS force error against 30 N at rtol 1e-3), this
+//! method at tighter tolerances (0.7 N against 1.5 N at 3e-5, at the same speed); at equal error
+//! near the default tolerance this one is about 10 % faster (docs/performance.md, eleventh round).
+//! Methods that evaluate f only before the step's end were tried and left: Ros3 (two evaluations,
+//! at the start and at 0.44 h) and a two-stage order-2 method (one) cannot see the relief valve or
+//! a check valve open late in a step, which the Python cross-check caught (60× the tolerance).
 //!
 //! # References
-//! Sandu, Verwer, Blom, Spee, Carmichael, Potra: "Benchmarking stiff ODE solvers for atmospheric
-//! chemistry problems II: Rosenbrock solvers", Atmos. Environ. 31 (1997): the Rodas3
-//! coefficients (as used in KPP); Hairer & Wanner, Solving ODEs II, §IV.7 for the method class.
+//! Hairer & Wanner, Solving Ordinary Differential Equations II, 2nd ed., Springer 1996, §IV.7 (the
+//! method class, order conditions and stiff accuracy); Sandu, Verwer, Blom, Spee, Carmichael,
+//! Potra: "Benchmarking stiff ODE solvers for atmospheric chemistry problems II: Rosenbrock
+//! solvers", Atmos. Environ. 31 (1997) (Rodas3, the transformed form used here).
 
 use super::lu::Lu;
 use super::{IterationMatrix, OdeSystem, SolverError};
 use nalgebra::{SMatrix, SVector};
 
-/// Rodas3's γ: every stage's iteration matrix is I/(γh) − J.
-const GAMMA: f64 = 0.5;
+/// γ: every stage's iteration matrix is I/(γh) − J.
+const GAMMA: f64 = 1.0 / 3.0;
 
 /// What a Rosenbrock step needs at its start: f(y₀), the Jacobian ∂f/∂y at y₀, and, for a
 /// right-hand side that depends on time, ∂f/∂t over the step (None: autonomous). A caller that
@@ -38,9 +47,9 @@ pub struct StepStart<'a, const N: usize> {
     pub f_t: Option<SVector<f64, N>>,
 }
 
-/// Advances `y` by one Rodas3 step `h` (s) of an autonomous system; returns the new state and the
+/// Advances `y` by one step `h` (s) of an autonomous system; returns the new state and the
 /// embedded error estimate.
-pub fn rodas3_step<const N: usize, S: OdeSystem<N>>(
+pub fn rosenbrock_step<const N: usize, S: OdeSystem<N>>(
     sys: &S,
     y: &SVector<f64, N>,
     h: f64,
@@ -48,39 +57,36 @@ pub fn rodas3_step<const N: usize, S: OdeSystem<N>>(
     let f0 = sys.rhs(y);
     let jacobian = sys.jacobian(y, &f0);
     let start = StepStart { f0: &f0, jacobian: &jacobian, f_t: None };
-    rodas3_step_from::<N, Lu<N>>(&start, |y| sys.rhs(y), y, h)
+    rosenbrock_step_from::<N, Lu<N>>(&start, |y| sys.rhs(y), y, h)
 }
 
-/// One Rodas3 step from a prepared start: `rhs_at_end(y)` is the right-hand side at the step's end
-/// (where Rodas3's two evaluations after the start sit); `M` factorises and solves the iteration
-/// matrix. The coefficients (Sandu et al. 1997, in the form above) are written out, not
-/// looped over as a tableau: the stages' zero coefficients then cost nothing.
-///
-/// ```text
-/// a₃ = (2, 0),  a₄ = (2, 0, 1);   c₂ = (4),  c₃ = (1, −1),  c₄ = (1, −1, −8/3);   γ_i = (½, 3/2, 0, 0)
-/// y₁ = y₀ + 2k₁ + k₃ + k₄ (the fourth stage's point plus k₄: stiffly accurate),   e = k₄
-/// ```
-pub fn rodas3_step_from<const N: usize, M: IterationMatrix<N>>(
+/// One step from a prepared start: `rhs_at_end(y)` is the right-hand side at the step's end (the
+/// one evaluation after the start); `M` factorises and solves the iteration matrix. The
+/// coefficients (module doc) are written out: the zero ones then cost nothing.
+pub fn rosenbrock_step_from<const N: usize, M: IterationMatrix<N>>(
     start: &StepStart<'_, N>,
     rhs_at_end: impl Fn(&SVector<f64, N>) -> SVector<f64, N>,
     y: &SVector<f64, N>,
     h: f64,
 ) -> Result<(SVector<f64, N>, SVector<f64, N>), SolverError> {
     let lu = M::factor(start.jacobian, 1.0 / (GAMMA * h)).ok_or(SolverError::Singular)?;
-    let with_f_t = |b: SVector<f64, N>, gamma_i: f64| match start.f_t {
-        Some(f_t) => b + f_t * (gamma_i * h),
-        None => b,
-    };
     let f0 = start.f0;
-    let k1 = lu.solve(&with_f_t(*f0, 0.5));
-    let k2 = lu.solve(&with_f_t(f0 + k1 * (4.0 / h), 1.5));
-    let y3 = y + k1 * 2.0;
-    let k3 = lu.solve(&(rhs_at_end(&y3) + k1 * (1.0 / h) + k2 * (-1.0 / h)));
-    let y4 = y3 + k3;
-    let k4 = lu.solve(&(rhs_at_end(&y4) + k1 * (1.0 / h) + k2 * (-1.0 / h) + k3 * ((-8.0 / 3.0) / h)));
-    let y1 = y4 + k4;
+    let (u1, u2) = match start.f_t {
+        Some(f_t) => {
+            let u1 = lu.solve(&(f0 + f_t * (h / 3.0)));
+            (u1, lu.solve(&(f0 + u1 * (3.0 / h) + f_t * (2.0 * h / 3.0))))
+        }
+        None => {
+            let u1 = lu.solve(f0);
+            (u1, lu.solve(&(f0 + u1 * (3.0 / h))))
+        }
+    };
+    let u3 = lu.solve(&(f0 + u2 * (-1.5 / h)));
+    let y4 = y + (u2 - u1) * 3.0 + u3;
+    let u4 = lu.solve(&(rhs_at_end(&y4) + (u3 * 3.0 - u2 * 1.5) * (1.0 / h)));
+    let y1 = y4 + u4;
     if y1.iter().all(|v| v.is_finite()) {
-        Ok((y1, k4))
+        Ok((y1, u4))
     } else {
         Err(SolverError::NonFinite)
     }
@@ -122,7 +128,7 @@ mod tests {
             let jacobian = s0.jacobian(&y, &f0);
             let start = StepStart { f0: &f0, jacobian: &jacobian, f_t };
             let at = |y: &SVector<f64, 1>| Forced { t: t + h, lambda }.rhs(y);
-            y = rodas3_step_from::<1, Lu<1>>(&start, at, &y, h).unwrap().0;
+            y = rosenbrock_step_from::<1, Lu<1>>(&start, at, &y, h).unwrap().0;
         }
         let exact = (lambda * 1f64.cos() + 1f64.sin() - lambda * (-lambda).exp()) / (1.0 + lambda * lambda);
         (y[0] - exact).abs()

@@ -1,5 +1,5 @@
 """The packaged FMU against the damper's physics written again in plain Python (damper_tools.crosscheck):
-scipy's Radau instead of Rodas3, the same parameters (the FMU's start values), the same input."""
+scipy's Radau instead of the FMU's Rosenbrock method, the same parameters (the FMU's start values), the same input."""
 
 from damper_tools.crosscheck import crosscheck
 
