@@ -10,8 +10,9 @@
 //!           parameter, JᵀJ not singular; otherwise the worst offender is held at its start value
 //!           and the fit is redone without it, until every fitted parameter is pinned
 //! ```
-//! The model runs at `rtol` = 3e-5 (unless `--set rtol=…`): at the default 1e-3 the numerical error
-//! is about 0.3 sensor-noise standard deviations, and it would also blur the finite differences.
+//! The model runs at `rtol` = 3e-5 (unless `--set rtol=…`): at the default 3e-4 the numerical error
+//! is of the order of the sensor noise (0.86 σ RMS on `cargo bench`'s input), and it would also blur
+//! the finite differences.
 
 use crate::comparison::{build_model, CompareOptions, ANALYSIS_RTOL};
 use crate::dsp::{noise_sigma, nrmse, std};
