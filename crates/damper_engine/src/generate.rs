@@ -819,3 +819,18 @@ pub fn write(o: &GenerateOptions) -> Result<Generated, String> {
     std::fs::write(&o.truth, crate::summary::to_json(&g.truth)).map_err(|e| format!("{}: {e}", o.truth.display()))?;
     Ok(g)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_truth_integrates_at_a_converged_tolerance_unless_rtol_is_set() {
+        let mut o = GenerateOptions::new("unused.csv", "unused.json");
+        let (p, _) = truth_parameters(&o, &mut Rng::new(1)).unwrap();
+        assert_eq!(p.rtol, TRUTH_RTOL);
+        assert!(TRUTH_RTOL < default_parameters().rtol / 100.0);
+        o.sets.push(("rtol".into(), "1e-3".into()));
+        assert_eq!(truth_parameters(&o, &mut Rng::new(1)).unwrap().0.rtol, 1e-3);
+    }
+}
