@@ -298,7 +298,6 @@ fn main() {
         );
     }
     println!();
-    println!();
     let references =
         (1..=12).map(|seed| if seed == 7 { converged.force.clone() } else { run(1e-9, 5e-6, &scenario(seed)).force });
     print_seed_spread(&[DEFAULT_RTOL, DIAGNOSIS_RTOL], &references.collect::<Vec<_>>());

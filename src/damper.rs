@@ -1,11 +1,11 @@
 //! The damper as a co-simulation unit, with no FMI types. The controller is sampled every
 //! `T_sample` on the grid `t_start + k·T_sample`, whatever the communication steps are; between
-//! samples the plant is integrated by a Rosenbrock method of order 3 (two evaluations a step) with step-size control (embedded error estimate,
-//! steps ≤ `h_max`), so a smooth stretch costs one step per sample and a check valve switching
-//! gets small steps. The step sequence depends only on the sample grid and the inputs, so results
-//! are deterministic and do not depend on the communication step when it is a multiple of
-//! `T_sample`. A communication step may be any positive length; sample instants inside it split
-//! it. All state is plain `Copy` data.
+//! samples the plant is integrated by a Rosenbrock method of order 3 (two evaluations a step) with
+//! step-size control (embedded error estimate, steps ≤ `h_max`), so a smooth stretch costs one step
+//! per sample and a check valve switching gets small steps. The step sequence depends only on the
+//! sample grid and the inputs, so results are deterministic and do not depend on the communication
+//! step when it is a multiple of `T_sample`. A communication step may be any positive length;
+//! sample instants inside it split it. All state is plain `Copy` data.
 
 use crate::control::{Controller, Demands, Measurements};
 use crate::physics::iteration_matrix::PlantIterationMatrix;

@@ -4,7 +4,8 @@
 //! - [`physics`]: fluid, valve, mount, hydraulic circuit and the assembled plant (safe Rust, SI);
 //! - [`effects`]: the catalog of physical effects a model may lack, one file each, behind a trait;
 //! - [`control`]: the digital cascade controller (force loop, spool loop, amplifier delay);
-//! - [`solver`]: the Rosenbrock stiff integrator (order 3, two evaluations a step) on fixed-size vectors, with its own small LU;
+//! - [`solver`]: the Rosenbrock stiff integrator (order 3, two evaluations a step) on fixed-size
+//!   vectors, with its own small LU;
 //! - [`damper`]: plant + controller + solver as a co-simulation unit without FMI types;
 //! - [`step_error`]: why a step fails, and the limits that bound its work;
 //! - [`slave`]: variables, initialisation, stepping and FMU state, still without FMI types;

@@ -12,7 +12,8 @@
 //! With f evaluated at the start and at the end only, Σ b α² = ⅓ fixes γ = ⅓, within the
 //! L-stable range of four stages; the three free parameters reach only order 5, and were chosen
 //! for small coefficients. `scripts/derive_rosenbrock.py` derives it in exact fractions and checks
-//! every condition (Hairer & Wanner, Solving ODEs II, §IV.7, Table 7.1); so does the test below.
+//! every condition (Hairer & Wanner, Solving ODEs II, §IV.7, Table 7.1); `tests/solver.rs` checks
+//! the code's order, its error estimate's order and its stability.
 //!
 //! It replaced Rodas3 (Sandu et al. 1997; four stages and three evaluations, two of them at the
 //! step's end), one plain evaluation more a step. On the benchmark's input Rodas3 is the more
