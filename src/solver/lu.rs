@@ -1,8 +1,9 @@
-//! LU factorisation with partial pivoting of a small fixed-size matrix, for the Rosenbrock
-//! stages (one factorisation, four solves per step). Written out rather than nalgebra's `LU`:
-//! on the damper's 7×7 iteration matrix nalgebra's generic views made the four solves alone 20 %
-//! of the benchmark (`cargo bench --bench realtime`); plain loops over arrays cost a fraction.
-//! The operation sequence is fixed, so results are bitwise deterministic.
+//! LU factorisation with partial pivoting of a small fixed-size matrix, for the Rosenbrock stages
+//! of a system without the damper's structure (one factorisation, four solves per step; the
+//! damper's own matrix goes through `crate::physics::iteration_matrix`). Written out rather than
+//! nalgebra's `LU`: on the damper's 7×7 iteration matrix nalgebra's generic views made the four
+//! solves alone 20 % of the benchmark (`cargo bench --bench realtime`); plain loops over arrays cost
+//! a fraction. The operation sequence is fixed, so results are bitwise deterministic.
 
 use nalgebra::{SMatrix, SVector};
 
@@ -27,7 +28,7 @@ impl<const N: usize> Lu<N> {
     #[inline]
     // the elimination's index loops: clippy's iterator form is the one that did not unroll
     #[allow(clippy::needless_range_loop)]
-    pub fn factor_rows(mut rows: [[f64; N]; N]) -> Option<Self> {
+    fn factor_rows(mut rows: [[f64; N]; N]) -> Option<Self> {
         let mut perm: [usize; N] = std::array::from_fn(|i| i);
         let mut inverse_diagonal = [0.0; N];
         for k in 0..N {
@@ -67,7 +68,7 @@ impl<const N: usize> Lu<N> {
     /// [`Lu::solve`] on arrays. Column by column: each x_j, once known, updates the rows below
     /// (above) it independently, which keeps the dependency chain N long, not N²/2.
     #[inline]
-    pub fn solve_array(&self, b: &[f64; N]) -> [f64; N] {
+    fn solve_array(&self, b: &[f64; N]) -> [f64; N] {
         let mut x: [f64; N] = std::array::from_fn(|i| b[self.perm[i]]);
         for j in 0..N {
             for i in j + 1..N {
@@ -81,15 +82,6 @@ impl<const N: usize> Lu<N> {
             }
         }
         x
-    }
-
-    /// The inverse A⁻¹, row by row: its columns solved from the unit vectors. Four independent
-    /// solves, which the processor overlaps, buy products by A⁻¹ whose chain of dependent
-    /// operations is three long (a product, two sums) instead of the 2N of a solve.
-    pub fn inverse_rows(&self) -> [[f64; N]; N] {
-        let columns: [[f64; N]; N] =
-            std::array::from_fn(|j| self.solve_array(&std::array::from_fn(|i| if i == j { 1.0 } else { 0.0 })));
-        std::array::from_fn(|i| std::array::from_fn(|j| columns[j][i]))
     }
 }
 

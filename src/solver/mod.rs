@@ -1,8 +1,10 @@
 //! Stiff integration: a linearly-implicit, L-stable Rosenbrock method of order 3 on fixed-size nalgebra
 //! vectors (no heap allocation, fixed operation sequence, hence bitwise deterministic).
+mod inverse4;
 mod lu;
 mod rosenbrock;
 
+pub use inverse4::inverse_4x4;
 pub use lu::Lu;
 pub use rosenbrock::{rosenbrock_step, rosenbrock_step_from, StepStart};
 

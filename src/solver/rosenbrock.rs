@@ -1,7 +1,7 @@
 //! The damper's integrator: a Rosenbrock method of order 3, L-stable and stiffly accurate, with an
 //! embedded error estimate, that evaluates the right-hand side twice a step: at the step's start,
-//! with the Jacobian, and at its end. Four stages share one LU; the first three solve with f(y₀)
-//! alone, the fourth with the evaluation at the end:
+//! with the Jacobian, and at its end. Four stages share one factorisation of the iteration
+//! matrix; the first three solve with f(y₀) alone, the fourth with the evaluation at the end:
 //!
 //! ```text
 //! (I/(γh) − J) u_i = f(y + Σ_j a_ij u_j) + Σ_j (c_ij/h) u_j + γ_i h ∂f/∂t ,   i = 1..4,   γ = 1/3
