@@ -42,7 +42,8 @@ impl ForceLoop {
     pub fn step(&mut self, p: &Parameters, d: &Derived, f_demand: f64, m: Measurements) -> f64 {
         let ts = p.t_sample;
         let s = if m.v_damper >= 0.0 { 1.0 } else { -1.0 };
-        let error = s * (f_demand - m.force) / f_demand.abs().max(p.f_ref_min);
+        // a product by the reciprocal: the division does not wait for the measured force
+        let error = s * (f_demand - m.force) * (1.0 / f_demand.abs().max(p.f_ref_min));
         match d.force_controller {
             ForceController::FeedforwardLogArea => {
                 let rate = self.error_rate.update(error, ts, p.tau_df);

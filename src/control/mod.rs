@@ -68,7 +68,7 @@ impl FilteredDerivative {
             self.primed = true;
         }
         let a = ts / (tau + ts);
-        self.value = (1.0 - a) * self.value + a * (x - self.previous) / ts;
+        self.value = (1.0 - a) * self.value + (a / ts) * (x - self.previous);
         self.previous = x;
         self.value
     }

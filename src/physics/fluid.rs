@@ -25,11 +25,24 @@ pub struct Oil {
     pub n: f64,
     /// r = (p_atm/p_abs)^(1/n) = p_atm^(1/n)·p_abs^(−1/n), tabulated from 1 kPa absolute upwards.
     volume_ratio: FixedPower,
+    /// 1/β_L (1/Pa), α₀/n (-) and 1 + 1/n (-): the law's constants, so that an evaluation
+    /// divides only where its inputs make it.
+    oil_compliance: f64,
+    air_per_index: f64,
+    slope_factor: f64,
 }
 
 impl Oil {
     pub fn new(beta_oil: f64, air_fraction: f64, n: f64) -> Self {
-        Oil { beta_oil, air_fraction, n, volume_ratio: FixedPower::new(libm::pow(P_ATM, 1.0 / n), -1.0 / n, 10) }
+        Oil {
+            beta_oil,
+            air_fraction,
+            n,
+            volume_ratio: FixedPower::new(libm::pow(P_ATM, 1.0 / n), -1.0 / n, 10),
+            oil_compliance: 1.0 / beta_oil,
+            air_per_index: air_fraction / n,
+            slope_factor: 1.0 + 1.0 / n,
+        }
     }
 }
 
@@ -42,23 +55,26 @@ pub fn effective_bulk_modulus(p: f64, oil: &Oil) -> f64 {
 /// [`effective_bulk_modulus`] (Pa) and its slope dβ_e/dp (-).
 #[inline]
 pub fn effective_bulk_modulus_and_slope(p: f64, oil: &Oil) -> (f64, f64) {
-    let Oil { beta_oil, air_fraction, n, .. } = *oil;
+    let Oil { beta_oil, air_fraction, .. } = *oil;
     if air_fraction == 0.0 {
         return (beta_oil, 0.0);
     }
     let frozen = p + P_ATM < 0.02 * P_ATM;
     let p_abs = (p + P_ATM).max(0.02 * P_ATM);
+    // the reciprocal while the table reads r: the rest then multiplies
+    let per_p_abs = 1.0 / p_abs;
     let r = oil.volume_ratio.of(p_abs);
     let num = 1.0 + air_fraction * r;
-    let den = 1.0 / beta_oil + air_fraction * r / (n * p_abs);
-    let beta = num / den;
+    // α₀ r/(n p_abs), the air's compliance
+    let air = oil.air_per_index * r * per_p_abs;
+    let per_den = 1.0 / (oil.oil_compliance + air);
+    let beta = num * per_den;
     if frozen {
         return (beta, 0.0);
     }
-    // dr/dp = −r/(n p_abs)
-    let d_num = -air_fraction * r / (n * p_abs);
-    let d_den = -air_fraction * r * (1.0 + 1.0 / n) / (n * p_abs * p_abs);
-    (beta, (d_num - beta * d_den) / den)
+    // dr/dp = −r/(n p_abs): d(num)/dp = −air, d(den)/dp = −air (1 + 1/n)/p_abs
+    let d_den = -air * oil.slope_factor * per_p_abs;
+    (beta, (-air - beta * d_den) * per_den)
 }
 
 /// Flow (m³/s) through a sharp-edged orifice of area `area` (m²) with discharge coefficient `cd`

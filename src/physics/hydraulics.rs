@@ -56,13 +56,14 @@ impl Cylinder {
 /// Open area (m²) of a check valve with leakage area `a_leak`, full area `a_max` (m²), cracking
 /// pressure `p_crack` and full-opening pressure `p_full` (Pa), under the forward drop `dp` (Pa).
 pub fn check_valve_area(a_leak: f64, a_max: f64, p_crack: f64, p_full: f64, dp: f64) -> f64 {
-    a_leak + a_max * smoothstep((dp - p_crack) / (p_full - p_crack))
+    a_leak + a_max * smoothstep((dp - p_crack) * (1.0 / (p_full - p_crack)))
 }
 
 /// The slope d[`check_valve_area`]/dΔp (m²/Pa).
 #[inline]
 pub fn check_valve_area_slope(a_max: f64, p_crack: f64, p_full: f64, dp: f64) -> f64 {
-    a_max * smoothstep_slope((dp - p_crack) / (p_full - p_crack)) / (p_full - p_crack)
+    let per_range = 1.0 / (p_full - p_crack);
+    a_max * smoothstep_slope((dp - p_crack) * per_range) * per_range
 }
 
 /// The reservoir's gas charge: pre-charge `p_r0` (Pa, gauge) at volume `v_g0` (m³), polytropic

@@ -116,7 +116,7 @@ impl ValvePorts {
     pub fn position_for_area(&self, area: f64) -> f64 {
         let r = self.r_port;
         let scale = self.n_ports * r * r;
-        let m = (2.0 * area / scale).clamp(0.0, 2.0 * PI);
+        let m = (area * (2.0 / scale)).clamp(0.0, 2.0 * PI);
         if m.is_nan() || m <= 0.0 {
             return self.x_lap;
         }
