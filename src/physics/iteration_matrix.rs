@@ -160,13 +160,7 @@ mod tests {
     /// 4×4 LU it replaced: 1.8e-11; the dense 7×7 LU: 3.9e-10).
     #[test]
     fn solves_to_rounding_level_across_regimes_and_step_sizes() {
-        let mut state = 0x2545_f491_4f6c_dd1d_u64;
-        let mut uniform = move || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut uniform = crate::test_rng::uniform(0x2545_f491_4f6c_dd1d);
         let mut worst = 0.0f64;
         for all_on in [false, true] {
             let mut p = default_parameters();

@@ -380,13 +380,7 @@ mod tests {
     #[test]
     fn linearisation_matches_central_differences() {
         const SCALE: [f64; N_STATES + 1] = [1e5, 1e5, 1e-5, 1e-4, 1e-2, 1e-1, 1e-2, 1e-2];
-        let mut rng = 0x2545_f491_4f6c_dd1d_u64;
-        let mut uniform = move || {
-            rng ^= rng << 13;
-            rng ^= rng >> 7;
-            rng ^= rng << 17;
-            (rng >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut uniform = crate::test_rng::uniform(0x2545_f491_4f6c_dd1d);
         for all_on in [false, true] {
             let mut p = default_parameters();
             if all_on {

@@ -83,13 +83,8 @@ mod tests {
     /// rounding.
     #[test]
     fn inverts_as_nalgebra_does() {
-        let mut state = 0x9e37_79b9_7f4a_7c15_u64;
-        let mut uniform = move || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-        };
+        let mut unit = crate::test_rng::uniform(0x9e37_79b9_7f4a_7c15);
+        let mut uniform = move || unit() - 0.5;
         for _ in 0..1000 {
             let row_scale: [f64; 4] = std::array::from_fn(|_| 10f64.powf(12.0 * uniform()));
             let a = Matrix4::from_fn(|i, j| row_scale[i] * (uniform() + if i == j { 2.0 } else { 0.0 }));
