@@ -22,7 +22,6 @@ pub const P_ATM: f64 = 101_325.0;
 pub struct Oil {
     pub beta_oil: f64,
     pub air_fraction: f64,
-    pub n: f64,
     /// r = (p_atm/p_abs)^(1/n) = p_atm^(1/n)·p_abs^(−1/n), tabulated from 1 kPa absolute upwards.
     volume_ratio: FixedPower,
     /// 1/β_L (1/Pa), α₀/n (-) and 1 + 1/n (-): the law's constants, so that an evaluation
@@ -37,7 +36,6 @@ impl Oil {
         Oil {
             beta_oil,
             air_fraction,
-            n,
             volume_ratio: FixedPower::new(libm::pow(P_ATM, 1.0 / n), -1.0 / n, 10),
             oil_compliance: 1.0 / beta_oil,
             air_per_index: air_fraction / n,

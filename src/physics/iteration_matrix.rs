@@ -111,7 +111,7 @@ impl IterationMatrix<N_STATES> for PlantIterationMatrix {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::physics::plant::Plant;
+    use crate::physics::plant::{random_state, Plant};
     use crate::solver::Lu;
     use crate::variables::default_parameters;
 
@@ -168,14 +168,7 @@ mod tests {
             let d = p.derive();
             let rest = Plant::rest_state(&p, &d, 0.0, 1e-3);
             for _ in 0..1000 {
-                let mut y = rest;
-                y[idx::P_A] = -0.5e5 + 150e5 * uniform();
-                y[idx::P_B] = -0.5e5 + 60e5 * uniform();
-                y[idx::V_GAS] = rest[idx::V_GAS] * (0.8 + 0.4 * uniform());
-                y[idx::X_SPOOL] = -0.5e-3 + 7e-3 * uniform();
-                y[idx::V_SPOOL] = 0.2 * (uniform() - 0.5);
-                y[idx::I_COIL] = 2.0 * uniform();
-                y[idx::X_DAMPER] = 0.08 * (uniform() - 0.5);
+                let y = random_state(&rest, &mut uniform, false);
                 let plant = Plant { p: &p, d: &d, v_damper: 1.5 * (uniform() - 0.5), i_command: 0.7 };
                 let jacobian = plant.evaluate_linearised(&y).1.jacobian;
                 for h in [1e-9, 1e-7, 1e-5, 1e-4, 5e-4, 2e-3, 1e-2, 1e-1] {

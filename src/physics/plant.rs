@@ -368,6 +368,24 @@ pub fn rest_current(p: &Parameters, x_spool: f64) -> f64 {
     (p.k_spool * x_spool / solenoid_force(p.k_sol, p.kappa_sol, p.x_spool_max, 1.0, x_spool)).clamp(0.0, p.i_max)
 }
 
+/// A random state across the plant's regimes, drawn around `rest` with `uniform` (numbers in
+/// [0, 1)): check valves shut, cracking and open, the relief valve, the valve shut and open, the
+/// spool on its stops, chambers above and below the reservoir. `chambers_near_equal` puts p_B
+/// within ±1 bar of p_A, where the piston's check valve cracks. For the tests that sweep states.
+#[cfg(test)]
+pub(crate) fn random_state(rest: &State, uniform: &mut impl FnMut() -> f64, chambers_near_equal: bool) -> State {
+    use idx::*;
+    let mut y = *rest;
+    y[P_A] = -0.5e5 + 150e5 * uniform();
+    y[P_B] = if chambers_near_equal { y[P_A] + 2e5 * (uniform() - 0.5) } else { -0.5e5 + 60e5 * uniform() };
+    y[V_GAS] = rest[V_GAS] * (0.8 + 0.4 * uniform());
+    y[X_SPOOL] = -0.5e-3 + 7e-3 * uniform();
+    y[V_SPOOL] = 0.2 * (uniform() - 0.5);
+    y[I_COIL] = 2.0 * uniform();
+    y[X_DAMPER] = 0.08 * (uniform() - 0.5);
+    y
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -391,15 +409,7 @@ mod tests {
             let d = p.derive();
             for case in 0..400 {
                 let rest = Plant::rest_state(&p, &d, 0.0, 1e-3);
-                let mut y = rest;
-                y[idx::P_A] = -0.5e5 + 150e5 * uniform();
-                y[idx::P_B] =
-                    if case % 3 == 0 { y[idx::P_A] + 2e5 * (uniform() - 0.5) } else { -0.5e5 + 60e5 * uniform() };
-                y[idx::V_GAS] = rest[idx::V_GAS] * (0.8 + 0.4 * uniform());
-                y[idx::X_SPOOL] = -0.5e-3 + 7e-3 * uniform();
-                y[idx::V_SPOOL] = 0.2 * (uniform() - 0.5);
-                y[idx::I_COIL] = 2.0 * uniform();
-                y[idx::X_DAMPER] = 0.08 * (uniform() - 0.5);
+                let y = random_state(&rest, &mut uniform, case % 3 == 0);
                 let v = 1.5 * (uniform() - 0.5);
                 let plant = |v: f64| Plant { p: &p, d: &d, v_damper: v, i_command: 0.7 };
                 let (out, lin) = plant(v).evaluate_linearised(&y);

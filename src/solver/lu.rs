@@ -20,15 +20,10 @@ pub struct Lu<const N: usize> {
 
 impl<const N: usize> Lu<N> {
     /// Factorises `a`; None when a pivot is zero or not finite (singular or overflowed matrix).
-    pub fn factor(a: &SMatrix<f64, N, N>) -> Option<Self> {
-        Self::factor_rows(std::array::from_fn(|i| std::array::from_fn(|j| a[(i, j)])))
-    }
-
-    /// Factorises the matrix whose row `i` is `rows[i]`, as [`Lu::factor`].
-    #[inline]
     // the elimination's index loops: clippy's iterator form is the one that did not unroll
     #[allow(clippy::needless_range_loop)]
-    fn factor_rows(mut rows: [[f64; N]; N]) -> Option<Self> {
+    pub fn factor(a: &SMatrix<f64, N, N>) -> Option<Self> {
+        let mut rows: [[f64; N]; N] = std::array::from_fn(|i| std::array::from_fn(|j| a[(i, j)]));
         let mut perm: [usize; N] = std::array::from_fn(|i| i);
         let mut inverse_diagonal = [0.0; N];
         for k in 0..N {
@@ -60,15 +55,9 @@ impl<const N: usize> Lu<N> {
         Some(Lu { rows, inverse_diagonal, perm })
     }
 
-    /// The solution x of A x = b.
-    pub fn solve(&self, b: &SVector<f64, N>) -> SVector<f64, N> {
-        SVector::from(self.solve_array(&b.data.0[0]))
-    }
-
-    /// [`Lu::solve`] on arrays. Column by column: each x_j, once known, updates the rows below
+    /// The solution x of A x = b. Column by column: each x_j, once known, updates the rows below
     /// (above) it independently, which keeps the dependency chain N long, not N²/2.
-    #[inline]
-    fn solve_array(&self, b: &[f64; N]) -> [f64; N] {
+    pub fn solve(&self, b: &SVector<f64, N>) -> SVector<f64, N> {
         let mut x: [f64; N] = std::array::from_fn(|i| b[self.perm[i]]);
         for j in 0..N {
             for i in j + 1..N {
@@ -81,7 +70,7 @@ impl<const N: usize> Lu<N> {
                 x[i] -= self.rows[i][j] * x[j];
             }
         }
-        x
+        SVector::from(x)
     }
 }
 
