@@ -27,7 +27,7 @@
 mod common;
 
 use semi_active_damper::damper::{Damper, Inputs};
-use semi_active_damper::variables::default_parameters;
+use semi_active_damper::physics::params::Parameters;
 use std::time::Instant;
 
 const H: f64 = 1e-3;
@@ -71,9 +71,7 @@ fn scenario(seed: u64) -> Vec<(f64, f64)> {
 }
 
 fn damper(rtol: f64, h_max: f64) -> Damper {
-    let mut p = default_parameters();
-    p.h_max = h_max;
-    p.rtol = rtol;
+    let p = Parameters { h_max, rtol, ..Default::default() };
     Damper::new(p, Inputs::default(), 0.0).unwrap()
 }
 

@@ -7,9 +7,7 @@ use crate::model_description::{BooleanVar, Causality, IntegerVar, RealVar, CAN_I
 use crate::physics::params::Parameters;
 use crate::snapshot::{check_restored, MAGIC};
 use crate::step_error::StepError;
-use crate::variables::{
-    boolean_parameter, default_inputs, default_parameters, integer_parameter, real_input, real_output, real_parameter,
-};
+use crate::variables::{default_inputs, real_input, real_output};
 use fmi2_slave::snapshot::{self, Visit, Visitor};
 use fmi2_slave::{check_integer, check_real, Model, ToleranceNote, VarInfo};
 
@@ -35,7 +33,7 @@ pub struct Slave {
 
 impl Default for Slave {
     fn default() -> Self {
-        Slave { params: default_parameters(), inputs: default_inputs(), damper: None, rtol_set: false }
+        Slave { params: Parameters::default(), inputs: default_inputs(), damper: None, rtol_set: false }
     }
 }
 
@@ -80,7 +78,7 @@ impl Model for Slave {
     fn get_real(&self, vr: u32) -> Result<f64, String> {
         let v = RealVar::from_vr(vr).ok_or_else(|| unknown(vr))?;
         let (mut params, mut inputs) = (self.params, self.inputs);
-        if let Some(x) = real_parameter(&mut params, v).or(real_input(&mut inputs, v)) {
+        if let Some(x) = params.real_mut(v).or(real_input(&mut inputs, v)) {
             return Ok(*x);
         }
         let x = self.output(v)?;
@@ -93,13 +91,13 @@ impl Model for Slave {
     fn get_integer(&self, vr: u32) -> Result<i32, String> {
         let v = IntegerVar::from_vr(vr).ok_or_else(|| unknown(vr))?;
         let mut params = self.params;
-        integer_parameter(&mut params, v).map(|x| *x).ok_or_else(|| unknown(vr))
+        params.integer_mut(v).map(|x| *x).ok_or_else(|| unknown(vr))
     }
 
     fn get_boolean(&self, vr: u32) -> Result<bool, String> {
         let v = BooleanVar::from_vr(vr).ok_or_else(|| unknown(vr))?;
         let mut params = self.params;
-        boolean_parameter(&mut params, v).map(|x| *x).ok_or_else(|| unknown(vr))
+        params.boolean_mut(v).map(|x| *x).ok_or_else(|| unknown(vr))
     }
 
     type Settable = (Parameters, Inputs, bool);
@@ -117,7 +115,7 @@ impl Model for Slave {
         let v = RealVar::from_vr(vr).ok_or_else(|| unknown(vr))?;
         check_real(v.name(), value, v.min(), v.max())?;
         let field = match v.causality() {
-            Causality::Parameter => real_parameter(&mut self.params, v),
+            Causality::Parameter => self.params.real_mut(v),
             Causality::Input => real_input(&mut self.inputs, v),
             Causality::Output => None,
         };
@@ -129,13 +127,13 @@ impl Model for Slave {
     fn set_integer(&mut self, vr: u32, value: i32) -> Result<(), String> {
         let v = IntegerVar::from_vr(vr).ok_or_else(|| unknown(vr))?;
         check_integer(v.name(), value, v.min(), v.max())?;
-        *integer_parameter(&mut self.params, v).ok_or_else(|| format!("{} cannot be set", v.name()))? = value;
+        *self.params.integer_mut(v).ok_or_else(|| format!("{} cannot be set", v.name()))? = value;
         Ok(())
     }
 
     fn set_boolean(&mut self, vr: u32, value: bool) -> Result<(), String> {
         let v = BooleanVar::from_vr(vr).ok_or_else(|| unknown(vr))?;
-        *boolean_parameter(&mut self.params, v).ok_or_else(|| format!("{} cannot be set", v.name()))? = value;
+        *self.params.boolean_mut(v).ok_or_else(|| format!("{} cannot be set", v.name()))? = value;
         Ok(())
     }
 
@@ -264,7 +262,7 @@ impl Visit for SlaveState {
         let mut initialized = self.damper.is_some() as i64;
         v.int(&mut initialized);
         let mut state = self.damper.unwrap_or_else(|| {
-            Damper::new(default_parameters(), default_inputs(), 0.0).expect("defaults are valid").state
+            Damper::new(Parameters::default(), default_inputs(), 0.0).expect("defaults are valid").state
         });
         state.visit(v);
         self.damper = (initialized != 0).then_some(state);

@@ -1,58 +1,30 @@
 //! The damper's FMU state for the byte format of `fmi2_slave::snapshot`: every field of the
-//! parameters, inputs and damper state is visited in a fixed order (destructuring makes a new field
-//! a compile error until it is visited here).
+//! parameters (the generated field lists), inputs and damper state is visited in a fixed order
+//! (destructuring makes a new field of the others a compile error until it is visited here).
 
 use crate::control::{Controller, DelayLine, FilteredDerivative, ForceLoop, SpoolLoop};
 use crate::damper::{DamperState, Inputs};
 use crate::model_description::{Causality, IntegerVar, RealVar};
 use crate::physics::params::Parameters;
 use crate::slave::SlaveState;
-use crate::variables::{integer_parameter, real_parameter};
 use fmi2_slave::snapshot::{all_finite, boolean, int32, uint, uint64, Visit, Visitor};
 use fmi2_slave::{check_integer, check_real};
 
 /// Tag of a serialised damper state.
 pub const MAGIC: &[u8; 8] = b"SADAMPER";
 
-/// Destructures `Parameters` with every field named once (a field missing here is a compile
-/// error) and visits the Boolean, Integer and Real fields, in the order given.
-macro_rules! visit_parameters {
-    ($params:expr, $v:expr, bools: [$($b:ident),* $(,)?], ints: [$($i:ident),* $(,)?], reals: [$($r:ident),* $(,)?]) => {{
-        let Parameters { $($b,)* $($i,)* $($r,)* } = $params;
-        $(boolean($v, $b);)*
-        $(int32($v, $i);)*
-        $($v.real($r);)*
-    }};
-}
-
 impl Visit for Parameters {
+    /// Booleans, Integers, then Reals, each in XML order (the generated field lists).
     fn visit<V: Visitor>(&mut self, v: &mut V) {
-        visit_parameters!(
-            self,
-            v,
-            bools: [
-                tare_load_cell,
-                effect_compressibility,
-                effect_mount_compliance,
-                effect_amplifier_delay,
-                effect_flow_forces,
-                effect_seal_friction,
-                effect_piston_leakage,
-                effect_check_valve_cracking,
-                effect_viscous_friction,
-            ],
-            ints: [control_mode, force_controller, fc_mode, n_ports],
-            reals: [
-                rho, beta_oil, air_fraction, n_polytropic, p_transition, d_piston, d_rod, l_half_stroke, l_dead,
-                v_hose, p_reservoir0, v_gas0, a_cv_max, cd_cv, p_cv_crack, p_cv_full, a_cv_leak, p_relief, dp_relief,
-                a_relief, r_port, x_lap, a_valve_leak, cd_valve, cv_valve, theta_jet, m_spool, k_spool, c_spool,
-                x_spool_min, x_spool_max, k_stop, c_stop, k_sol, kappa_sol, i_max, tau_amp, tau_coil, k1_mount,
-                k3_mount, f_coulomb, v_friction, g_leak, c_viscous, t_sample, kp_x, ki_x, kd_x, tau_dx, dp_fc_nominal,
-                cv_compensation, kp_f,
-                ki_f, kd_f, tau_df, f_ref_min, kp_f_pid, ki_f_pid, kd_f_pid, x_spool_bias, h_max, rtol,
-                x_damper_start, x_spool_start,
-            ]
-        );
+        for b in self.boolean_fields_mut() {
+            boolean(v, b);
+        }
+        for i in self.integer_fields_mut() {
+            int32(v, i);
+        }
+        for r in self.real_fields_mut() {
+            v.real(r);
+        }
     }
 }
 
@@ -114,12 +86,12 @@ pub fn check_restored(s: &SlaveState) -> Result<(), String> {
     if !all_finite(s) {
         return Err("a number is not finite".into());
     }
-    let mut p = s.params;
+    let p = &s.params;
     for v in RealVar::ALL.into_iter().filter(|v| v.causality() == Causality::Parameter) {
-        check_real(v.name(), *real_parameter(&mut p, v).expect("a parameter"), v.min(), v.max())?;
+        check_real(v.name(), p.real(v).expect("a parameter"), v.min(), v.max())?;
     }
     for v in IntegerVar::ALL {
-        check_integer(v.name(), *integer_parameter(&mut p, v).expect("a parameter"), v.min(), v.max())?;
+        check_integer(v.name(), p.integer(v).expect("a parameter"), v.min(), v.max())?;
     }
     let Some(d) = &s.damper else { return Ok(()) };
     s.params.validate()?;

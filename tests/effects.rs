@@ -11,7 +11,7 @@
 
 use semi_active_damper::effects::{ActiveEffects, PlantSignals, CATALOG};
 use semi_active_damper::model_description::{BooleanVar, Causality, RealVar};
-use semi_active_damper::variables::{boolean_parameter, default_parameters};
+use semi_active_damper::physics::params::Parameters;
 
 fn real_parameter(name: &str) -> RealVar {
     let v = RealVar::ALL.into_iter().find(|v| v.name() == name);
@@ -30,9 +30,9 @@ fn every_effect_has_its_switch_and_parameters_in_the_model_description() {
         let switch = format!("effect_{}", info.key);
         let var = BooleanVar::ALL.into_iter().find(|v| v.name() == switch);
         let var = var.unwrap_or_else(|| panic!("{switch} is not in modelDescription.xml"));
-        let mut p = default_parameters();
+        let mut p = Parameters::default();
         for on in [true, false] {
-            *boolean_parameter(&mut p, var).expect("a parameter") = on;
+            *p.boolean_mut(var).expect("a parameter") = on;
             assert_eq!(e.is_on(&p), on, "{}: is_on does not read {switch}", info.key);
         }
         assert!(!info.fitted.is_empty() && info.fitted.len() <= 2, "{}: one or two fitted parameters", info.key);
@@ -60,11 +60,11 @@ fn every_effect_has_its_switch_and_parameters_in_the_model_description() {
 
 #[test]
 fn switched_off_effects_add_nothing() {
-    let mut p = default_parameters();
+    let mut p = Parameters::default();
     let s = PlantSignals { v_damper: 0.4, x_damper: 0.01, p_ext: 40e5, p_comp: 5e5, p_reservoir: 5e5, x_spool: 1e-3 };
     for e in CATALOG {
         let var = BooleanVar::ALL.into_iter().find(|v| v.name() == format!("effect_{}", e.info().key)).unwrap();
-        *boolean_parameter(&mut p, var).unwrap() = false;
+        *p.boolean_mut(var).unwrap() = false;
     }
     assert_eq!(ActiveEffects::of(&p).force(&p, &s), 0.0);
     assert_eq!(ActiveEffects::of(&p).bypass_flow(&p, &s), 0.0);
@@ -79,14 +79,14 @@ fn switched_off_effects_add_nothing() {
 /// effect that writes either must declare it, or the plant would drop it.
 #[test]
 fn an_effect_adds_only_the_terms_it_declares() {
-    let mut p = default_parameters();
+    let mut p = Parameters::default();
     let signals = [
         PlantSignals { v_damper: 0.4, x_damper: 0.01, p_ext: 40e5, p_comp: 5e5, p_reservoir: 5e5, x_spool: 1e-3 },
         PlantSignals { v_damper: -0.7, x_damper: -0.03, p_ext: 3e5, p_comp: 90e5, p_reservoir: 6e5, x_spool: 3e-3 },
     ];
     for e in CATALOG {
         let var = BooleanVar::ALL.into_iter().find(|v| v.name() == format!("effect_{}", e.info().key)).unwrap();
-        *boolean_parameter(&mut p, var).unwrap() = true;
+        *p.boolean_mut(var).unwrap() = true;
         let terms = e.terms();
         let active = ActiveEffects::of(&p);
         for s in &signals {
@@ -104,7 +104,7 @@ fn an_effect_adds_only_the_terms_it_declares() {
         }
         let listed = format!("{active:?}");
         assert_eq!(listed.contains(&format!("\"{}\"", e.info().key)), terms.force || terms.bypass_flow, "{listed}");
-        *boolean_parameter(&mut p, var).unwrap() = false;
+        *p.boolean_mut(var).unwrap() = false;
     }
 }
 
@@ -251,19 +251,27 @@ fn render_effect_table() -> String {
     out
 }
 
+/// The docs' effect tables are rendered from the catalog: with `UPDATE_DOCS=1` in the environment
+/// this test writes the rendered block into both files (after a new effect, or a changed
+/// `info()`), otherwise it fails where they differ.
 #[test]
 fn the_effect_tables_of_the_docs_are_the_catalog() {
     let rendered = render_effect_table();
-    for (file, text) in [
-        ("docs/effects.md", include_str!("../docs/effects.md")),
-        ("docs/physics.md", include_str!("../docs/physics.md")),
-    ] {
+    let update = std::env::var_os("UPDATE_DOCS").is_some_and(|v| v == "1");
+    for file in ["docs/effects.md", "docs/physics.md"] {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(file);
+        let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{file}: {e}"));
         let start = text.find(TABLE_START).unwrap_or_else(|| panic!("{file} has no line {TABLE_START}"));
         let end = text[start..].find(TABLE_END).unwrap_or_else(|| panic!("{file} has no line {TABLE_END}"));
         let block = &text[start..start + end + TABLE_END.len()];
+        if update && block != rendered {
+            std::fs::write(&path, text.replace(block, &rendered)).unwrap_or_else(|e| panic!("{file}: {e}"));
+            continue;
+        }
         assert!(
             block == rendered,
-            "{file}'s effect table differs from src/effects/; replace its block with:\n\n{rendered}\n"
+            "{file}'s effect table differs from src/effects/: run `UPDATE_DOCS=1 cargo test --release --test effects` \
+             to write it, or replace its block with:\n\n{rendered}\n"
         );
     }
 }

@@ -10,7 +10,8 @@ use fmi::fmi2::import::Fmi2Import;
 use fmi::fmi2::instance::{CoSimulation, Common};
 use semi_active_damper::damper::{Damper, Inputs};
 use semi_active_damper::model_description::RealVar;
-use semi_active_damper::variables::{default_inputs, default_parameters};
+use semi_active_damper::physics::params::Parameters;
+use semi_active_damper::variables::default_inputs;
 use std::io::Write;
 use std::path::PathBuf;
 
@@ -47,7 +48,7 @@ fn rust_fmi_importer_runs_the_fmu_like_the_model() {
     fmu.enter_initialization_mode().unwrap();
     fmu.exit_initialization_mode().unwrap();
 
-    let mut model = Damper::new(default_parameters(), default_inputs(), 0.0).unwrap();
+    let mut model = Damper::new(Parameters::default(), default_inputs(), 0.0).unwrap();
     let (v_in, f_in, f_out) = (RealVar::VDamper.vr(), RealVar::FDemand.vr(), RealVar::FDamper.vr());
     let h = 1e-3;
     for k in 0..500 {
@@ -72,8 +73,7 @@ fn the_force_feeds_through_from_the_velocity_with_friction_on() {
     // velocity shows in the force before the next step, as in the in-process model
     let import: Fmi2Import = fmi::import::from_path(pack_fmu()).expect("import the FMU");
     let mut fmu = import.instantiate_cs("rust-fmi", false, false).expect("instantiate");
-    let mut params = default_parameters();
-    params.effect_seal_friction = true;
+    let params = Parameters { effect_seal_friction: true, ..Default::default() };
     fmu.set_boolean(&[semi_active_damper::model_description::BooleanVar::EffectSealFriction.vr()], &[1]).unwrap();
     fmu.setup_experiment(None, 0.0, None).unwrap();
     fmu.enter_initialization_mode().unwrap();

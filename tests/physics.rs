@@ -9,15 +9,11 @@ use semi_active_damper::damper::{Damper, Inputs};
 use semi_active_damper::physics::fluid::P_ATM;
 use semi_active_damper::physics::params::Parameters;
 use semi_active_damper::physics::plant::idx;
-use semi_active_damper::variables::default_parameters;
 
 const H: f64 = 1e-3;
 
 fn spool_controlled(x_spool: f64, v: f64, x0: f64) -> Damper {
-    let mut p = default_parameters();
-    p.control_mode = 1;
-    p.x_spool_start = x_spool;
-    p.x_damper_start = x0;
+    let p = Parameters { control_mode: 1, x_spool_start: x_spool, x_damper_start: x0, ..Default::default() };
     Damper::new(
         p,
         Inputs { a_damper: 0.0, v_damper: v, force_demand: 0.0, x_spool_demand: x_spool, ..Default::default() },
@@ -56,7 +52,7 @@ fn at_rest_the_force_is_the_gas_force() {
     let mut d = spool_controlled(2.5e-3, 0.0, 0.0);
     run(&mut d, 0.1);
     let o = d.outputs();
-    let p = default_parameters();
+    let p = Parameters::default();
     let a_rod = p.derive().cylinder.a_rod;
     assert!((o.plant.force + p.p_reservoir0 * a_rod).abs() < 1.0, "F {}", o.plant.force);
     assert!((o.y[idx::P_A] - p.p_reservoir0).abs() < 10.0 && (o.y[idx::P_B] - p.p_reservoir0).abs() < 10.0);
@@ -91,8 +87,7 @@ fn passive_damper_never_delivers_energy() {
     // demands.
     for seed in 1..=6u64 {
         for mode in [0, 1] {
-            let mut p: Parameters = default_parameters();
-            p.control_mode = mode;
+            let p = Parameters { control_mode: mode, ..Default::default() };
             let mut d = Damper::new(p, Inputs::default(), 0.0).unwrap();
             let (period, pause) = (1.0, 0.3);
             let mut work = 0.0;
@@ -124,8 +119,7 @@ fn passive_damper_never_delivers_energy() {
 }
 
 fn force_step_t90(direction: f64) -> f64 {
-    let mut p = default_parameters();
-    p.x_damper_start = -direction * 0.045;
+    let p = Parameters { x_damper_start: -direction * 0.045, ..Default::default() };
     let mut d = Damper::new(
         p,
         Inputs {
@@ -198,9 +192,7 @@ fn communication_step_does_not_change_the_answer_on_the_sample_grid() {
 
 #[test]
 fn tared_load_cell_reads_zero_at_rest_and_the_demand_in_motion() {
-    let mut p = default_parameters();
-    p.tare_load_cell = true;
-    p.x_damper_start = -0.045;
+    let p = Parameters { tare_load_cell: true, x_damper_start: -0.045, ..Default::default() };
     let mut d = Damper::new(p, Inputs::default(), 0.0).unwrap();
     assert_eq!(d.outputs().load_cell, 0.0);
     // the raw reading at rest is the gas force −p_r·A_rod (p_r by the gas law at this stroke)
@@ -218,10 +210,7 @@ fn tared_load_cell_reads_zero_at_rest_and_the_demand_in_motion() {
 /// Steady state at 0.15 m/s extension with the spool held at 1.2 mm, after `setup` changes the
 /// parameters.
 fn steady_extension(setup: impl FnOnce(&mut Parameters)) -> semi_active_damper::damper::Outputs {
-    let mut p = default_parameters();
-    p.control_mode = 1;
-    p.x_spool_start = 1.2e-3;
-    p.x_damper_start = -0.05;
+    let mut p = Parameters { control_mode: 1, x_spool_start: 1.2e-3, x_damper_start: -0.05, ..Default::default() };
     setup(&mut p);
     let mut d = Damper::new(
         p,
@@ -257,9 +246,7 @@ fn effect_switches_change_what_they_name() {
     assert!(no_crack.y[idx::P_B] > base.y[idx::P_B] + 0.1e5, "{} vs {}", no_crack.y[idx::P_B], base.y[idx::P_B]);
     // air makes the oil softer: without it a force step is faster
     let t90 = |air: bool| {
-        let mut p = default_parameters();
-        p.effect_compressibility = air;
-        p.x_damper_start = -0.045;
+        let p = Parameters { effect_compressibility: air, x_damper_start: -0.045, ..Default::default() };
         let mut d = Damper::new(
             p,
             Inputs { a_damper: 0.0, v_damper: 0.15, force_demand: 2e3, x_spool_demand: 0.0, ..Default::default() },
@@ -280,9 +267,7 @@ fn effect_switches_change_what_they_name() {
 #[test]
 fn amplifier_delay_switch_removes_the_dead_time() {
     let dead_time = |delay: bool| {
-        let mut p = default_parameters();
-        p.control_mode = 1;
-        p.effect_amplifier_delay = delay;
+        let p = Parameters { control_mode: 1, effect_amplifier_delay: delay, ..Default::default() };
         let mut d = Damper::new(
             p,
             Inputs { a_damper: 0.0, v_damper: 0.15, force_demand: 0.0, x_spool_demand: 2.5e-3, ..Default::default() },

@@ -17,8 +17,8 @@ use fmi_fuzz::library::{callbacks, fmus, Fmu as Binary};
 use semi_active_damper::damper::{Damper, Inputs};
 use semi_active_damper::fmi2::*;
 use semi_active_damper::model_description::{IntegerVar, RealVar};
+use semi_active_damper::physics::params::Parameters;
 use semi_active_damper::step_error::StepError;
-use semi_active_damper::variables::default_parameters;
 use std::ptr::{null, null_mut};
 
 const DISCARD: fmi2Status = fmi2Status_fmi2Discard;
@@ -126,13 +126,13 @@ fn finding2_damper_refuses_corrupted_states() {
 fn finding2_accepted_integration_steps_are_bounded_and_floored() {
     let inputs = Inputs { v_damper: 0.3, force_demand: 5e3, ..Default::default() };
     // a step proposal below the floor used to loop over accepted steps without end
-    let p = semi_active_damper::physics::params::Parameters { h_max: 1e-158, ..default_parameters() };
+    let p = Parameters { h_max: 1e-158, ..Parameters::default() };
     let mut d = Damper::new(p, inputs, 0.0).unwrap();
     let before = d.state.y;
     assert!(matches!(d.do_step(1e-3), Err(StepError::Solver(_))));
     assert_eq!(d.state.y, before, "state kept at the step's start");
     // accepted steps count against the limit per sample: 1e-9 s steps would need 5e5 per sample
-    let p = semi_active_damper::physics::params::Parameters { h_max: 1e-9, ..default_parameters() };
+    let p = Parameters { h_max: 1e-9, ..Parameters::default() };
     let mut d = Damper::new(p, inputs, 0.0).unwrap();
     assert_eq!(d.do_step(1e-3), Err(StepError::TooManySteps));
     assert_eq!(d.state.time, 0.0);
@@ -221,13 +221,13 @@ fn finding8_dp_relief_at_its_minimum_is_not_stiff() {
     let f = Fmu::new("f8-relief");
     assert_eq!(f.set(RealVar::DpRelief, 1.0), ERROR, "below the narrowed range");
     let substeps = |dp_relief: f64, v: f64| {
-        let p = semi_active_damper::physics::params::Parameters { dp_relief, ..default_parameters() };
+        let p = Parameters { dp_relief, ..Parameters::default() };
         let mut d = Damper::new(p, Inputs { v_damper: v, force_demand: 1e5 * v, ..Default::default() }, 0.0).unwrap();
         (0..100).map(|_| d.do_step(0.01).unwrap().substeps).sum::<u32>()
     };
     let min = RealVar::DpRelief.min().unwrap();
     for v in [2.7, -2.7] {
-        let (at_min, default) = (substeps(min, v), substeps(default_parameters().dp_relief, v));
+        let (at_min, default) = (substeps(min, v), substeps(Parameters::default().dp_relief, v));
         assert!(at_min <= 2 * default, "{v} m/s: {at_min} integration steps against {default} by default");
     }
 }

@@ -130,7 +130,6 @@ impl Controller {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::variables::default_parameters;
 
     #[test]
     fn the_integral_stops_on_the_bound() {
@@ -152,7 +151,7 @@ mod tests {
     /// while the demand is clipped made it jump by a whole increment, Ki·e·T, at the clip.)
     #[test]
     fn the_force_loop_integral_is_continuous_across_the_clip() {
-        let p = default_parameters();
+        let p = Parameters::default();
         let d = p.derive();
         let (v, demand) = (0.3, 2e3);
         let after = |force: f64| {

@@ -69,7 +69,6 @@ pub fn flow_force_compensation(p: &Parameters, d: &Derived, m: Measurements) -> 
 )]
 mod tests {
     use super::*;
-    use crate::variables::default_parameters;
 
     fn at(x_spool: f64, v: f64) -> Measurements {
         Measurements { force: 0.0, x_spool, v_damper: v }
@@ -77,8 +76,7 @@ mod tests {
 
     #[test]
     fn pid_terms_by_hand() {
-        let mut p = default_parameters();
-        p.fc_mode = 0;
+        let p = Parameters { fc_mode: 0, ..Default::default() };
         let d = p.derive();
         let mut pid = SpoolLoop::at_rest(1.0);
         // first sample: no derivative kick; i = Kp e + (I0 + Ki e T)
@@ -96,8 +94,7 @@ mod tests {
 
     #[test]
     fn clamped_command_holds_the_integrator_on_the_bound() {
-        let mut p = default_parameters();
-        p.fc_mode = 0;
+        let p = Parameters { fc_mode: 0, ..Default::default() };
         let d = p.derive();
         // a demand far beyond reach: the proportional term alone saturates the amplifier, and the
         // integral stays where it was (neither wound up nor pulled down)
@@ -122,7 +119,7 @@ mod tests {
 
     #[test]
     fn flow_force_compensation_modes() {
-        let mut p = default_parameters();
+        let mut p = Parameters::default();
         let m = Measurements { force: 10e3, x_spool: 1e-3, v_damper: 0.5 };
         p.fc_mode = 0;
         assert_eq!(flow_force_compensation(&p, &p.derive(), m), 0.0);

@@ -2,7 +2,6 @@
 //! delay.
 
 use super::{CodeRef, Effect, EffectInfo, FittedParameter};
-use crate::physics::params::Parameters;
 
 pub struct AmplifierDelay;
 
@@ -29,8 +28,5 @@ static INFO: EffectInfo = EffectInfo {
 impl Effect for AmplifierDelay {
     fn info(&self) -> &'static EffectInfo {
         &INFO
-    }
-    fn is_on(&self, p: &Parameters) -> bool {
-        p.effect_amplifier_delay
     }
 }

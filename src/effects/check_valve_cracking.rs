@@ -2,7 +2,6 @@
 //! pressure drop.
 
 use super::{CodeRef, Effect, EffectInfo, FittedParameter};
-use crate::physics::params::Parameters;
 
 pub struct CheckValveCracking;
 
@@ -29,8 +28,5 @@ static INFO: EffectInfo = EffectInfo {
 impl Effect for CheckValveCracking {
     fn info(&self) -> &'static EffectInfo {
         &INFO
-    }
-    fn is_on(&self, p: &Parameters) -> bool {
-        p.effect_check_valve_cracking
     }
 }

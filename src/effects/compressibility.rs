@@ -2,7 +2,6 @@
 //! air-free oil, β_e = β_oil.
 
 use super::{CodeRef, Effect, EffectInfo, FittedParameter};
-use crate::physics::params::Parameters;
 
 pub struct Compressibility;
 
@@ -21,8 +20,5 @@ static INFO: EffectInfo = EffectInfo {
 impl Effect for Compressibility {
     fn info(&self) -> &'static EffectInfo {
         &INFO
-    }
-    fn is_on(&self, p: &Parameters) -> bool {
-        p.effect_compressibility
     }
 }

@@ -2,7 +2,6 @@
 //! compensation stays, computed with its own nominal `Cv_compensation`, as on the real controller.
 
 use super::{CodeRef, Effect, EffectInfo, FittedParameter};
-use crate::physics::params::Parameters;
 
 pub struct FlowForces;
 
@@ -21,8 +20,5 @@ static INFO: EffectInfo = EffectInfo {
 impl Effect for FlowForces {
     fn info(&self) -> &'static EffectInfo {
         &INFO
-    }
-    fn is_on(&self, p: &Parameters) -> bool {
-        p.effect_flow_forces
     }
 }

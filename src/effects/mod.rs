@@ -13,20 +13,12 @@
 //! table of docs/effects.md and docs/physics.md §8 is rendered from this catalog (same test).
 //!
 //! Adding an effect (docs/effects.md walks through `viscous_friction.rs` as the worked example):
-//! 1. write `src/effects/<key>.rs` with a unit struct implementing [`Effect`];
-//! 2. list it in [`CATALOG`] below;
-//! 3. declare `effect_<key>` (Boolean) and its parameters in `modelDescription.xml`, add the
-//!    fields to `Parameters`, and follow the compile errors (`variables.rs`, `snapshot.rs`) and
-//!    the build's GUID message; `tests/effects.rs` checks that the file and the XML agree.
-
-mod amplifier_delay;
-mod check_valve_cracking;
-mod compressibility;
-mod flow_forces;
-mod mount_compliance;
-mod piston_leakage;
-mod seal_friction;
-mod viscous_friction;
+//! 1. write `src/effects/<key>.rs` with a unit struct `<Key>` (the key in CamelCase) implementing
+//!    [`Effect`]: `build.rs` lists every file of this folder in [`CATALOG`], by key;
+//! 2. declare `effect_<key>` (Boolean) and its parameters in `modelDescription.xml` and set the
+//!    GUID the build prints: the parameters become fields of `Parameters` (generated from the
+//!    XML), the switch is read by [`Effect::is_on`]; `tests/effects.rs` checks that the file and
+//!    the XML agree.
 
 use crate::physics::params::Parameters;
 
@@ -104,8 +96,11 @@ pub struct PlantSignals {
 pub trait Effect: Sync {
     /// What the effect is.
     fn info(&self) -> &'static EffectInfo;
-    /// Whether its switch `effect_<key>` is on.
-    fn is_on(&self, p: &Parameters) -> bool;
+    /// Whether its switch `effect_<key>` is on (an effect without a switch in
+    /// `modelDescription.xml` is never on).
+    fn is_on(&self, p: &Parameters) -> bool {
+        p.switch(self.info().key).unwrap_or(false)
+    }
     /// Which of the plant's sums it adds to: none for a structural effect (its law lives in its
     /// component). The plant calls only the effects that add something, so an effect that
     /// writes [`Effect::force`] or [`Effect::bypass_flow`] says so here (`tests/effects.rs`
@@ -174,17 +169,8 @@ fn numeric_gradient(s: &PlantSignals, f: impl Fn(&PlantSignals) -> f64) -> Plant
     gradient
 }
 
-/// Every effect, in the order of docs/effects.md.
-pub const CATALOG: [&dyn Effect; 8] = [
-    &compressibility::Compressibility,
-    &mount_compliance::MountCompliance,
-    &amplifier_delay::AmplifierDelay,
-    &flow_forces::FlowForces,
-    &seal_friction::SealFriction,
-    &piston_leakage::PistonLeakage,
-    &check_valve_cracking::CheckValveCracking,
-    &viscous_friction::ViscousFriction,
-];
+// The effects' modules and `CATALOG`, from the files of this folder (build.rs).
+include!(concat!(env!("OUT_DIR"), "/effect_catalog.rs"));
 
 /// The effect of `key`.
 pub fn find(key: &str) -> Option<&'static dyn Effect> {

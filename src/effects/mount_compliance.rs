@@ -2,7 +2,6 @@
 //! eliminated algebraically. Off: a rigid mount.
 
 use super::{CodeRef, Effect, EffectInfo, FittedParameter};
-use crate::physics::params::Parameters;
 
 pub struct MountCompliance;
 
@@ -21,8 +20,5 @@ static INFO: EffectInfo = EffectInfo {
 impl Effect for MountCompliance {
     fn info(&self) -> &'static EffectInfo {
         &INFO
-    }
-    fn is_on(&self, p: &Parameters) -> bool {
-        p.effect_mount_compliance
     }
 }

@@ -28,9 +28,6 @@ impl Effect for PistonLeakage {
     fn info(&self) -> &'static EffectInfo {
         &INFO
     }
-    fn is_on(&self, p: &Parameters) -> bool {
-        p.effect_piston_leakage
-    }
     fn terms(&self) -> Terms {
         Terms::BYPASS_FLOW
     }

@@ -25,9 +25,6 @@ impl Effect for SealFriction {
     fn info(&self) -> &'static EffectInfo {
         &INFO
     }
-    fn is_on(&self, p: &Parameters) -> bool {
-        p.effect_seal_friction
-    }
     fn terms(&self) -> Terms {
         Terms::FORCE
     }

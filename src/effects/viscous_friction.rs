@@ -29,9 +29,6 @@ impl Effect for ViscousFriction {
     fn info(&self) -> &'static EffectInfo {
         &INFO
     }
-    fn is_on(&self, p: &Parameters) -> bool {
-        p.effect_viscous_friction
-    }
     fn terms(&self) -> Terms {
         Terms::FORCE
     }

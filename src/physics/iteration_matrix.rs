@@ -111,17 +111,15 @@ impl IterationMatrix<N_STATES> for PlantIterationMatrix {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::physics::params::Parameters;
     use crate::physics::plant::{random_state, Plant};
     use crate::solver::Lu;
-    use crate::variables::default_parameters;
 
     /// Against the dense LU of the whole matrix, at states across the regimes, for the step sizes
     /// the damper takes.
     #[test]
     fn solves_as_the_dense_matrix_does() {
-        let mut p = default_parameters();
-        p.effect_seal_friction = true;
-        p.effect_piston_leakage = true;
+        let p = Parameters { effect_seal_friction: true, effect_piston_leakage: true, ..Default::default() };
         let d = p.derive();
         let rest = Plant::rest_state(&p, &d, 0.01, 1e-3);
         for (case, (p_a, p_b, x_s, v)) in
@@ -163,7 +161,7 @@ mod tests {
         let mut uniform = crate::test_rng::uniform(0x2545_f491_4f6c_dd1d);
         let mut worst = 0.0f64;
         for all_on in [false, true] {
-            let mut p = default_parameters();
+            let mut p = Parameters::default();
             (p.effect_seal_friction, p.effect_piston_leakage, p.effect_viscous_friction) = (all_on, all_on, all_on);
             let d = p.derive();
             let rest = Plant::rest_state(&p, &d, 0.0, 1e-3);

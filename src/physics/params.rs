@@ -1,6 +1,6 @@
-//! Model parameters in SI units. The defaults are the start values of `modelDescription.xml`
-//! (see `crate::variables::default_parameters`), where every value carries its unit, description
-//! and source; this struct only gives them names and the derived quantities.
+//! Model parameters in SI units: the struct is generated from `modelDescription.xml`, where every
+//! value carries its unit, description and source, and its defaults are the XML's start values;
+//! here are the checks across parameters and the quantities derived from them.
 
 use super::fluid::Oil;
 use super::hydraulics::{Cylinder, GasCharge};
@@ -40,88 +40,9 @@ pub enum ControlMode {
     SpoolPosition,
 }
 
-/// All parameters; field names follow `modelDescription.xml`, units in the docs there.
-#[derive(Clone, Copy, Debug, Default)]
-#[allow(missing_docs)]
-pub struct Parameters {
-    pub control_mode: i32,
-    pub force_controller: i32,
-    pub fc_mode: i32,
-    pub tare_load_cell: bool,
-    pub effect_compressibility: bool,
-    pub effect_mount_compliance: bool,
-    pub effect_amplifier_delay: bool,
-    pub effect_flow_forces: bool,
-    pub effect_seal_friction: bool,
-    pub effect_piston_leakage: bool,
-    pub effect_check_valve_cracking: bool,
-    pub effect_viscous_friction: bool,
-    pub rho: f64,
-    pub beta_oil: f64,
-    pub air_fraction: f64,
-    pub n_polytropic: f64,
-    pub p_transition: f64,
-    pub d_piston: f64,
-    pub d_rod: f64,
-    pub l_half_stroke: f64,
-    pub l_dead: f64,
-    pub v_hose: f64,
-    pub p_reservoir0: f64,
-    pub v_gas0: f64,
-    pub a_cv_max: f64,
-    pub cd_cv: f64,
-    pub p_cv_crack: f64,
-    pub p_cv_full: f64,
-    pub a_cv_leak: f64,
-    pub p_relief: f64,
-    pub dp_relief: f64,
-    pub a_relief: f64,
-    pub n_ports: i32,
-    pub r_port: f64,
-    pub x_lap: f64,
-    pub a_valve_leak: f64,
-    pub cd_valve: f64,
-    pub cv_valve: f64,
-    pub theta_jet: f64,
-    pub m_spool: f64,
-    pub k_spool: f64,
-    pub c_spool: f64,
-    pub x_spool_min: f64,
-    pub x_spool_max: f64,
-    pub k_stop: f64,
-    pub c_stop: f64,
-    pub k_sol: f64,
-    pub kappa_sol: f64,
-    pub i_max: f64,
-    pub tau_amp: f64,
-    pub tau_coil: f64,
-    pub k1_mount: f64,
-    pub k3_mount: f64,
-    pub f_coulomb: f64,
-    pub v_friction: f64,
-    pub g_leak: f64,
-    pub c_viscous: f64,
-    pub t_sample: f64,
-    pub kp_x: f64,
-    pub ki_x: f64,
-    pub kd_x: f64,
-    pub tau_dx: f64,
-    pub dp_fc_nominal: f64,
-    pub cv_compensation: f64,
-    pub kp_f: f64,
-    pub ki_f: f64,
-    pub kd_f: f64,
-    pub tau_df: f64,
-    pub f_ref_min: f64,
-    pub kp_f_pid: f64,
-    pub ki_f_pid: f64,
-    pub kd_f_pid: f64,
-    pub x_spool_bias: f64,
-    pub h_max: f64,
-    pub rtol: f64,
-    pub x_damper_start: f64,
-    pub x_spool_start: f64,
-}
+/// All parameters: generated from `modelDescription.xml`, one field per parameter (the variable's
+/// name in lower case), `Default` from its start values.
+pub use crate::model_description::Parameters;
 
 /// Quantities derived once from the parameters.
 #[derive(Clone, Copy, Debug)]

@@ -389,7 +389,6 @@ pub(crate) fn random_state(rest: &State, uniform: &mut impl FnMut() -> f64, cham
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::variables::default_parameters;
 
     /// The written-out Jacobian and ∂f/∂v against central differences of `evaluate`, over states
     /// that cross every regime: check valves shut, cracking and open, the relief valve, the valve
@@ -400,7 +399,7 @@ mod tests {
         const SCALE: [f64; N_STATES + 1] = [1e5, 1e5, 1e-5, 1e-4, 1e-2, 1e-1, 1e-2, 1e-2];
         let mut uniform = crate::test_rng::uniform(0x2545_f491_4f6c_dd1d);
         for all_on in [false, true] {
-            let mut p = default_parameters();
+            let mut p = Parameters::default();
             if all_on {
                 p.effect_seal_friction = true;
                 p.effect_piston_leakage = true;

@@ -91,7 +91,7 @@ fn bad_values_name_the_option_and_what_it_takes() {
         (&["--control", "current"], "[possible values: force, spool]"),
         (&["--noise", "-1"], "'-1' for '--noise <K>': must be ≥ 0"),
         (&["--lowpass", "fast"], "'fast' for '--lowpass <HZ|off>': a frequency in Hz, or off"),
-        (&["--effect", "seal"], "the catalog has compressibility"),
+        (&["--effect", "seal"], "seal_friction"),
         (&["--sensor", "F_damper=loud"], "expected NAME=NOISE[:QUANTUM]"),
     ];
     for (args, expected) in cases {

@@ -414,7 +414,7 @@ mod tests {
 
     #[test]
     fn catalog_names_are_fmu_parameters() {
-        let mut p = semi_active_damper::variables::default_parameters();
+        let mut p = semi_active_damper::physics::params::Parameters::default();
         for e in catalog() {
             set_effect(&mut p, e.key, true).unwrap();
             for s in e.fitted {

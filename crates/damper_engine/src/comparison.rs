@@ -8,7 +8,7 @@ use crate::measurement::{Mapping, Measurement, DEFAULT_MAX_GAP};
 use crate::model::{Backend, Drive, InProcess, Model, Prediction};
 use crate::parameters::{changed_parameters, effect, effect_on, effects, set_effect, set_parameter, EffectExt, Value};
 use crate::units::Column;
-use semi_active_damper::variables::default_parameters;
+use semi_active_damper::physics::params::Parameters;
 use std::path::PathBuf;
 use std::sync::Arc;
 use std::time::Instant;
@@ -87,9 +87,8 @@ pub struct ModelSetup {
 /// Builds the model for a drive: defaults, control mode from the drive, tare, `--params`,
 /// `--with`, `--without`, then `--set`; the FMU of `--fmu` imported and checked against the parameters.
 pub fn build_model(opts: &CompareOptions, drive: &Drive) -> Result<ModelSetup, String> {
-    let mut p = default_parameters();
-    p.control_mode = drive.control_mode();
-    p.tare_load_cell = opts.tare_load_cell;
+    let mut p =
+        Parameters { control_mode: drive.control_mode(), tare_load_cell: opts.tare_load_cell, ..Default::default() };
     if let Some(file) = &opts.params_file {
         crate::ssv::apply(&mut p, file)?;
     }

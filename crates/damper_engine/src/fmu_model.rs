@@ -21,7 +21,6 @@ use fmi::traits::FmiImport;
 use semi_active_damper::damper::Inputs;
 use semi_active_damper::model_description::MODEL_IDENTIFIER;
 use semi_active_damper::physics::params::Parameters;
-use semi_active_damper::variables::default_parameters;
 use std::path::{Path, PathBuf};
 
 /// The FMU's inputs, in the order [`FmuModel::set_inputs`] sets them.
@@ -100,7 +99,7 @@ impl FmuModel {
             ));
         }
         let known = parameter_names();
-        let defaults = default_parameters();
+        let defaults = Parameters::default();
         let (mut parameters, mut unknown, mut mistyped) = (Vec::new(), Vec::new(), Vec::new());
         for v in md.get_model_variables().filter(|v| v.causality == Causality::Parameter) {
             let Some(&name) = known.iter().find(|n| **n == v.name) else {

@@ -40,7 +40,6 @@ use crate::units::Column;
 use indexmap::IndexMap;
 use semi_active_damper::damper::{Damper, Inputs};
 use semi_active_damper::physics::params::Parameters;
-use semi_active_damper::variables::default_parameters;
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
 use std::fmt::Write as _;
@@ -354,10 +353,12 @@ pub struct TruthNoiseFloor {
 
 /// The truth parameters from the options; the records of each effect for the truth file.
 fn truth_parameters(o: &GenerateOptions, rng: &mut Rng) -> Result<(Parameters, Vec<TruthEffect>), String> {
-    let mut p = default_parameters();
-    p.rtol = TRUTH_RTOL;
-    p.control_mode = i32::from(o.spool_control);
-    p.tare_load_cell = o.tare_load_cell.unwrap_or(o.input == InputStyle::Hil);
+    let mut p = Parameters {
+        rtol: TRUTH_RTOL,
+        control_mode: i32::from(o.spool_control),
+        tare_load_cell: o.tare_load_cell.unwrap_or(o.input == InputStyle::Hil),
+        ..Default::default()
+    };
     if let Some(file) = &o.params_file {
         crate::ssv::apply(&mut p, file)?;
     }
@@ -829,7 +830,7 @@ mod tests {
         let mut o = GenerateOptions::new("unused.csv", "unused.json");
         let (p, _) = truth_parameters(&o, &mut Rng::new(1)).unwrap();
         assert_eq!(p.rtol, TRUTH_RTOL);
-        assert!(TRUTH_RTOL < default_parameters().rtol / 100.0);
+        assert!(TRUTH_RTOL < Parameters::default().rtol / 100.0);
         o.sets.push(("rtol".into(), "1e-3".into()));
         assert_eq!(truth_parameters(&o, &mut Rng::new(1)).unwrap().0.rtol, 1e-3);
     }

@@ -6,7 +6,6 @@
 
 use semi_active_damper::model_description::{BooleanVar, Causality, IntegerVar, RealVar};
 use semi_active_damper::physics::params::Parameters;
-use semi_active_damper::variables::{boolean_parameter, integer_parameter, real_parameter};
 use std::fmt;
 
 /// A parameter's value.
@@ -83,9 +82,9 @@ pub fn lookup(name: &str) -> Result<Param, String> {
 pub fn get_parameter(p: &Parameters, name: &str) -> Result<Value, String> {
     let mut q = *p;
     Ok(match lookup(name)? {
-        Param::Real(v) => Value::Real(*real_parameter(&mut q, v).expect("parameter")),
-        Param::Integer(v) => Value::Integer(*integer_parameter(&mut q, v).expect("parameter")),
-        Param::Boolean(v) => Value::Boolean(*boolean_parameter(&mut q, v).expect("parameter")),
+        Param::Real(v) => Value::Real(*q.real_mut(v).expect("parameter")),
+        Param::Integer(v) => Value::Integer(*q.integer_mut(v).expect("parameter")),
+        Param::Boolean(v) => Value::Boolean(*q.boolean_mut(v).expect("parameter")),
     })
 }
 
@@ -114,12 +113,12 @@ pub fn set_parameter(p: &mut Parameters, name: &str, text: &str) -> Result<(), S
                     v.max().map_or("inf".into(), |m| m.to_string())
                 ));
             }
-            *integer_parameter(p, v).expect("parameter") = x;
+            *p.integer_mut(v).expect("parameter") = x;
             Ok(())
         }
         Param::Boolean(v) => {
             let b = parse_bool(t).ok_or_else(|| format!("{name}={text}: expected true/false (or on/off, 1/0)"))?;
-            *boolean_parameter(p, v).expect("parameter") = b;
+            *p.boolean_mut(v).expect("parameter") = b;
             Ok(())
         }
     }
@@ -137,7 +136,7 @@ pub fn set_real(p: &mut Parameters, name: &str, x: f64) -> Result<(), String> {
 pub fn set_bool(p: &mut Parameters, name: &str, b: bool) -> Result<(), String> {
     match lookup(name)? {
         Param::Boolean(v) => {
-            *boolean_parameter(p, v).expect("parameter") = b;
+            *p.boolean_mut(v).expect("parameter") = b;
             Ok(())
         }
         _ => Err(format!("{name} is not a Boolean parameter")),
@@ -156,7 +155,7 @@ fn set_real_checked(p: &mut Parameters, v: RealVar, x: f64) -> Result<(), String
             v.max().map_or("inf".into(), |m| m.to_string())
         ));
     }
-    *real_parameter(p, v).expect("parameter") = x;
+    *p.real_mut(v).expect("parameter") = x;
     Ok(())
 }
 
@@ -213,9 +212,7 @@ impl EffectExt for Effect {
         format!("effect_{}", self.key)
     }
     fn default_on(&self) -> bool {
-        get_parameter(&semi_active_damper::variables::default_parameters(), &self.switch())
-            .map(|v| v == Value::Boolean(true))
-            .unwrap_or(false)
+        get_parameter(&Parameters::default(), &self.switch()).map(|v| v == Value::Boolean(true)).unwrap_or(false)
     }
     fn size_parameter(&self) -> &'static str {
         self.fitted[0].name
@@ -257,7 +254,7 @@ pub fn effect_on(p: &Parameters, key: &str) -> Result<bool, String> {
 
 /// Parameters whose value differs from the model default, as (name, value).
 pub fn changed_parameters(p: &Parameters) -> Vec<(&'static str, Value)> {
-    let d = semi_active_damper::variables::default_parameters();
+    let d = Parameters::default();
     parameter_names()
         .into_iter()
         .filter_map(|n| {
@@ -270,11 +267,10 @@ pub fn changed_parameters(p: &Parameters) -> Vec<(&'static str, Value)> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use semi_active_damper::variables::default_parameters;
 
     #[test]
     fn set_and_get_by_name() {
-        let mut p = default_parameters();
+        let mut p = Parameters::default();
         set_parameter(&mut p, "air_fraction", "0.04").unwrap();
         assert_eq!(p.air_fraction, 0.04);
         set_parameter(&mut p, "control_mode", "1").unwrap();
@@ -292,7 +288,7 @@ mod tests {
 
     #[test]
     fn every_effect_has_its_switch_and_parameters() {
-        let mut p = default_parameters();
+        let mut p = Parameters::default();
         for e in effects() {
             let on = effect_on(&p, e.key).unwrap();
             set_effect(&mut p, e.key, !on).unwrap();

@@ -365,7 +365,6 @@ pub fn to_string(name: &str, note: &str, params: &[Written]) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use semi_active_damper::variables::default_parameters;
 
     fn written() -> Vec<Written> {
         vec![
@@ -410,7 +409,7 @@ mod tests {
         std::fs::create_dir_all(&dir).unwrap();
         let f = dir.join("p.ssv");
         std::fs::write(&f, &text).unwrap();
-        let mut p = default_parameters();
+        let mut p = Parameters::default();
         apply(&mut p, &f).unwrap();
         assert_eq!((p.r_port, p.air_fraction, p.n_ports), (3.1e-3, 0.03, 3));
         std::fs::remove_dir_all(&dir).unwrap();

@@ -11,7 +11,7 @@ use damper_engine::diagnosed::diagnose_measurement;
 use damper_engine::generate::GenerateOptions;
 use damper_engine::parameters::get_real;
 use damper_engine::ssv;
-use semi_active_damper::variables::default_parameters;
+use semi_active_damper::physics::params::Parameters;
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 
@@ -136,7 +136,7 @@ fn a_hidden_effect_is_named_with_the_calibrated_parameters() {
 fn the_parameter_set_round_trips_and_a_bad_one_names_line_and_field() {
     let (dir, c) = calibrated();
     let path = dir.join("parameters.ssv");
-    let mut p = default_parameters();
+    let mut p = Parameters::default();
     ssv::apply(&mut p, &path).expect("apply");
     for q in &c.parameters {
         assert_eq!(get_real(&p, q.name).unwrap(), q.value, "{}", q.name);
@@ -146,7 +146,7 @@ fn the_parameter_set_round_trips_and_a_bad_one_names_line_and_field() {
         let f = dir.join(name);
         std::fs::write(&f, text.replacen(from, to, 1)).unwrap();
         let line = text[..text.find(from).unwrap()].matches('\n').count() + 1;
-        (ssv::apply(&mut default_parameters(), &f).unwrap_err(), f.display().to_string(), line)
+        (ssv::apply(&mut Parameters::default(), &f).unwrap_err(), f.display().to_string(), line)
     };
     // an unknown name: the line of its ssv:Parameter
     let (e, f, line) = bad("unknown.ssv", "name=\"V_hose\"", "name=\"V_hoses\"");

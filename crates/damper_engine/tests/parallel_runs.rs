@@ -15,7 +15,7 @@ fn models_run_in_parallel_give_the_sequential_results() {
     let models: Vec<Model> = [0.0f64, 150.0, 300.0]
         .iter()
         .map(|&fc| {
-            let mut p = semi_active_damper::variables::default_parameters();
+            let mut p = semi_active_damper::physics::params::Parameters::default();
             set_effect(&mut p, "seal_friction", fc > 0.0).unwrap();
             set_real(&mut p, "F_coulomb", fc.max(1.0)).unwrap();
             Model::new(p)

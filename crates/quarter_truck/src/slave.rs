@@ -7,7 +7,7 @@ use crate::limits::MAX_SUBSTEPS;
 use crate::model_description::{BooleanVar, Causality, IntegerVar, RealVar, CAN_INTERPOLATE_INPUTS, GUID};
 use crate::snapshot::MAGIC;
 use crate::truck::{Evaluation, Inputs, Params, State};
-use crate::variables::{real_input, real_output, real_parameter};
+use crate::variables::{real_input, real_output};
 use fmi2_slave::snapshot;
 use fmi2_slave::{check_integer, check_real, Model, ToleranceNote, VarInfo};
 
@@ -45,7 +45,7 @@ impl Slave {
     fn check_restored(&self) -> Result<(), String> {
         let (mut p, mut u) = (self.params, self.inputs);
         for v in RealVar::ALL {
-            if let Some(x) = real_parameter(&mut p, v) {
+            if let Some(x) = p.real_mut(v) {
                 check_real(v.name(), *x, v.min(), v.max())?;
             }
             if let Some(x) = real_input(&mut u, v) {
@@ -86,7 +86,7 @@ impl Model for Slave {
     fn get_real(&self, vr: u32) -> Result<f64, String> {
         let v = RealVar::from_vr(vr).ok_or_else(|| unknown(vr))?;
         let (mut p, mut u) = (self.params, self.inputs);
-        if let Some(x) = real_parameter(&mut p, v).or(real_input(&mut u, v)) {
+        if let Some(x) = p.real_mut(v).or(real_input(&mut u, v)) {
             return Ok(*x);
         }
         let (y, e) = self.evaluation();
@@ -121,7 +121,7 @@ impl Model for Slave {
         let v = RealVar::from_vr(vr).ok_or_else(|| unknown(vr))?;
         check_real(v.name(), value, v.min(), v.max())?;
         let field = match v.causality() {
-            Causality::Parameter => real_parameter(&mut self.params, v),
+            Causality::Parameter => self.params.real_mut(v),
             Causality::Input => real_input(&mut self.inputs, v),
             Causality::Output => None,
         };

@@ -9,28 +9,9 @@
 //! The road is z_r(t) = z_road + v_road (t − t_k) over a communication step from t_k; the damper
 //! force input is held. Integration: classical RK4 with equal steps ≤ `h_max`.
 
-/// Parameters (SI), named as in `modelDescription.xml`, which documents them; `Default` gives the
-/// XML's start values.
-#[derive(Clone, Copy, Debug)]
-#[allow(missing_docs)]
-pub struct Params {
-    pub damper_mode: i32,
-    pub m_body: f64,
-    pub m_axle: f64,
-    pub k_susp: f64,
-    pub k_tyre: f64,
-    pub c_susp: f64,
-    pub c_tyre: f64,
-    pub c_passive: f64,
-    pub cm: f64,
-    pub alpha: f64,
-    pub gravity: f64,
-    pub h_max: f64,
-    pub z_body_start: f64,
-    pub z_axle_start: f64,
-    pub v_body_start: f64,
-    pub v_axle_start: f64,
-}
+/// Parameters (SI): generated from `modelDescription.xml`, which documents them, one field per
+/// parameter (its name in lower case); `Default` gives the XML's start values.
+pub use crate::model_description::Parameters as Params;
 
 /// Inputs, held over a communication step.
 #[derive(Clone, Copy, Debug, Default)]
