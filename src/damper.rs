@@ -8,6 +8,7 @@
 //! sample instants inside it split it. All state is plain `Copy` data.
 
 use crate::control::{Controller, Demands, Measurements};
+use crate::model_description::RealVar;
 use crate::physics::iteration_matrix::PlantIterationMatrix;
 use crate::physics::params::{Derived, Parameters};
 use crate::physics::plant::{idx, rest_current, Linearisation, Plant, PlantOutputs, State, N_STATES};
@@ -28,8 +29,8 @@ const ERROR_CONTROLLED: [(usize, f64); 5] =
     [(idx::P_A, 1e6), (idx::P_B, 1e6), (idx::V_GAS, 1e-4), (idx::X_SPOOL, 1e-3), (idx::X_DAMPER, 1e-3)];
 
 /// Inputs from the master, held over a communication step (the velocity along a ramp of slope
-/// `a_damper`).
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+/// `a_damper`). `Default`: all zero but the oil temperature, at the XML's start value.
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Inputs {
     /// Damper extension velocity (m/s) at the start of the communication step.
     pub v_damper: f64,
@@ -44,7 +45,30 @@ pub struct Inputs {
     /// master's input derivatives (fmi2SetRealInputDerivatives); 0 holds them.
     pub force_demand_rate: f64,
     pub x_spool_demand_rate: f64,
+    /// Oil temperature (K), measured (`T_oil`): acts when `effect_oil_temperature` is on; held
+    /// over the step.
+    pub t_oil: f64,
 }
+
+impl Default for Inputs {
+    fn default() -> Self {
+        Inputs {
+            v_damper: 0.0,
+            a_damper: 0.0,
+            force_demand: 0.0,
+            x_spool_demand: 0.0,
+            force_demand_rate: 0.0,
+            x_spool_demand_rate: 0.0,
+            t_oil: T_OIL_START,
+        }
+    }
+}
+
+/// The start value of the input `T_oil` (K).
+pub const T_OIL_START: f64 = match RealVar::TOil.start() {
+    Some(t) => t,
+    None => panic!("T_oil has a start value"),
+};
 
 impl Inputs {
     /// The damper velocity (m/s) `elapsed` (s) along its ramp.
@@ -179,6 +203,7 @@ pub struct Damper {
 struct Evaluated {
     y: State,
     v_damper: f64,
+    t_oil: f64,
     i_command: f64,
     plant: PlantOutputs,
 }
@@ -188,13 +213,13 @@ impl Damper {
     pub fn new(params: Parameters, inputs: Inputs, start_time: f64) -> Result<Self, String> {
         params.validate()?;
         let derived = params.derive();
-        let y = Plant::rest_state(&params, &derived, params.x_damper_start, params.x_spool_start);
         let i0 = rest_current(&params, params.x_spool_start);
+        let at_rest = Plant { p: &params, d: &derived, v_damper: 0.0, i_command: i0, t_oil: inputs.t_oil };
+        let y = at_rest.rest_state(params.x_damper_start, params.x_spool_start);
         let mut controller = Controller::at_rest(&derived, params.x_spool_start, i0);
         controller.x_spool_demand = params.x_spool_start;
         if params.tare_load_cell {
-            let plant = Plant { p: &params, d: &derived, v_damper: 0.0, i_command: i0 };
-            controller.force_tare = plant.evaluate(&y).force;
+            controller.force_tare = at_rest.evaluate(&y).force;
         }
         let h_next = params.h_max.min(params.t_sample);
         let state = DamperState { y, controller, i_command: i0, time: start_time, start_time, next_sample: 0, h_next };
@@ -217,7 +242,13 @@ impl Damper {
     }
 
     fn plant(&self) -> Plant<'_> {
-        Plant { p: &self.params, d: &self.derived, v_damper: self.inputs.v_damper, i_command: self.state.i_command }
+        Plant {
+            p: &self.params,
+            d: &self.derived,
+            v_damper: self.inputs.v_damper,
+            i_command: self.state.i_command,
+            t_oil: self.inputs.t_oil,
+        }
     }
 
     /// Outputs at the present state.
@@ -231,12 +262,17 @@ impl Damper {
     pub fn outputs_with(&self, inputs: &Inputs) -> Outputs {
         let (y, i_command) = (self.state.y, self.state.i_command);
         let plant = match self.last.get() {
-            Some(e) if e.y == y && e.v_damper.to_bits() == inputs.v_damper.to_bits() && e.i_command == i_command => {
+            Some(e)
+                if e.y == y
+                    && e.v_damper.to_bits() == inputs.v_damper.to_bits()
+                    && e.t_oil.to_bits() == inputs.t_oil.to_bits()
+                    && e.i_command == i_command =>
+            {
                 e.plant
             }
             _ => {
-                let plant = Plant { v_damper: inputs.v_damper, ..self.plant() }.evaluate(&y);
-                self.last.set(Some(Evaluated { y, v_damper: inputs.v_damper, i_command, plant }));
+                let plant = Plant { v_damper: inputs.v_damper, t_oil: inputs.t_oil, ..self.plant() }.evaluate(&y);
+                self.last.set(Some(Evaluated { y, v_damper: inputs.v_damper, t_oil: inputs.t_oil, i_command, plant }));
                 plant
             }
         };
@@ -257,7 +293,8 @@ impl Damper {
 
     /// [`Damper::load_cell`] with `inputs` applied (see [`Damper::outputs_with`]).
     pub fn load_cell_with(&self, inputs: &Inputs) -> f64 {
-        Plant { v_damper: inputs.v_damper, ..self.plant() }.force(&self.state.y) - self.state.controller.force_tare
+        Plant { v_damper: inputs.v_damper, t_oil: inputs.t_oil, ..self.plant() }.force(&self.state.y)
+            - self.state.controller.force_tare
     }
 
     /// The stroke and the half stroke where the stroke is beyond the cylinder's travel
@@ -357,6 +394,7 @@ impl Damper {
             d: &self.derived,
             v_damper: self.inputs.velocity_at(from),
             i_command: self.state.i_command,
+            t_oil: self.inputs.t_oil,
         };
         self.start.0 = plant.linearise(&self.state.y, &mut self.start.1);
     }

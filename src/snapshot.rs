@@ -30,8 +30,9 @@ impl Visit for Parameters {
 
 impl Visit for Inputs {
     fn visit<V: Visitor>(&mut self, v: &mut V) {
-        let Inputs { v_damper, a_damper, force_demand, x_spool_demand, force_demand_rate, x_spool_demand_rate } = self;
-        for x in [v_damper, a_damper, force_demand, x_spool_demand, force_demand_rate, x_spool_demand_rate] {
+        let Inputs { v_damper, a_damper, force_demand, x_spool_demand, force_demand_rate, x_spool_demand_rate, t_oil } =
+            self;
+        for x in [v_damper, a_damper, force_demand, x_spool_demand, force_demand_rate, x_spool_demand_rate, t_oil] {
             v.real(x);
         }
     }

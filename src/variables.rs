@@ -25,6 +25,7 @@ pub fn real_input(inputs: &mut Inputs, v: RealVar) -> Option<&mut f64> {
         RealVar::ADamper => Some(&mut inputs.a_damper),
         RealVar::FDemand => Some(&mut inputs.force_demand),
         RealVar::XSpoolDemand => Some(&mut inputs.x_spool_demand),
+        RealVar::TOil => Some(&mut inputs.t_oil),
         _ if v.causality() == Causality::Input => unreachable!("input {} is not mapped", v.name()),
         _ => None,
     }

@@ -58,52 +58,80 @@ fn every_effect_has_its_switch_and_parameters_in_the_model_description() {
     }
 }
 
+/// Signals across the plant's regimes: velocities of both signs and near zero, strokes out to
+/// ±0.9 m (an effect may act only beyond a stroke: an end stop, a dead band), both chambers
+/// pressurised in turn, the oil cold and hot.
+fn signal_grid() -> Vec<PlantSignals> {
+    let mut grid = Vec::new();
+    for v_damper in [-1.0, -0.05, 0.0, 0.05, 1.0] {
+        for x_damper in [-0.9, -0.3, -0.03, 0.0, 0.03, 0.3, 0.9] {
+            for (p_ext, p_comp, p_reservoir) in [(40e5, 5e5, 5e5), (3e5, 90e5, 6e5), (5e5, 5e5, 5e5)] {
+                for (temperature, viscosity_ratio) in [(293.15, 1.0), (350.0, 0.14)] {
+                    let x_spool = 1e-3;
+                    grid.push(PlantSignals {
+                        v_damper,
+                        x_damper,
+                        p_ext,
+                        p_comp,
+                        p_reservoir,
+                        x_spool,
+                        temperature,
+                        viscosity_ratio,
+                    });
+                }
+            }
+        }
+    }
+    grid
+}
+
 #[test]
 fn switched_off_effects_add_nothing() {
     let mut p = Parameters::default();
-    let s = PlantSignals { v_damper: 0.4, x_damper: 0.01, p_ext: 40e5, p_comp: 5e5, p_reservoir: 5e5, x_spool: 1e-3 };
     for e in CATALOG {
         let var = BooleanVar::ALL.into_iter().find(|v| v.name() == format!("effect_{}", e.info().key)).unwrap();
         *p.boolean_mut(var).unwrap() = false;
     }
-    assert_eq!(ActiveEffects::of(&p).force(&p, &s), 0.0);
-    assert_eq!(ActiveEffects::of(&p).bypass_flow(&p, &s), 0.0);
+    let active = ActiveEffects::of(&p);
+    for s in signal_grid() {
+        assert_eq!(active.force(&p, &s), 0.0);
+        assert_eq!(active.bypass_flow(&p, &s), 0.0);
+        assert_eq!(active.base_flow(&p, &s), 0.0);
+    }
     // friction opposes the motion: in tension when extending
     p.effect_seal_friction = true;
     p.effect_viscous_friction = true;
+    let s = PlantSignals { v_damper: 0.4, temperature: 293.15, viscosity_ratio: 1.0, ..PlantSignals::ZERO };
     let f = ActiveEffects::of(&p).force(&p, &s);
     assert!((f - (p.f_coulomb * (0.4 / p.v_friction).tanh() + p.c_viscous * 0.4)).abs() < 1e-9, "{f}");
 }
 
-/// The plant calls an effect's force or bypass flow only when its `terms` say it adds one: an
-/// effect that writes either must declare it, or the plant would drop it.
+/// The plant calls an effect's force or flows only when its `terms` say it adds them: an effect
+/// that writes one must declare it, or the plant would drop it; and one it declares must act
+/// somewhere in the plant's regimes (at some signals of [`signal_grid`]).
+/// An effect's force or flow at some signals.
+type Hook<'a> = dyn Fn(&PlantSignals) -> f64 + 'a;
+
 #[test]
 fn an_effect_adds_only_the_terms_it_declares() {
     let mut p = Parameters::default();
-    let signals = [
-        PlantSignals { v_damper: 0.4, x_damper: 0.01, p_ext: 40e5, p_comp: 5e5, p_reservoir: 5e5, x_spool: 1e-3 },
-        PlantSignals { v_damper: -0.7, x_damper: -0.03, p_ext: 3e5, p_comp: 90e5, p_reservoir: 6e5, x_spool: 3e-3 },
-    ];
+    let grid = signal_grid();
     for e in CATALOG {
         let var = BooleanVar::ALL.into_iter().find(|v| v.name() == format!("effect_{}", e.info().key)).unwrap();
         *p.boolean_mut(var).unwrap() = true;
-        let terms = e.terms();
-        let active = ActiveEffects::of(&p);
-        for s in &signals {
-            let key = e.info().key;
-            if terms.force {
-                assert_ne!(e.force(&p, s), 0.0, "{key} declares a force");
-            } else {
-                assert_eq!(e.force(&p, s), 0.0, "{key} adds a force but its terms() do not say so");
-            }
-            if terms.bypass_flow {
-                assert_ne!(e.bypass_flow(&p, s), 0.0, "{key} declares a bypass flow");
-            } else {
-                assert_eq!(e.bypass_flow(&p, s), 0.0, "{key} adds a flow but its terms() do not say so");
-            }
+        let (key, terms, active) = (e.info().key, e.terms(), ActiveEffects::of(&p));
+        let hooks: [(&str, bool, &Hook); 3] = [
+            ("a force", terms.force, &|s| e.force(&p, s)),
+            ("a bypass flow", terms.bypass_flow, &|s| e.bypass_flow(&p, s)),
+            ("a base flow", terms.base_flow, &|s| e.base_flow(&p, s)),
+        ];
+        for (what, declared, hook) in hooks {
+            let acts = grid.iter().any(|s| hook(s) != 0.0);
+            assert_eq!(acts, declared, "{key}: declares {what}: {declared}, adds one at some signals: {acts}");
         }
         let listed = format!("{active:?}");
-        assert_eq!(listed.contains(&format!("\"{}\"", e.info().key)), terms.force || terms.bypass_flow, "{listed}");
+        let adds = terms.force || terms.bypass_flow || terms.base_flow;
+        assert_eq!(listed.contains(&format!("\"{key}\"")), adds, "{listed}");
         *p.boolean_mut(var).unwrap() = false;
     }
 }

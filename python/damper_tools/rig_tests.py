@@ -55,9 +55,9 @@ SPOOL_OVERSHOOT_MAX_PCT = 5.0             # [%] largest spool overshoot: "no sig
 
 OUTPUTS = ["F_damper", "x_spool", "i_sol", "p_ext", "p_comp", "p_reservoir", "Q_valve", "x_spool_ref",
            "x_damper", "F_demand_clipped", "F_flow", "delta_mount", "v_damper", "F_demand", "x_spool_demand"]
-INPUTS = ("v_damper", "a_damper", "F_demand", "x_spool_demand")
+INPUTS = ("v_damper", "a_damper", "F_demand", "x_spool_demand", "T_oil")
 # a_damper 0: the rig's velocity is held over each communication step (it moves in steps only)
-DEFAULT_INPUTS = {"v_damper": 0.0, "a_damper": 0.0, "F_demand": 0.0, "x_spool_demand": SPOOL_START}
+DEFAULT_INPUTS = {"v_damper": 0.0, "a_damper": 0.0, "F_demand": 0.0, "x_spool_demand": SPOOL_START, "T_oil": 293.15}
 
 
 # --------------------------------------------------------------------------- inputs and runs

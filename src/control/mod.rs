@@ -116,11 +116,15 @@ impl Controller {
     /// The demand is relative to the tared load cell; the force loop works in the raw load-cell
     /// frame (demand + tare against the raw force), where its inverse valve law holds.
     pub fn sample(&mut self, p: &Parameters, d: &Derived, m: Measurements, demands: Demands) -> f64 {
+        if d.control_mode == ControlMode::ValveHeld {
+            // no controller: the coil keeps the current it started with (the spool is held)
+            return self.spool_loop.integral;
+        }
         self.force_demand_clipped = clip_to_dissipative(demands.force, m.v_damper);
         let raw_demand = self.force_demand_clipped + self.force_tare;
         self.x_spool_demand = match d.control_mode {
             ControlMode::Force => self.force_loop.step(p, d, raw_demand, m),
-            ControlMode::SpoolPosition => demands.x_spool,
+            ControlMode::SpoolPosition | ControlMode::ValveHeld => demands.x_spool,
         };
         let i_cmd = self.spool_loop.step(p, d, self.x_spool_demand, m);
         self.delay.push(i_cmd)

@@ -1,7 +1,7 @@
 //! The power amplifier's pure delay on the coil command, in whole controller samples. Off: no
 //! delay.
 
-use super::{CodeRef, Effect, EffectInfo, FittedParameter};
+use super::{Candidacy, CodeRef, Effect, EffectInfo, FittedParameter, HideWith, Start};
 
 pub struct AmplifierDelay;
 
@@ -16,11 +16,14 @@ static INFO: EffectInfo = EffectInfo {
         log: false,
         plausible: (0.001, 0.006),
         grid: Some(0.5e-3),
+        start: Start::Model,
     }],
     secondary: &[],
     other: &[],
     // 7–8 ms makes the force loop oscillate (a 25 Hz limit cycle at 20 kN demands)
     hidden_range: (0.004, 0.005),
+    hide_with: HideWith::NOTHING,
+    candidacy: Candidacy::Always,
     signature:
         "a constant time shift between model and measurement, the same in both directions, largest after demand steps",
 };

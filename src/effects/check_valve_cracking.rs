@@ -1,7 +1,7 @@
 //! The check valves' cracking pressure: their opening starts at p_cv_crack. Off: they open at zero
 //! pressure drop.
 
-use super::{CodeRef, Effect, EffectInfo, FittedParameter};
+use super::{Candidacy, CodeRef, Effect, EffectInfo, FittedParameter, HideWith, Start};
 
 pub struct CheckValveCracking;
 
@@ -17,11 +17,14 @@ static INFO: EffectInfo = EffectInfo {
         log: false,
         plausible: (0.2e5, 0.85e5),
         grid: None,
+        start: Start::Model,
     }],
     secondary: &[],
     other: &[],
     // below p_cv_full (1 bar), where the valve is fully open
     hidden_range: (0.5e5, 0.8e5),
+    hide_with: HideWith::NOTHING,
+    candidacy: Candidacy::Always,
     signature: "a small offset with the sign of the direction of motion and a delayed force build-up after reversals",
 };
 

@@ -4,7 +4,8 @@
 //! parameters that set its size and shape. An effect tells the tools around the model what it is
 //! ([`EffectInfo`]: its parameters, their plausible ranges, the residual signature it leaves when
 //! missing), and, if it adds a force or a flow to the circuit, computes it ([`Effect::force`],
-//! [`Effect::bypass_flow`]). The plant sums the contributions of the switched-on effects.
+//! [`Effect::bypass_flow`], [`Effect::base_flow`]). The plant sums the contributions of the
+//! switched-on effects.
 //!
 //! The structural effects (compressibility, mount compliance, amplifier delay, flow forces,
 //! check-valve cracking) change a component's law; their equations live in that component, which
@@ -36,6 +37,45 @@ pub struct FittedParameter {
     /// Step of a parameter the model quantises (a delay in controller samples): a fit searches
     /// the grid, since a derivative-based fit cannot move on a staircase.
     pub grid: Option<f64>,
+    /// Where a fit starts when the effect is switched on.
+    pub start: Start,
+}
+
+/// Where a fit of a parameter starts when its effect is switched on.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Start {
+    /// At the model's value (the default, or the calibrated one).
+    Model,
+    /// At this fraction of the largest |stroke| of the record's fitted part (m): for a position
+    /// where something starts to act (an end stop), which a fit can only find from where the
+    /// record reaches.
+    OfLargestStroke(f64),
+}
+
+/// When the diagnosis tries an effect.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Candidacy {
+    /// Switched on where the model lacks it, refitted where it has it.
+    Always,
+    /// A part of some dampers' build (a passive valve): refitted where the model has it, never
+    /// switched on by a diagnosis (a damper does not grow a valve; its signature is a leakage's).
+    WhenOn,
+    /// Acts through the measured oil temperature: tried only on records with a temperature column.
+    WithTemperature,
+}
+
+/// How a data generator hides an effect so that a record shows it.
+#[derive(Clone, Copy, Debug)]
+pub struct HideWith {
+    /// Other parameters set with it: e.g. an end stop placed within the generator's stroke.
+    pub set: &'static [(&'static str, f64)],
+    /// The oil temperature's rise over the record (K), from `T_ref`: 0 for a constant temperature.
+    pub temperature_rise: f64,
+}
+
+impl HideWith {
+    /// Nothing besides the effect's size.
+    pub const NOTHING: HideWith = HideWith { set: &[], temperature_rise: 0.0 };
 }
 
 /// A function of this crate: its file, relative to the crate's root, and its name, `Type::method`
@@ -70,11 +110,17 @@ pub struct EffectInfo {
     /// Range a data generator draws the size from when it hides the effect: plausible, and away
     /// from the model's default so that a refitted default-on effect shows.
     pub hidden_range: (f64, f64),
+    /// How a generator hides it so that a record shows it.
+    pub hide_with: HideWith,
+    /// When the diagnosis tries it.
+    pub candidacy: Candidacy,
     /// The residual r = F_model − F_measured when the model lacks the effect, in plain words.
     pub signature: &'static str,
 }
 
-/// The plant's signals at one instant, as an effect sees them (SI units).
+/// The plant's signals at one instant, as an effect sees them (SI units). The oil's temperature
+/// and viscosity come from the measured input `T_oil` and are constant over a step; the solver
+/// differentiates an effect's force and flows with respect to the other six.
 #[derive(Clone, Copy, Debug)]
 pub struct PlantSignals {
     /// Damper extension velocity (m/s).
@@ -89,6 +135,12 @@ pub struct PlantSignals {
     pub p_reservoir: f64,
     /// Spool position (m).
     pub x_spool: f64,
+    /// Oil temperature (K): the input `T_oil` (its start value unless a master or a record gives
+    /// it).
+    pub temperature: f64,
+    /// The oil's viscosity over its viscosity at `T_ref` (-): 1 unless `oil_temperature` is on
+    /// ([`crate::physics::fluid::viscosity_ratio`]).
+    pub viscosity_ratio: f64,
 }
 
 /// A physical effect. Implementations are unit structs; everything they need comes from the
@@ -117,6 +169,10 @@ pub trait Effect: Sync {
     fn bypass_flow(&self, _p: &Parameters, _s: &PlantSignals) -> f64 {
         0.0
     }
+    /// Flow (m³/s) from the compression chamber to the reservoir (a base valve).
+    fn base_flow(&self, _p: &Parameters, _s: &PlantSignals) -> f64 {
+        0.0
+    }
     /// The partial derivatives of [`Effect::force`] with respect to each signal (each field of
     /// the result holds ∂force/∂that signal), for the solver's Jacobian. Default: central
     /// differences of `force`, so a new effect needs no derivative to work; the catalog's own
@@ -128,12 +184,24 @@ pub trait Effect: Sync {
     fn bypass_flow_gradient(&self, p: &Parameters, s: &PlantSignals) -> PlantSignals {
         numeric_gradient(s, |s| self.bypass_flow(p, s))
     }
+    /// The partial derivatives of [`Effect::base_flow`], as [`Effect::force_gradient`].
+    fn base_flow_gradient(&self, p: &Parameters, s: &PlantSignals) -> PlantSignals {
+        numeric_gradient(s, |s| self.base_flow(p, s))
+    }
 }
 
 impl PlantSignals {
     /// All fields zero (the gradient of a constant).
-    pub const ZERO: PlantSignals =
-        PlantSignals { v_damper: 0.0, x_damper: 0.0, p_ext: 0.0, p_comp: 0.0, p_reservoir: 0.0, x_spool: 0.0 };
+    pub const ZERO: PlantSignals = PlantSignals {
+        v_damper: 0.0,
+        x_damper: 0.0,
+        p_ext: 0.0,
+        p_comp: 0.0,
+        p_reservoir: 0.0,
+        x_spool: 0.0,
+        temperature: 0.0,
+        viscosity_ratio: 0.0,
+    };
 
     fn fields_mut(&mut self) -> [&mut f64; 6] {
         [
@@ -184,18 +252,22 @@ pub struct Terms {
     pub force: bool,
     /// A flow past the valve ([`Effect::bypass_flow`]).
     pub bypass_flow: bool,
+    /// A flow from the compression chamber to the reservoir ([`Effect::base_flow`]).
+    pub base_flow: bool,
 }
 
 impl Terms {
-    /// Neither (a structural effect).
-    pub const NONE: Terms = Terms { force: false, bypass_flow: false };
+    /// None (a structural effect).
+    pub const NONE: Terms = Terms { force: false, bypass_flow: false, base_flow: false };
     /// A force only.
-    pub const FORCE: Terms = Terms { force: true, bypass_flow: false };
+    pub const FORCE: Terms = Terms { force: true, ..Terms::NONE };
     /// A bypass flow only.
-    pub const BYPASS_FLOW: Terms = Terms { force: false, bypass_flow: true };
+    pub const BYPASS_FLOW: Terms = Terms { bypass_flow: true, ..Terms::NONE };
+    /// A base flow only.
+    pub const BASE_FLOW: Terms = Terms { base_flow: true, ..Terms::NONE };
 }
 
-/// The switched-on effects that add a force or a bypass flow, listed once from the parameters, so
+/// The switched-on effects that add a force or a flow, listed once from the parameters, so
 /// that an evaluation of the plant calls these alone (with the default parameters, none): asking
 /// every effect of the catalog at each evaluation, and differencing the structural effects'
 /// zero forces for the Jacobian, had cost a tenth of the model's instructions.
@@ -203,6 +275,7 @@ impl Terms {
 pub struct ActiveEffects {
     force: EffectList,
     bypass_flow: EffectList,
+    base_flow: EffectList,
 }
 
 /// Up to the whole catalog, in catalog order.
@@ -235,6 +308,7 @@ impl std::fmt::Debug for ActiveEffects {
         f.debug_struct("ActiveEffects")
             .field("force", &keys(&self.force))
             .field("bypass_flow", &keys(&self.bypass_flow))
+            .field("base_flow", &keys(&self.base_flow))
             .finish()
     }
 }
@@ -242,7 +316,11 @@ impl std::fmt::Debug for ActiveEffects {
 impl ActiveEffects {
     /// The effects that `p` switches on and that add to a sum.
     pub fn of(p: &Parameters) -> Self {
-        ActiveEffects { force: EffectList::of(p, |t| t.force), bypass_flow: EffectList::of(p, |t| t.bypass_flow) }
+        ActiveEffects {
+            force: EffectList::of(p, |t| t.force),
+            bypass_flow: EffectList::of(p, |t| t.bypass_flow),
+            base_flow: EffectList::of(p, |t| t.base_flow),
+        }
     }
 
     /// Whether any effect adds a force.
@@ -262,6 +340,17 @@ impl ActiveEffects {
         self.bypass_flow.iter().map(|e| e.bypass_flow(p, s)).sum()
     }
 
+    /// Sum of their base flows (m³/s).
+    #[inline]
+    pub fn base_flow(&self, p: &Parameters, s: &PlantSignals) -> f64 {
+        self.base_flow.iter().map(|e| e.base_flow(p, s)).sum()
+    }
+
+    /// Whether any effect adds a base flow.
+    pub fn adds_base_flow(&self) -> bool {
+        self.base_flow.len > 0
+    }
+
     /// Gradient of [`ActiveEffects::force`] with respect to the signals.
     #[inline]
     pub fn force_gradient(&self, p: &Parameters, s: &PlantSignals) -> PlantSignals {
@@ -272,6 +361,12 @@ impl ActiveEffects {
     #[inline]
     pub fn bypass_flow_gradient(&self, p: &Parameters, s: &PlantSignals) -> PlantSignals {
         self.bypass_flow.iter().map(|e| e.bypass_flow_gradient(p, s)).fold(PlantSignals::ZERO, sum)
+    }
+
+    /// Gradient of [`ActiveEffects::base_flow`] with respect to the signals.
+    #[inline]
+    pub fn base_flow_gradient(&self, p: &Parameters, s: &PlantSignals) -> PlantSignals {
+        self.base_flow.iter().map(|e| e.base_flow_gradient(p, s)).fold(PlantSignals::ZERO, sum)
     }
 }
 

@@ -1,6 +1,6 @@
 //! Coulomb friction of the rod and piston seals, smoothed through zero velocity.
 
-use super::{CodeRef, Effect, EffectInfo, FittedParameter, PlantSignals, Terms};
+use super::{Candidacy, CodeRef, Effect, EffectInfo, FittedParameter, HideWith, PlantSignals, Start, Terms};
 use crate::physics::params::Parameters;
 
 pub struct SealFriction;
@@ -11,12 +11,14 @@ static INFO: EffectInfo = EffectInfo {
     equation: "F = F_coulomb·tanh(v_damper/v_friction) in the load path",
     code: CodeRef { file: "src/effects/seal_friction.rs", function: "SealFriction::force" },
     fitted: &[
-        FittedParameter { name: "F_coulomb", search: (0.0, 2000.0), log: false, plausible: (50.0, 600.0), grid: None },
-        FittedParameter { name: "v_friction", search: (1e-4, 0.1), log: true, plausible: (5e-4, 0.05), grid: None },
+        FittedParameter { name: "F_coulomb", search: (0.0, 2000.0), log: false, plausible: (50.0, 600.0), grid: None, start: Start::Model },
+        FittedParameter { name: "v_friction", search: (1e-4, 0.1), log: true, plausible: (5e-4, 0.05), grid: None, start: Start::Model },
     ],
     secondary: &[],
     other: &[],
     hidden_range: (150.0, 400.0),
+    hide_with: HideWith::NOTHING,
+    candidacy: Candidacy::Always,
     signature:
         "an error jump of twice the friction force at every velocity reversal, independent of the valve and the demand",
 };

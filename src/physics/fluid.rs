@@ -93,6 +93,15 @@ pub fn orifice_flow_partials(cd: f64, area: f64, dp: f64, rho: f64, p_transition
     (area * dq_darea, dq_darea, area * per_area * (0.5 * dp * dp + p_transition * p_transition) / s2)
 }
 
+/// The oil's viscosity at `t` (K) over its viscosity at `t_ref` (K): exp(−b (t − t_ref)), with
+/// `b` = `visc_temp_coeff` (1/K), Reynolds' exponential law (docs/physics.md §3.9). Over the
+/// 20–100 °C of a damper's oil it stays within a few per cent of Walther's ASTM D341 law for
+/// b fitted at the range's middle.
+#[inline]
+pub fn viscosity_ratio(b: f64, t: f64, t_ref: f64) -> f64 {
+    libm::exp(-b * (t - t_ref))
+}
+
 /// C¹ ramp from 0 (u ≤ 0) to 1 (u ≥ 1): 3u² − 2u³. Used for valve openings so the right-hand side
 /// stays continuously differentiable.
 #[inline]

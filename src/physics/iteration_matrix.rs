@@ -112,7 +112,7 @@ impl IterationMatrix<N_STATES> for PlantIterationMatrix {
 mod tests {
     use super::*;
     use crate::physics::params::Parameters;
-    use crate::physics::plant::{random_state, Plant};
+    use crate::physics::plant::{every_effect_on, random_state, Plant};
     use crate::solver::Lu;
 
     /// Against the dense LU of the whole matrix, at states across the regimes, for the step sizes
@@ -121,7 +121,7 @@ mod tests {
     fn solves_as_the_dense_matrix_does() {
         let p = Parameters { effect_seal_friction: true, effect_piston_leakage: true, ..Default::default() };
         let d = p.derive();
-        let rest = Plant::rest_state(&p, &d, 0.01, 1e-3);
+        let rest = Plant { p: &p, d: &d, v_damper: 0.0, i_command: 1.2, t_oil: 293.15 }.rest_state(0.01, 1e-3);
         for (case, (p_a, p_b, x_s, v)) in
             [(5e5, 5e5, 1e-3, 0.0), (60e5, 8e5, 2.5e-3, 0.4), (3e5, 40e5, 0.2e-3, -0.6), (120e5, 5.2e5, 4.6e-3, 1.0)]
                 .into_iter()
@@ -132,7 +132,7 @@ mod tests {
             y[idx::P_B] = p_b;
             y[idx::X_SPOOL] = x_s;
             y[idx::V_SPOOL] = 0.05;
-            let (_, lin) = Plant { p: &p, d: &d, v_damper: v, i_command: 1.2 }.evaluate_linearised(&y);
+            let (_, lin) = Plant { p: &p, d: &d, v_damper: v, i_command: 1.2, t_oil: 293.15 }.evaluate_linearised(&y);
             assert!(has_plant_structure(&lin.jacobian));
             for h in [1e-7, 1e-5, 5e-4] {
                 let c = 1.0 / (0.5 * h);
@@ -162,12 +162,15 @@ mod tests {
         let mut worst = 0.0f64;
         for all_on in [false, true] {
             let mut p = Parameters::default();
-            (p.effect_seal_friction, p.effect_piston_leakage, p.effect_viscous_friction) = (all_on, all_on, all_on);
+            if all_on {
+                every_effect_on(&mut p);
+            }
             let d = p.derive();
-            let rest = Plant::rest_state(&p, &d, 0.0, 1e-3);
+            let t_oil = if all_on { 335.0 } else { 293.15 };
+            let rest = Plant { p: &p, d: &d, v_damper: 0.0, i_command: 0.7, t_oil }.rest_state(0.0, 1e-3);
             for _ in 0..1000 {
                 let y = random_state(&rest, &mut uniform, false);
-                let plant = Plant { p: &p, d: &d, v_damper: 1.5 * (uniform() - 0.5), i_command: 0.7 };
+                let plant = Plant { p: &p, d: &d, v_damper: 1.5 * (uniform() - 0.5), i_command: 0.7, t_oil };
                 let jacobian = plant.evaluate_linearised(&y).1.jacobian;
                 for h in [1e-9, 1e-7, 1e-5, 1e-4, 5e-4, 2e-3, 1e-2, 1e-1] {
                     let c = 3.0 / h;

@@ -5,6 +5,7 @@ pub mod hydraulics;
 pub mod iteration_matrix;
 pub mod mount;
 pub mod params;
+pub mod passive_valve;
 pub mod piecewise;
 pub mod plant;
 pub mod valve;

@@ -38,6 +38,9 @@ pub enum ControlMode {
     Force,
     /// Inner spool loop only; the spool demand is an input.
     SpoolPosition,
+    /// No controller: the valve held at `x_spool_start`, as a passive or adjustable damper's
+    /// valve is (docs/physics.md §4.6). The demands are not used.
+    ValveHeld,
 }
 
 /// All parameters: generated from `modelDescription.xml`, one field per parameter (the variable's
@@ -69,6 +72,10 @@ pub struct Derived {
     /// C_v,nom cos θ sqrt(2ρ)/K_sol, for the spool loop's flow-force compensation.
     pub compensation_gain: f64,
     pub control_mode: ControlMode,
+    /// The valve held at its start position (`control_mode` 2): the spool does not move.
+    pub valve_held: bool,
+    /// Whether the measured oil temperature acts (`effect_oil_temperature`).
+    pub oil_temperature: bool,
     pub force_controller: ForceController,
     pub fc_mode: FlowForceCompensation,
     /// The switched-on effects that add a force or a bypass flow to the plant.
@@ -90,7 +97,7 @@ impl Parameters {
                 self.tau_amp / self.t_sample <= MAX_DELAY_SAMPLES as f64,
                 "tau_amp/T_sample exceeds the 200-sample delay line",
             ),
-            (self.control_mode == 0 || self.control_mode == 1, "control_mode must be 0 or 1"),
+            ((0..=2).contains(&self.control_mode), "control_mode must be 0, 1 or 2"),
             (self.force_controller == 0 || self.force_controller == 1, "force_controller must be 0 or 1"),
             ((0..=2).contains(&self.fc_mode), "fc_mode must be 0, 1 or 2"),
         ];
@@ -141,7 +148,13 @@ impl Parameters {
             } else {
                 0
             },
-            control_mode: if self.control_mode == 1 { ControlMode::SpoolPosition } else { ControlMode::Force },
+            control_mode: match self.control_mode {
+                1 => ControlMode::SpoolPosition,
+                2 => ControlMode::ValveHeld,
+                _ => ControlMode::Force,
+            },
+            valve_held: self.control_mode == 2,
+            oil_temperature: self.effect_oil_temperature,
             force_controller: if self.force_controller == 1 {
                 ForceController::PaperPid
             } else {

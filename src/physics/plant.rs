@@ -16,8 +16,10 @@
 //! [`crate::effects`] catalog: the force F_e in parallel with the piston (seal friction, viscous
 //! friction) and the bypass flow Q_l (piston leakage). The amplifier delay is the controller's.
 
-use super::fluid::{effective_bulk_modulus_and_slope, orifice_flow_partials, smoothstep, smoothstep_slope};
-use super::hydraulics::{check_valve_area, check_valve_area_slope, reservoir_pressure, reservoir_pressure_and_slope};
+use super::fluid::{
+    effective_bulk_modulus_and_slope, orifice_flow_partials, smoothstep, smoothstep_slope, viscosity_ratio, P_ATM,
+};
+use super::hydraulics::{check_valve_area, check_valve_area_slope, reservoir_pressure_and_slope};
 use super::params::{Derived, Parameters};
 use super::valve::solenoid_force;
 use crate::effects::PlantSignals;
@@ -71,6 +73,8 @@ pub struct Plant<'a> {
     pub v_damper: f64,
     /// Delayed amplifier command to the coil (A) (held over the controller sample).
     pub i_command: f64,
+    /// Oil temperature (K), the input `T_oil` (held over the communication step).
+    pub t_oil: f64,
 }
 
 /// The plant linearised at a state: the Jacobian ∂f/∂y and the derivative ∂f/∂v with respect to
@@ -142,12 +146,14 @@ impl Plant<'_> {
         if !d.effects.adds_force() {
             return hydraulic;
         }
-        let p_r = reservoir_pressure(&d.gas, y[idx::V_GAS]);
-        hydraulic + d.effects.force(p, &self.signals(y, p_r))
+        let thermal = self.thermal();
+        let p_r = self.reservoir(y[idx::V_GAS], thermal.gas_ratio).0;
+        hydraulic + d.effects.force(p, &self.signals(y, p_r, thermal.viscosity_ratio))
     }
 
-    /// What the effects see at state `y` with the reservoir at `p_r` (Pa).
-    fn signals(&self, y: &State, p_r: f64) -> PlantSignals {
+    /// What the effects see at state `y` with the reservoir at `p_r` (Pa) and the oil's viscosity
+    /// `viscosity_ratio` times its reference's.
+    fn signals(&self, y: &State, p_r: f64, viscosity_ratio: f64) -> PlantSignals {
         use idx::*;
         PlantSignals {
             v_damper: self.v_damper,
@@ -156,6 +162,35 @@ impl Plant<'_> {
             p_comp: y[P_B],
             p_reservoir: p_r,
             x_spool: y[X_SPOOL],
+            temperature: self.t_oil,
+            viscosity_ratio,
+        }
+    }
+
+    /// The oil's temperature as it acts (docs/physics.md §3.9): the viscosity over its reference
+    /// value, and the gas's absolute temperature over its reference; both 1 unless
+    /// `oil_temperature` is on.
+    #[inline]
+    fn thermal(&self) -> Thermal {
+        if self.d.oil_temperature {
+            Thermal {
+                viscosity_ratio: viscosity_ratio(self.p.visc_temp_coeff, self.t_oil, self.p.t_ref),
+                gas_ratio: self.t_oil / self.p.t_ref,
+            }
+        } else {
+            Thermal { viscosity_ratio: 1.0, gas_ratio: 1.0 }
+        }
+    }
+
+    /// The reservoir's gauge pressure (Pa) at gas volume `v_gas` (m³) and its slope (Pa/m³), the
+    /// gas at `gas_ratio` times its reference absolute temperature.
+    #[inline]
+    fn reservoir(&self, v_gas: f64, gas_ratio: f64) -> (f64, f64) {
+        let (p_r, slope) = reservoir_pressure_and_slope(&self.d.gas, v_gas);
+        if gas_ratio == 1.0 {
+            (p_r, slope)
+        } else {
+            ((p_r + P_ATM) * gas_ratio - P_ATM, slope * gas_ratio)
         }
     }
 
@@ -188,9 +223,10 @@ impl Plant<'_> {
         let v = self.v_damper;
         let (p_a, p_b, v_gas, x_s, v_s, i_coil) = (y[P_A], y[P_B], y[V_GAS], y[X_SPOOL], y[V_SPOOL], y[I_COIL]);
 
-        let (p_r, dpr_dvg) = reservoir_pressure_and_slope(&d.gas, v_gas);
+        let thermal = self.thermal();
+        let (p_r, dpr_dvg) = self.reservoir(v_gas, thermal.gas_ratio);
         let d_pr = grad::<JAC>(|| basis(G_V_GAS, dpr_dvg));
-        let signals = self.signals(y, p_r);
+        let signals = self.signals(y, p_r, thermal.viscosity_ratio);
         // a signal gradient (∂/∂ each signal) as a gradient over the states and v
         let chain = |g: PlantSignals| {
             // d_pr has its V_gas column alone
@@ -248,10 +284,15 @@ impl Plant<'_> {
         };
         let q_leak = d.effects.bypass_flow(p, &signals);
         let d_q_leak = grad::<JAC>(|| chain(d.effects.bypass_flow_gradient(p, &signals)));
+        let (q_base, d_q_base) = if d.effects.adds_base_flow() {
+            (d.effects.base_flow(p, &signals), grad::<JAC>(|| chain(d.effects.base_flow_gradient(p, &signals))))
+        } else {
+            (0.0, Grad::zeros())
+        };
         let r_a = q_cv1 - q_valve - q_relief - q_leak;
         let d_r_a = grad::<JAC>(|| d_q_cv1 - d_q_valve - d_q_relief - d_q_leak);
-        let r_b = -q_cv1 + q_cv2 + q_leak;
-        let d_r_b = grad::<JAC>(|| -d_q_cv1 + d_q_cv2 + d_q_leak);
+        let r_b = -q_cv1 + q_cv2 + q_leak - q_base;
+        let d_r_b = grad::<JAC>(|| -d_q_cv1 + d_q_cv2 + d_q_leak - d_q_base);
 
         let (beta_a, dbeta_a) = effective_bulk_modulus_and_slope(p_a, &d.oil);
         let (beta_b, dbeta_b) = effective_bulk_modulus_and_slope(p_b, &d.oil);
@@ -294,9 +335,13 @@ impl Plant<'_> {
         let mut dydt = State::zeros();
         dydt[P_A] = a * (aa * v_piston + r_a);
         dydt[P_B] = b * (-ap * v_piston + r_b);
-        dydt[V_GAS] = q_cv2 - q_valve - q_relief;
+        dydt[V_GAS] = q_cv2 - q_valve - q_relief - q_base;
         dydt[X_SPOOL] = v_s;
-        dydt[V_SPOOL] = (f_sol - p.k_spool * x_s - p.c_spool * v_s - f_flow - f_stop) * (1.0 / p.m_spool);
+        dydt[V_SPOOL] = if d.valve_held {
+            0.0
+        } else {
+            (f_sol - p.k_spool * x_s - p.c_spool * v_s - f_flow - f_stop) * (1.0 / p.m_spool)
+        };
         dydt[I_COIL] = self.evaluate_coil(y);
         dydt[X_DAMPER] = v;
         let out = PlantOutputs { dydt, force, p_reservoir: p_r, q_valve, flow_force: f_flow, delta_mount: delta };
@@ -309,11 +354,15 @@ impl Plant<'_> {
         let rows: [(usize, Grad); 4] = [
             (P_A, d_a * (aa * v_piston + r_a) + (d_v_piston * aa + d_r_a) * a),
             (P_B, d_b * (-ap * v_piston + r_b) + (-d_v_piston * ap + d_r_b) * b),
-            (V_GAS, d_q_cv2 - d_q_valve - d_q_relief),
+            (V_GAS, d_q_cv2 - d_q_valve - d_q_relief - d_q_base),
             (V_SPOOL, {
                 let mut g = -d_f_flow;
                 g[G_X_SPOOL] += p.k_sol * i_coil * p.kappa_sol / p.x_spool_max - p.k_spool - k_stop;
-                g * (1.0 / p.m_spool)
+                if d.valve_held {
+                    Grad::zeros()
+                } else {
+                    g * (1.0 / p.m_spool)
+                }
             }),
         ];
         // (assigned: nalgebra's `fill` goes element by element through an iterator)
@@ -325,8 +374,10 @@ impl Plant<'_> {
             }
             df_dv[r] = g[G_DV];
         }
-        jacobian[(V_SPOOL, V_SPOOL)] = -(p.c_spool + c_stop) / p.m_spool;
-        jacobian[(V_SPOOL, I_COIL)] = solenoid_force(p.k_sol, p.kappa_sol, p.x_spool_max, 1.0, x_s) / p.m_spool;
+        if !d.valve_held {
+            jacobian[(V_SPOOL, V_SPOOL)] = -(p.c_spool + c_stop) / p.m_spool;
+            jacobian[(V_SPOOL, I_COIL)] = solenoid_force(p.k_sol, p.kappa_sol, p.x_spool_max, 1.0, x_s) / p.m_spool;
+        }
         jacobian[(X_SPOOL, V_SPOOL)] = 1.0;
         jacobian[(I_COIL, I_COIL)] = -1.0 / p.tau_coil;
         df_dv[X_DAMPER] = 1.0;
@@ -353,19 +404,44 @@ impl Plant<'_> {
         (p.k_stop * (x_s - limit) + p.c_stop * v_s, p.k_stop, p.c_stop)
     }
 
-    /// Static equilibrium at rest: both chambers at the reservoir pressure of stroke `x`, spool at
-    /// `x_spool` held by the coil current that balances the centring spring.
-    pub fn rest_state(p: &Parameters, d: &Derived, x: f64, x_spool: f64) -> State {
+    /// Static equilibrium at rest: both chambers at the reservoir pressure of stroke `x` and this
+    /// plant's oil temperature, spool at `x_spool` held by the coil current that balances the
+    /// centring spring.
+    pub fn rest_state(&self, x: f64, x_spool: f64) -> State {
+        let (p, d) = (self.p, self.d);
         let v_gas = p.v_gas0 + d.cylinder.a_rod * x;
-        let p_r = reservoir_pressure(&d.gas, v_gas);
+        let p_r = self.reservoir(v_gas, self.thermal().gas_ratio).0;
         let i0 = rest_current(p, x_spool);
         State::from([p_r, p_r, v_gas, x_spool, 0.0, i0, x])
     }
 }
 
+/// The oil temperature's action (see [`Plant::thermal`]).
+#[derive(Clone, Copy, Debug)]
+struct Thermal {
+    /// Viscosity over its value at `T_ref` (-).
+    viscosity_ratio: f64,
+    /// Absolute temperature over `T_ref` (-), for the reservoir's gas.
+    gas_ratio: f64,
+}
+
+impl Plant<'_> {}
+
 /// Coil current (A) that holds the spool at `x_spool` against its centring spring.
 pub fn rest_current(p: &Parameters, x_spool: f64) -> f64 {
     (p.k_spool * x_spool / solenoid_force(p.k_sol, p.kappa_sol, p.x_spool_max, 1.0, x_spool)).clamp(0.0, p.i_max)
+}
+
+/// Switches on every effect of the catalog, with the end stops within the strokes that
+/// [`random_state`] draws, for the tests that must cover every effect.
+#[cfg(test)]
+pub(crate) fn every_effect_on(p: &mut Parameters) {
+    for e in crate::effects::CATALOG {
+        let switch = format!("effect_{}", e.info().key);
+        let var = crate::model_description::BooleanVar::ALL.into_iter().find(|v| v.name() == switch);
+        *p.boolean_mut(var.expect("every effect has a switch")).expect("a parameter") = true;
+    }
+    p.x_end_stop = 0.02;
 }
 
 /// A random state across the plant's regimes, drawn around `rest` with `uniform` (numbers in
@@ -398,19 +474,21 @@ mod tests {
     fn linearisation_matches_central_differences() {
         const SCALE: [f64; N_STATES + 1] = [1e5, 1e5, 1e-5, 1e-4, 1e-2, 1e-1, 1e-2, 1e-2];
         let mut uniform = crate::test_rng::uniform(0x2545_f491_4f6c_dd1d);
-        for all_on in [false, true] {
+        for (all_on, held) in [(false, false), (true, false), (true, true)] {
             let mut p = Parameters::default();
             if all_on {
-                p.effect_seal_friction = true;
-                p.effect_piston_leakage = true;
-                p.effect_viscous_friction = true;
+                every_effect_on(&mut p);
+            }
+            if held {
+                p.control_mode = 2;
             }
             let d = p.derive();
+            let t_oil = if all_on { 335.0 } else { 293.15 };
             for case in 0..400 {
-                let rest = Plant::rest_state(&p, &d, 0.0, 1e-3);
+                let rest = Plant { p: &p, d: &d, v_damper: 0.0, i_command: 0.7, t_oil }.rest_state(0.0, 1e-3);
                 let y = random_state(&rest, &mut uniform, case % 3 == 0);
                 let v = 1.5 * (uniform() - 0.5);
-                let plant = |v: f64| Plant { p: &p, d: &d, v_damper: v, i_command: 0.7 };
+                let plant = |v: f64| Plant { p: &p, d: &d, v_damper: v, i_command: 0.7, t_oil };
                 let (out, lin) = plant(v).evaluate_linearised(&y);
                 assert_eq!(out.dydt, plant(v).evaluate(&y).dydt);
                 for col in 0..=N_STATES {
@@ -439,7 +517,7 @@ mod tests {
                         let tol = 1e-5 * size + 1e-9 * out.dydt[row].abs().max(1e-12) / SCALE[col];
                         assert!(
                             (exact - fd[row]).abs() <= tol,
-                            "case {case} (effects on: {all_on}), ∂f{row}/∂y{col}: written {exact:e}, differences {:e}",
+                            "case {case} (effects on: {all_on}, held: {held}), ∂f{row}/∂y{col}: written {exact:e}, differences {:e}",
                             fd[row]
                         );
                     }

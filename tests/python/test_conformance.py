@@ -110,12 +110,19 @@ def test_the_binary_exports_exactly_the_fmi2_co_simulation_functions(which, plat
 # Each probe: start values, the inputs held while the FMU runs into a generic state, and a
 # perturbation per input large enough to move any output that depends on it directly.
 DAMPER_PROBES = [
-    ({}, {"v_damper": 0.31, "F_demand": 6e3, "x_spool_demand": 1.5e-3}),
+    ({}, {"v_damper": 0.31, "F_demand": 6e3, "x_spool_demand": 1.5e-3, "T_oil": 330.0}),
     ({"effect_seal_friction": True, "effect_viscous_friction": True},
-     {"v_damper": -0.22, "F_demand": -4e3, "x_spool_demand": 1.5e-3}),
-    ({"control_mode": 1}, {"v_damper": 0.15, "F_demand": 0.0, "x_spool_demand": 1.2e-3}),
+     {"v_damper": -0.22, "F_demand": -4e3, "x_spool_demand": 1.5e-3, "T_oil": 330.0}),
+    ({"control_mode": 1}, {"v_damper": 0.15, "F_demand": 0.0, "x_spool_demand": 1.2e-3, "T_oil": 330.0}),
+    # the measured oil temperature acts on the gas and the viscous friction at once
+    ({"effect_oil_temperature": True, "effect_viscous_friction": True},
+     {"v_damper": 0.25, "F_demand": 5e3, "x_spool_demand": 1.5e-3, "T_oil": 330.0}),
+    # a passive damper: the valve held, a rebound and a compression valve
+    ({"control_mode": 2, "x_spool_start": 0.0, "effect_rebound_valve": True, "effect_compression_valve": True,
+      "effect_oil_temperature": True},
+     {"v_damper": -0.2, "F_demand": 0.0, "x_spool_demand": 0.0, "T_oil": 330.0}),
 ]
-DAMPER_DELTA = {"v_damper": 0.05, "F_demand": 2e3, "x_spool_demand": 4e-4}
+DAMPER_DELTA = {"v_damper": 0.05, "F_demand": 2e3, "x_spool_demand": 4e-4, "T_oil": 15.0}
 TRUCK_PROBES = [
     ({"damper_mode": mode, "c_tyre": c_tyre}, {"z_road": 0.012, "v_road": 0.08, "F_damper": 1.5e3})
     for mode in (0, 1, 2) for c_tyre in (0.0, 2e3)

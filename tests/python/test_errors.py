@@ -61,7 +61,7 @@ def test_parameters_are_fixed_after_initialisation(slave):
 
 def test_out_of_range_parameter_is_refused(slave):
     refused(slave, slave.fmu.setReal, [slave.vr("air_fraction")], [-1.0])
-    refused(slave, slave.fmu.setInteger, [slave.vr("control_mode")], [2])
+    refused(slave, slave.fmu.setInteger, [slave.vr("control_mode")], [3])
 
 
 def test_out_of_range_input_is_refused(slave):

@@ -51,14 +51,6 @@ fn each_bad_input_is_named_by_file_line_and_column() {
         &[],
         &["line 1", "v_damper", "x_damper"],
     );
-    expect_error(
-        &dir,
-        "no_demand.csv",
-        "time,v_damper,F_damper\n0,0,0\n",
-        &[],
-        &["line 1", "F_demand", "x_spool_demand"],
-    );
-
     // time that does not increase: the line, the time column and both values
     let back = format!("{HEADER}\n0,0,0,0\n0.001,0,0,0\n0.003,0,0,0\n0.002,0,0,0\n0.004,0,0,0\n");
     expect_error(&dir, "backwards.csv", &back, &[], &["line 5", "column 1 ('time')", "0.002", "is before", "line 4"]);

@@ -41,7 +41,8 @@ fn the_rig_export_example_reads_and_fits_at_the_noise_floor() {
     // 500 Hz for 4 s, three samples dropped and put back on the grid
     assert_eq!(m.len(), 2001);
     assert!((m.median_interval() - 2e-3).abs() < 1e-9, "{}", m.median_interval());
-    assert_eq!(m.ignored, vec!["T_oil [°C]".to_string()]);
+    // every channel is read: the oil temperature too (in °C, a model input)
+    assert!(m.ignored.is_empty(), "{:?}", m.ignored);
     let said = m.notes.join("\n");
     for part in [
         "decimal comma",
@@ -53,7 +54,7 @@ fn the_rig_export_example_reads_and_fits_at_the_noise_floor() {
     ] {
         assert!(said.contains(part), "notes lack '{part}': {said}");
     }
-    // the first sample (line 6) in SI: 0,02 mm/s, 18,5586 kN, -0,999 kN, 2,4987 mm, 5,07 bar
+    // the first sample (line 6) in SI: 0,02 mm/s, 18,5586 kN, -0,999 kN, 2,4987 mm, 5,07 bar, 41,3 °C
     assert_eq!(m.lines[0], 6);
     for (col, si) in [
         (Column::VDamper, 0.02e-3),
@@ -61,6 +62,7 @@ fn the_rig_export_example_reads_and_fits_at_the_noise_floor() {
         (Column::FDamper, -999.0),
         (Column::XSpool, 2.4987e-3),
         (Column::PExt, 5.07e5),
+        (Column::TOil, 41.3 + 273.15),
     ] {
         let v = m.get(col).unwrap()[0];
         assert!((v - si).abs() <= 1e-9 * si.abs(), "{col}: {v} against {si}");

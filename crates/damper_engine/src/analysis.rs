@@ -361,6 +361,7 @@ pub fn analyse(m: &Measurement, drive: &Drive, p: &Prediction, split: usize) -> 
     match &drive.demand {
         Demand::Force(f) => inputs.push((Column::FDemand, &f[split..])),
         Demand::SpoolPosition(x) => inputs.push((Column::XSpoolDemand, &x[split..])),
+        Demand::Held => {}
     }
     let input_correlations = inputs
         .into_iter()
@@ -557,6 +558,7 @@ pub fn find_steps(drive: &Drive, dt: f64) -> Vec<usize> {
     let (x, threshold) = match &drive.demand {
         Demand::Force(f) => (f, FORCE_STEP),
         Demand::SpoolPosition(x) => (x, SPOOL_STEP),
+        Demand::Held => return Vec::new(),
     };
     let gap = (STEP_WINDOW / dt).round() as usize;
     let mut out: Vec<usize> = Vec::new();

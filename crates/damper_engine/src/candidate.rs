@@ -9,7 +9,7 @@ use crate::dsp::nrmse_kept;
 use crate::lm;
 use crate::parameters::{effect_on, get_real, set_effect, set_real};
 use crate::sensitivity::Informative;
-use semi_active_damper::effects::{EffectInfo, FittedParameter};
+use semi_active_damper::effects::{Candidacy, EffectInfo, FittedParameter, Start};
 use semi_active_damper::physics::params::Parameters;
 
 /// Levenberg–Marquardt settings of a candidate's fit: it stops when an accepted step lowers the
@@ -33,6 +33,17 @@ pub const INDISTINGUISHABLE: &str = "is indistinguishable from off";
 /// The catalog: every effect of the model (`semi_active_damper::effects`), in its order.
 pub fn catalog() -> impl Iterator<Item = &'static EffectInfo> {
     semi_active_damper::effects::CATALOG.into_iter().map(|e| e.info())
+}
+
+/// The effects a diagnosis tries on a model `baseline` and a record with or without a temperature
+/// column ([`Candidacy`]): every effect that may be missing, the damper's own passive valves where
+/// it has them, the temperature's effect where the record measures it.
+pub fn candidates(baseline: &Parameters, has_temperature: bool) -> impl Iterator<Item = &'static EffectInfo> + '_ {
+    catalog().filter(move |e| match e.candidacy {
+        Candidacy::Always => true,
+        Candidacy::WhenOn => effect_on(baseline, e.key).unwrap_or(false),
+        Candidacy::WithTemperature => has_temperature,
+    })
 }
 
 fn bound(f: &FittedParameter) -> Bound {
@@ -78,6 +89,9 @@ pub struct FitSetup<'a> {
     /// Samples a fit runs and scores, from the start: the train part, at most
     /// [`MAX_FIT_SECONDS`] of it (see there).
     pub train: usize,
+    /// The largest |stroke| of the model over those samples (m), where a fit of a position
+    /// starts ([`Start::OfLargestStroke`]).
+    pub largest_stroke: f64,
     pub pool: &'a rayon::ThreadPool,
     pub progress: &'a Progress<'a>,
 }
@@ -133,6 +147,7 @@ impl FitSetup<'_> {
             keep: &self.informative.keep,
             train: self.train,
             split: self.split,
+            largest_stroke: self.largest_stroke,
             pool: self.pool,
         }
     }
@@ -171,6 +186,8 @@ pub struct Data<'a> {
     pub keep: &'a [bool],
     pub train: usize,
     pub split: usize,
+    /// See [`FitSetup::largest_stroke`].
+    pub largest_stroke: f64,
     pub pool: &'a rayon::ThreadPool,
 }
 
@@ -184,7 +201,7 @@ pub struct Data<'a> {
 pub fn fit_effects(
     simulate: &Simulator<'_>,
     baseline: &Parameters,
-    Data { measured, keep, train: train_len, split, pool }: Data<'_>,
+    Data { measured, keep, train: train_len, split, largest_stroke, pool }: Data<'_>,
     keys: &[&str],
     fitted: &[FittedParameter],
 ) -> Result<JointFit, String> {
@@ -204,9 +221,16 @@ pub fn fit_effects(
         let m = simulate(&with(x)?, train_len)?;
         Ok(m.iter().zip(train).zip(keep).filter(|(_, k)| **k).map(|((m, y), _)| m - y).collect())
     };
+    let switched_on = keys.iter().map(|k| effect_on(baseline, k).map(|on| !on)).collect::<Result<Vec<_>, _>>()?;
     let x0: Vec<f64> = fitted
         .iter()
-        .map(|s| get_real(&start, s.name).map(|v| v.clamp(s.search.0.max(1e-300), s.search.1)))
+        .map(|s| {
+            let value = match s.start {
+                Start::OfLargestStroke(share) if switched_on.iter().any(|&on| on) => Ok(share * largest_stroke),
+                _ => get_real(&start, s.name),
+            };
+            value.map(|v| v.clamp(s.search.0.max(1e-300), s.search.1))
+        })
         .collect::<Result<_, _>>()?;
     let bounds: Vec<Bound> = fitted.iter().map(bound).collect();
     let mut flags = Vec::new();

@@ -36,12 +36,15 @@ pub fn diagnose_measurement(
     let baseline = c.setup.model.params;
     let skipped =
         opts.skip.iter().map(|k| crate::parameters::effect(k).map(|e| e.key)).collect::<Result<Vec<_>, _>>()?;
-    let candidates: Vec<_> = crate::candidate::catalog().filter(|e| !skipped.contains(&e.key)).collect();
+    let candidates: Vec<_> = crate::candidate::candidates(&baseline, c.drive.t_oil.is_some())
+        .filter(|e| !skipped.contains(&e.key))
+        .collect();
     if candidates.is_empty() {
         return Err("--skip leaves no candidate effect".into());
     }
     let pool = thread_pool(threads)?;
     let train = split.min((MAX_FIT_SECONDS / c.measurement.median_interval()).round() as usize);
+    let largest_stroke = c.prediction.x_damper[..train].iter().fold(0.0f64, |a, x| a.max(x.abs()));
     let mut check = baseline;
     check.rtol = baseline.rtol * NUMERICS_CHECK_FACTOR;
     let delta_v = velocity_resolution(&c.drive.v_damper);
@@ -67,6 +70,7 @@ pub fn diagnose_measurement(
         informative: &informative,
         split,
         train,
+        largest_stroke,
         pool: &pool,
         progress,
     };

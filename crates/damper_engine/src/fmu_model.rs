@@ -24,7 +24,7 @@ use semi_active_damper::physics::params::Parameters;
 use std::path::{Path, PathBuf};
 
 /// The FMU's inputs, in the order [`FmuModel::set_inputs`] sets them.
-const INPUTS: [&str; 4] = ["v_damper", "a_damper", "F_demand", "x_spool_demand"];
+const INPUTS: [&str; 5] = ["v_damper", "a_damper", "F_demand", "x_spool_demand", "T_oil"];
 /// The outputs read, in the order of [`Prediction`]'s fields.
 const OUTPUTS: [&str; 8] =
     ["F_damper", "x_spool", "x_spool_ref", "i_sol", "p_ext", "p_comp", "x_damper", "F_demand_clipped"];
@@ -49,7 +49,7 @@ pub struct FmuModel {
     path: PathBuf,
     import: Fmi2Import,
     parameters: Vec<FmuParameter>,
-    inputs: [u32; 4],
+    inputs: [u32; INPUTS.len()],
     outputs: [u32; 8],
 }
 
@@ -140,7 +140,7 @@ impl FmuModel {
                 .map(|v| v.value_reference)
                 .ok_or_else(|| format!("{at}: the FMU has no Real {causality} {name} (is it the damper FMU?)"))
         };
-        let mut inputs = [0; 4];
+        let mut inputs = [0; INPUTS.len()];
         for (slot, name) in inputs.iter_mut().zip(INPUTS) {
             *slot = vr(name, Causality::Input)?;
         }
@@ -252,16 +252,14 @@ impl FmuModel {
 
     /// Sets `i`, the inputs at sample `k` (which the error names).
     fn set(&self, fmu: &mut InstanceCS, drive: &Drive, i: Inputs, k: usize) -> Result<(), String> {
-        let values = [i.v_damper, i.a_damper, i.force_demand, i.x_spool_demand];
+        let values = [i.v_damper, i.a_damper, i.force_demand, i.x_spool_demand, i.t_oil];
         fmu.set_real(&self.inputs, &values).map(|_| ()).map_err(|e| {
+            let named: Vec<String> = INPUTS.iter().zip(values).map(|(name, x)| format!("{name} {x}")).collect();
             format!(
-                "the FMU {} refused the inputs at t = {} s (v_damper {}, a_damper {}, F_demand {}, x_spool_demand {}): {e}",
+                "the FMU {} refused the inputs at t = {} s ({}): {e}",
                 self.path.display(),
                 drive.time[k],
-                values[0],
-                values[1],
-                values[2],
-                values[3]
+                named.join(", ")
             )
         })
     }

@@ -77,12 +77,13 @@ pub struct Noise {
     pub x_spool: Sensor,
     pub i_sol: Sensor,
     pub pressure: Sensor,
+    pub t_oil: Sensor,
 }
 
 impl Default for Noise {
     /// A 50 kN load cell with 20 N noise and 1 N resolution; a velocity transducer with 0.1 mm/s
     /// noise and 0.01 mm/s resolution (or an LVDT, 2 µm and 1 µm); spool LVDT 1 µm / 0.1 µm;
-    /// current 5 mA / 1 mA; pressure transducers 0.1 bar / 0.01 bar.
+    /// current 5 mA / 1 mA; pressure transducers 0.1 bar / 0.01 bar; a thermocouple 0.2 K / 0.1 K.
     fn default() -> Noise {
         Noise {
             f_damper: Sensor { noise: 20.0, quantum: 1.0 },
@@ -91,6 +92,7 @@ impl Default for Noise {
             x_spool: Sensor { noise: 1e-6, quantum: 1e-7 },
             i_sol: Sensor { noise: 5e-3, quantum: 1e-3 },
             pressure: Sensor { noise: 1e4, quantum: 1e3 },
+            t_oil: Sensor { noise: 0.2, quantum: 0.1 },
         }
     }
 }
@@ -117,9 +119,10 @@ impl Noise {
             "x_spool" => &mut self.x_spool,
             "i_sol" => &mut self.i_sol,
             "p_ext" | "p_comp" => &mut self.pressure,
+            "T_oil" => &mut self.t_oil,
             other => {
                 return Err(format!(
-                    "--sensor {text}: unknown sensor '{other}' (F_damper, v_damper, x_damper, x_spool, i_sol, p_ext, p_comp)"
+                    "--sensor {text}: unknown sensor '{other}' (F_damper, v_damper, x_damper, x_spool, i_sol, p_ext, p_comp, T_oil)"
                 ))
             }
         };
@@ -139,6 +142,7 @@ impl Noise {
             &mut self.x_spool,
             &mut self.i_sol,
             &mut self.pressure,
+            &mut self.t_oil,
         ] {
             s.noise *= k;
         }
@@ -178,6 +182,10 @@ pub struct GenerateOptions {
     pub road: String,
     /// Vehicle speed (m/s) (HiL).
     pub speed: f64,
+    /// The oil temperature's rise over the record (K), from `T_ref`, written as a `T_oil` column:
+    /// None takes the largest of the hidden effects' (their `hide_with`), and writes no column
+    /// when that is 0.
+    pub heating: Option<f64>,
 }
 
 impl GenerateOptions {
@@ -201,6 +209,7 @@ impl GenerateOptions {
             tare_load_cell: None,
             road: "minor".into(),
             speed: 14.0,
+            heating: None,
         }
     }
 }
@@ -371,6 +380,12 @@ fn truth_parameters(o: &GenerateOptions, rng: &mut Rng) -> Result<(Parameters, V
         let e = effect(key)?;
         let off = value.is_some_and(|v| v.eq_ignore_ascii_case("off") || v.eq_ignore_ascii_case("false"));
         set_effect(&mut p, e.key, !off)?;
+        if !off {
+            // what makes the effect show in the generator's records (an end stop within its stroke)
+            for (name, x) in e.hide_with.set {
+                set_real(&mut p, name, *x)?;
+            }
+        }
         let mut drawn = false;
         if !off {
             match value.filter(|v| !v.eq_ignore_ascii_case("on") && !v.eq_ignore_ascii_case("true")) {
@@ -400,6 +415,26 @@ fn truth_parameters(o: &GenerateOptions, rng: &mut Rng) -> Result<(Parameters, V
     }
     p.validate().map_err(|e| format!("truth parameters: {e}"))?;
     Ok((p, records))
+}
+
+/// The oil temperature over the record (K), None for a constant one: a linear rise from `T_ref`
+/// by `o.heating`, or by the largest rise the hidden effects ask for (a heated run).
+fn oil_temperature(o: &GenerateOptions, p: &Parameters, t: &[f64]) -> Result<Option<Vec<f64>>, String> {
+    let hidden_rise = o
+        .effects
+        .iter()
+        .filter_map(|text| effect(text.split('=').next().unwrap_or(text)).ok())
+        .map(|e| e.hide_with.temperature_rise)
+        .fold(0.0, f64::max);
+    let rise = o.heating.unwrap_or(hidden_rise);
+    if !(rise.is_finite() && rise >= 0.0) {
+        return Err(format!("--heating {rise}: must be a temperature rise ≥ 0 K"));
+    }
+    if rise == 0.0 {
+        return Ok(None);
+    }
+    let duration = t[t.len() - 1] - t[0];
+    Ok(Some(t.iter().map(|&tk| p.t_ref + rise * (tk - t[0]) / duration).collect()))
 }
 
 /// Linear ramp from 0 to 1 over `w` (s) at both ends of [0, len]. Linear, not smooth: the
@@ -633,6 +668,7 @@ pub fn generate(o: &GenerateOptions) -> Result<Generated, String> {
     let mut noise_rng = Rng::new(o.seed ^ 0x5E45_0125);
     let (params, effect_records) = truth_parameters(o, &mut effect_rng)?;
     let t: Vec<f64> = (0..n).map(|k| k as f64 / o.rate).collect();
+    let t_oil = oil_temperature(o, &params, &t)?;
 
     // The velocity the damper is driven with. The FMU has one velocity input, used by the
     // hydraulics and by the controller (semi-active clip, loop direction, feedforward). A rig's
@@ -660,7 +696,7 @@ pub fn generate(o: &GenerateOptions) -> Result<Generated, String> {
                 ((Column::VDamper, v.clone()), v)
             };
             let drive_truth = if o.errors_in_variables { v_true } else { v_measured.clone() };
-            let drive = Drive { time: t.clone(), v_damper: drive_truth, demand: demand_of(&d) };
+            let drive = Drive { time: t.clone(), v_damper: drive_truth, demand: demand_of(&d), t_oil: t_oil.clone() };
             let pred = Model { params, load_cell_lowpass_hz: o.lowpass_hz }.run(&drive)?;
             (column, v_measured, d, pred)
         }
@@ -670,7 +706,7 @@ pub fn generate(o: &GenerateOptions) -> Result<Generated, String> {
             // interpolated between samples), as the motion of a real truck is continuous
             let (v_measured, v_true, d) = hil_run(o, &params, &t, &mut input_rng, &mut noise_rng)?;
             let drive_truth = if o.errors_in_variables { v_true } else { v_measured.clone() };
-            let drive = Drive { time: t.clone(), v_damper: drive_truth, demand: demand_of(&d) };
+            let drive = Drive { time: t.clone(), v_damper: drive_truth, demand: demand_of(&d), t_oil: t_oil.clone() };
             let pred = Model { params, load_cell_lowpass_hz: o.lowpass_hz }.run(&drive)?;
             ((Column::VDamper, v_measured.clone()), v_measured, d, pred)
         }
@@ -681,6 +717,9 @@ pub fn generate(o: &GenerateOptions) -> Result<Generated, String> {
     let mut columns: Vec<(Column, Vec<f64>)> = vec![(Column::Time, t.clone()), velocity_column];
     columns.push((if o.spool_control { Column::XSpoolDemand } else { Column::FDemand }, demand.clone()));
     columns.push((Column::FDamper, f_meas.clone()));
+    if let Some(temperature) = &t_oil {
+        columns.push((Column::TOil, measure(temperature, nz.t_oil, &mut noise_rng)));
+    }
     if !o.minimal {
         columns.push((Column::XSpool, measure(&clean.x_spool, nz.x_spool, &mut noise_rng)));
         columns.push((Column::ISol, measure(&clean.i_sol, nz.i_sol, &mut noise_rng)));
@@ -694,7 +733,7 @@ pub fn generate(o: &GenerateOptions) -> Result<Generated, String> {
     let (noise, quantum) = (nz.f_damper.noise, nz.f_damper.quantum);
     let sigma_f = (noise * noise + quantum * quantum / 12.0).sqrt();
     let expected_floor = sigma_f / std(&f_meas[split..]);
-    let oracle_drive = Drive { time: t.clone(), v_damper: v_drive, demand: demand_of(&demand) };
+    let oracle_drive = Drive { time: t.clone(), v_damper: v_drive, demand: demand_of(&demand), t_oil: t_oil.clone() };
     let oracle = Model { params, load_cell_lowpass_hz: o.lowpass_hz }.force(&oracle_drive, n)?;
     let oracle_nrmse = crate::dsp::metrics(&f_meas[split..], &oracle[split..]).nrmse;
 
@@ -778,6 +817,7 @@ pub fn csv_text(g: &Generated, o: &GenerateOptions) -> String {
             Column::XSpool => decimals(nz.x_spool.quantum),
             Column::ISol => decimals(nz.i_sol.quantum),
             Column::PExt | Column::PComp => decimals(nz.pressure.quantum),
+            Column::TOil => decimals(nz.t_oil.quantum),
         }
     };
     let mut s = String::new();

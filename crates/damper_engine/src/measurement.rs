@@ -80,6 +80,8 @@ pub struct ColumnSource {
     pub unit: String,
     /// Factor to SI.
     pub factor: f64,
+    /// Offset to SI after the factor (temperatures: °C to K): SI = value·factor + offset.
+    pub offset: f64,
 }
 
 /// A measurement in SI units.
@@ -190,7 +192,11 @@ impl Measurement {
                     prev.header
                 ));
             }
-            chosen.insert(column, ColumnSource { column, header: cell.clone(), index: i + 1, unit: unit_text, factor });
+            let offset = crate::units::unit_offset(&unit_text);
+            chosen.insert(
+                column,
+                ColumnSource { column, header: cell.clone(), index: i + 1, unit: unit_text, factor, offset },
+            );
         }
 
         let missing = |c: Column, also: &str| -> String {
@@ -220,13 +226,17 @@ impl Measurement {
             return Err(missing(Column::FDamper, ""));
         }
         if !chosen.contains_key(&Column::FDemand) && !chosen.contains_key(&Column::XSpoolDemand) {
-            return Err(missing(Column::FDemand, " (or x_spool_demand for spool-position control)"));
+            notes.push(
+                "no F_demand or x_spool_demand column: a passive record, the model's valve held at x_spool_start \
+                 without a controller (control_mode 2)"
+                    .to_string(),
+            );
         }
-        if chosen.contains_key(&Column::VDamper) {
-            if let Some(x) = chosen.remove(&Column::XDamper) {
-                notes.push(format!("x_damper (column {}) not used: v_damper is given", x.index));
-                ignored.push(x.header);
-            }
+        if let (Some(v), Some(x)) = (chosen.get(&Column::VDamper), chosen.get(&Column::XDamper)) {
+            notes.push(format!(
+                "v_damper (column {}) drives the model; x_damper (column {}) gives its starting stroke",
+                v.index, x.index
+            ));
         }
 
         // Data rows: the cells of the columns used, as written.
@@ -277,7 +287,7 @@ impl Measurement {
                     if !value.is_finite() {
                         return Err(format!("{}: {cell} is not a finite number", where_(k, j)));
                     }
-                    value * s.factor
+                    value * s.factor + s.offset
                 } else {
                     let (ns, zoned) = parse_timestamp(cell).ok_or_else(|| {
                         format!(
@@ -334,8 +344,8 @@ impl Measurement {
 
         let mut velocity_from_displacement = false;
         if !data.contains_key(&Column::VDamper) {
-            let x = data.remove(&Column::XDamper).expect("x_damper");
-            data.insert(Column::VDamper, differentiate(&time, &x));
+            let v = differentiate(&time, &data[&Column::XDamper]);
+            data.insert(Column::VDamper, v);
             velocity_from_displacement = true;
             notes.push(
                 "v_damper derived from x_damper by central differences (second order, one-sided at the ends); \

@@ -30,6 +30,8 @@ pub enum Demand {
     Force(Vec<f64>),
     /// Spool position demand (m) (`control_mode` 1).
     SpoolPosition(Vec<f64>),
+    /// None: a passive damper, or a valve held at a fixed opening (`control_mode` 2).
+    Held,
 }
 
 /// The measured inputs that drive the model.
@@ -38,17 +40,26 @@ pub struct Drive {
     pub time: Vec<f64>,
     pub v_damper: Vec<f64>,
     pub demand: Demand,
+    /// The oil temperature (K), where the record has it (the model's input `T_oil`; its start
+    /// value otherwise).
+    pub t_oil: Option<Vec<f64>>,
 }
 
 impl Drive {
     /// The inputs of a measurement: force control when it has `F_demand`, spool-position control
-    /// when it has only `x_spool_demand`.
+    /// when it has only `x_spool_demand`, the valve held when it has neither.
     pub fn from_measurement(m: &Measurement) -> Drive {
-        let demand = match m.get(Column::FDemand) {
-            Some(f) => Demand::Force(f.to_vec()),
-            None => Demand::SpoolPosition(m.get(Column::XSpoolDemand).expect("checked by the reader").to_vec()),
+        let demand = match (m.get(Column::FDemand), m.get(Column::XSpoolDemand)) {
+            (Some(f), _) => Demand::Force(f.to_vec()),
+            (None, Some(x)) => Demand::SpoolPosition(x.to_vec()),
+            (None, None) => Demand::Held,
         };
-        Drive { time: m.time.clone(), v_damper: m.get(Column::VDamper).expect("checked").to_vec(), demand }
+        Drive {
+            time: m.time.clone(),
+            v_damper: m.get(Column::VDamper).expect("checked").to_vec(),
+            demand,
+            t_oil: m.get(Column::TOil).map(<[f64]>::to_vec),
+        }
     }
 
     pub fn len(&self) -> usize {
@@ -64,6 +75,7 @@ impl Drive {
         match self.demand {
             Demand::Force(_) => 0,
             Demand::SpoolPosition(_) => 1,
+            Demand::Held => 2,
         }
     }
 
@@ -72,8 +84,10 @@ impl Drive {
         let (force_demand, x_spool_demand) = match &self.demand {
             Demand::Force(f) => (f[k], 0.0),
             Demand::SpoolPosition(x) => (0.0, x[k]),
+            Demand::Held => (0.0, 0.0),
         };
-        Inputs { v_damper: self.v_damper[k], a_damper: 0.0, force_demand, x_spool_demand, ..Default::default() }
+        let t_oil = self.t_oil.as_ref().map_or(Inputs::default().t_oil, |t| t[k]);
+        Inputs { v_damper: self.v_damper[k], a_damper: 0.0, force_demand, x_spool_demand, t_oil, ..Default::default() }
     }
 
     /// The inputs over substep `j` of `m` equal substeps of the interval from sample `k` to
@@ -327,7 +341,7 @@ mod tests {
     fn drive(f: impl Fn(f64) -> f64, h: f64, n: usize) -> Drive {
         let time: Vec<f64> = (0..n).map(|k| k as f64 * h).collect();
         let v_damper = time.iter().map(|&t| f(t)).collect();
-        Drive { time, v_damper, demand: Demand::Force(vec![0.0; n]) }
+        Drive { time, v_damper, demand: Demand::Force(vec![0.0; n]), t_oil: None }
     }
 
     #[test]

@@ -280,7 +280,7 @@ mod tests {
         assert!(set_parameter(&mut p, "air_fraction", "0.9").unwrap_err().contains("out of the model's range"));
         assert!(set_parameter(&mut p, "air_fracton", "0.1").unwrap_err().contains("did you mean air_fraction"));
         assert!(set_parameter(&mut p, "F_damper", "1").unwrap_err().contains("not a parameter"));
-        assert!(set_parameter(&mut p, "control_mode", "2").is_err());
+        assert!(set_parameter(&mut p, "control_mode", "3").is_err());
         assert_eq!(get_real(&p, "tau_amp").unwrap(), 3e-3);
         let changed: Vec<_> = changed_parameters(&p).into_iter().map(|(n, _)| n).collect();
         assert_eq!(changed, ["air_fraction", "control_mode", "tare_load_cell"]);

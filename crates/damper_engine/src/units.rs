@@ -11,6 +11,7 @@ pub enum Quantity {
     Force,
     Pressure,
     Current,
+    Temperature,
 }
 
 impl fmt::Display for Quantity {
@@ -22,6 +23,7 @@ impl fmt::Display for Quantity {
             Quantity::Force => "a force",
             Quantity::Pressure => "a pressure",
             Quantity::Current => "a current",
+            Quantity::Temperature => "a temperature",
         })
     }
 }
@@ -29,7 +31,7 @@ impl fmt::Display for Quantity {
 /// Units accepted in a header (`F_damper [kN]`) or a `--map`, with their factor to SI. The inch,
 /// pound-force and psi are the exact international definitions (1 in = 25.4 mm,
 /// 1 lbf = 0.45359237 kg · 9.80665 m/s²); µ may be written as the micro sign, the Greek mu or `u`.
-pub const UNITS: [(&str, Quantity, f64); 28] = [
+pub const UNITS: [(&str, Quantity, f64); 33] = [
     ("s", Quantity::Time, 1.0),
     ("ms", Quantity::Time, 1e-3),
     ("us", Quantity::Time, 1e-6),
@@ -58,7 +60,22 @@ pub const UNITS: [(&str, Quantity, f64); 28] = [
     ("psi", Quantity::Pressure, 0.45359237 * 9.80665 / (0.0254 * 0.0254)),
     ("A", Quantity::Current, 1.0),
     ("mA", Quantity::Current, 1e-3),
+    ("K", Quantity::Temperature, 1.0),
+    ("degC", Quantity::Temperature, 1.0),
+    ("\u{b0}C", Quantity::Temperature, 1.0),
+    ("degF", Quantity::Temperature, 5.0 / 9.0),
+    ("\u{b0}F", Quantity::Temperature, 5.0 / 9.0),
 ];
+
+/// The SI offset of a unit whose zero is not SI's (temperatures): SI = value·factor + offset.
+/// 0 °C = 273.15 K; 0 °F = (0 − 32)·5/9 °C = 255.372… K.
+pub fn unit_offset(unit: &str) -> f64 {
+    match unit.trim().to_ascii_lowercase().as_str() {
+        "degc" | "\u{b0}c" => 273.15,
+        "degf" | "\u{b0}f" => 273.15 - 32.0 * 5.0 / 9.0,
+        _ => 0.0,
+    }
+}
 
 /// The quantity and SI factor of `unit`: the exact spelling, or one that differs only in the case
 /// of letters other than `m`/`M` (`KN`, `BAR`, `Mpa` are read; `MM`, `mPa`, `MA` are not: m is milli
@@ -94,10 +111,11 @@ pub enum Column {
     ISol,
     PExt,
     PComp,
+    TOil,
 }
 
 impl Column {
-    pub const ALL: [Column; 10] = [
+    pub const ALL: [Column; 11] = [
         Column::Time,
         Column::VDamper,
         Column::XDamper,
@@ -108,6 +126,7 @@ impl Column {
         Column::ISol,
         Column::PExt,
         Column::PComp,
+        Column::TOil,
     ];
 
     /// The name, as the FMU's variable.
@@ -123,6 +142,7 @@ impl Column {
             Column::ISol => "i_sol",
             Column::PExt => "p_ext",
             Column::PComp => "p_comp",
+            Column::TOil => "T_oil",
         }
     }
 
@@ -138,6 +158,7 @@ impl Column {
             Column::FDemand | Column::FDamper => Quantity::Force,
             Column::ISol => Quantity::Current,
             Column::PExt | Column::PComp => Quantity::Pressure,
+            Column::TOil => Quantity::Temperature,
         }
     }
 
@@ -150,6 +171,7 @@ impl Column {
             Quantity::Force => "N",
             Quantity::Pressure => "Pa",
             Quantity::Current => "A",
+            Quantity::Temperature => "K",
         }
     }
 
@@ -162,6 +184,7 @@ impl Column {
             Column::FDemand | Column::FDamper => ("kN", 1e-3),
             Column::ISol => ("A", 1.0),
             Column::PExt | Column::PComp => ("bar", 1e-5),
+            Column::TOil => ("K", 1.0),
         }
     }
 
@@ -178,6 +201,7 @@ impl Column {
             Column::ISol => "solenoid current",
             Column::PExt => "extension (annulus) chamber gauge pressure",
             Column::PComp => "compression (full-bore) chamber gauge pressure",
+            Column::TOil => "oil temperature (an input of the model when effect oil_temperature is on)",
         }
     }
 }
