@@ -23,7 +23,8 @@ def test_model_description_reads_with_validation(fmu):
     assert md.fmiVersion == "2.0"
     assert md.coSimulation.modelIdentifier == "SemiActiveDamper"
     causality = {v.name: v.causality for v in md.modelVariables}
-    assert [n for n, c in causality.items() if c == "input"] == ["v_damper", "F_demand", "x_spool_demand", "a_damper", "T_oil"]
+    inputs = [n for n, c in causality.items() if c == "input"]
+    assert inputs == ["v_damper", "F_demand", "x_spool_demand", "a_damper", "T_oil"]
     assert causality["F_damper"] == "output"
     assert md.coSimulation.canGetAndSetFMUstate and md.coSimulation.canSerializeFMUstate
 

@@ -5,7 +5,7 @@
 
 use crate::report::scaled;
 use crate::svg::{esc, Axis, Plot, Series, ACCENT, GREEN, MEASURED, RESIDUAL};
-use damper_engine::analysis::Analysis;
+use damper_engine::analysis::{lag_ms, Analysis};
 use damper_engine::before_after::{regime_rows, After};
 use damper_engine::comparison::Comparison;
 use damper_engine::units::Column;
@@ -35,13 +35,13 @@ pub fn html(c: &Comparison, after: &After) -> String {
     for (fb, fa) in b.fits.iter().zip(&a.fits) {
         let _ = write!(
             h,
-            "<tr><td class=\"l\">{}</td><td>{:.4}</td><td>{:.4}</td><td>{}</td><td>{:+.2}</td><td>{:+.2}</td></tr>",
+            "<tr><td class=\"l\">{}</td><td>{:.4}</td><td>{:.4}</td><td>{}</td><td>{}</td><td>{}</td></tr>",
             fb.column.name(),
             fb.validation.nrmse,
             fa.validation.nrmse,
             change(fb.validation.nrmse, fa.validation.nrmse),
-            fb.lag.refined_seconds * 1e3,
-            fa.lag.refined_seconds * 1e3
+            lag_ms(fb.lag.refined_seconds, 2),
+            lag_ms(fa.lag.refined_seconds, 2)
         );
     }
     let _ = write!(

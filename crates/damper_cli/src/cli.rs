@@ -1,9 +1,9 @@
 //! The command line: `damper calibrate`, `damper diagnose`, `damper compare`, `damper generate`,
-//! `damper effects`
+//! `damper effects`, `damper init`, `damper describe`
 //! (clap's derive API; every value is checked while parsing, with the parse functions the
 //! commands use).
 
-use crate::{calibrate_cmd, compare, diagnose_cmd};
+use crate::{calibrate_cmd, compare, description_cmd, diagnose_cmd};
 use clap::error::{ContextKind, ContextValue, ErrorKind};
 use clap::{Args, CommandFactory, Parser, Subcommand, ValueEnum};
 use damper_engine::calibrate::{calibrate, CalibrateOptions, Round, DEFAULT_FIT};
@@ -148,6 +148,42 @@ enum Command {
     /// List the effect catalog (keys, switches, parameters)
     #[command(after_help = EFFECTS_HELP)]
     Effects,
+    /// Write the documented template of a damper description (its datasheet)
+    ///
+    /// A TOML file whose keys name what a datasheet gives (bore, rod, stroke, gas pre-charge and
+    /// volume, the valves' data), values in any unit ("36 mm", "10 bar"); edit it and give it to
+    /// compare, diagnose, calibrate and generate with --damper FILE.toml.
+    #[command(after_help = INIT_HELP)]
+    Init(InitArgs),
+    /// Show what a damper description sets, and write it as the FMU's parameter set
+    ///
+    /// Prints every parameter the description sets, with the line it comes from; with --ssv,
+    /// writes them as an SSP 1.0 parameter set for an FMI master or an SSP.
+    #[command(after_help = INIT_HELP)]
+    Describe(DescribeArgs),
+}
+
+const INIT_HELP: &str = "\
+Examples:
+  damper init --out my_damper.toml
+  damper describe my_damper.toml --ssv my_damper.ssv
+  damper compare dyno.csv --out out/dyno --damper my_damper.toml";
+
+#[derive(Args, Debug)]
+struct InitArgs {
+    /// The description to write (an existing file is not overwritten)
+    #[arg(long, value_name = "FILE.toml")]
+    out: PathBuf,
+}
+
+#[derive(Args, Debug)]
+struct DescribeArgs {
+    /// The damper description
+    #[arg(value_name = "FILE.toml")]
+    description: PathBuf,
+    /// Write its parameters as an SSP 1.0 parameter set
+    #[arg(long, value_name = "FILE.ssv")]
+    ssv: Option<PathBuf>,
 }
 
 #[derive(Args, Debug)]
@@ -163,8 +199,11 @@ struct DiagnoseArgs {
 /// The model's options shared by compare, diagnose and calibrate.
 #[derive(Args, Debug)]
 struct ModelArgs {
-    /// Apply an SSP parameter set (e.g. damper calibrate's parameters.ssv) to the defaults, before
-    /// --with, --without and --set
+    /// The damper's description (damper init writes a template), applied to the defaults first
+    #[arg(long, value_name = "FILE.toml", help_heading = "Model")]
+    damper: Option<PathBuf>,
+    /// Apply an SSP parameter set (e.g. damper calibrate's parameters.ssv) after the description,
+    /// before --with, --without and --set
     #[arg(long, value_name = "FILE.ssv", help_heading = "Model")]
     params: Option<PathBuf>,
     /// Switch an effect on (VALUE sets its first parameter); repeatable
@@ -201,6 +240,7 @@ struct MeasurementArgs {
 
 impl ModelArgs {
     fn apply(self, o: &mut CompareOptions) {
+        o.damper_file = self.damper;
         o.params_file = self.params;
         o.with = self.with;
         o.without = self.without;
@@ -317,7 +357,11 @@ struct GenerateArgs {
     /// Move any parameter, e.g. --set air_fraction=0.04; repeatable
     #[arg(long, value_name = "NAME=VALUE", value_parser = set_arg, help_heading = "Truth model")]
     set: Vec<(String, String)>,
-    /// Apply an SSP parameter set to the truth's defaults, before --effect and --set
+    /// The truth damper's description (damper init), applied to the defaults first
+    #[arg(long, value_name = "FILE.toml", help_heading = "Truth model")]
+    damper: Option<PathBuf>,
+    /// Apply an SSP parameter set to the truth's defaults, after the description, before --effect
+    /// and --set
     #[arg(long, value_name = "FILE.ssv", help_heading = "Truth model")]
     params: Option<PathBuf>,
     /// Random seed
@@ -398,6 +442,7 @@ impl GenerateArgs {
         let mut o = GenerateOptions::new(self.out, self.truth);
         o.effects = self.effect;
         o.sets = self.set;
+        o.damper_file = self.damper;
         o.params_file = self.params;
         o.seed = self.seed;
         o.input = match self.input {
@@ -518,6 +563,8 @@ pub fn main(args: impl IntoIterator<Item = std::ffi::OsString>) -> i32 {
             }
             Ok(())
         }
+        Command::Init(a) => run_init(a, g),
+        Command::Describe(a) => run_describe(a, g),
     };
     match result {
         Ok(()) => 0,
@@ -558,6 +605,27 @@ fn print_effects() {
             e.meaning
         );
     }
+}
+
+fn run_init(a: InitArgs, g: &Global) -> Result<(), String> {
+    damper_engine::description::write_template(&a.out)?;
+    if !g.quiet {
+        println!("damper init: wrote {} (a passive damper's example: edit it to describe yours)", a.out.display());
+    }
+    Ok(())
+}
+
+fn run_describe(a: DescribeArgs, g: &Global) -> Result<(), String> {
+    let (d, written) = description_cmd::described(&a.description)?;
+    if let Some(path) = &a.ssv {
+        let note = format!("damper describe {}", a.description.display());
+        let text = damper_engine::ssv::to_string(&d.name, &note, &written);
+        std::fs::write(path, text).map_err(|e| format!("{}: {e}", path.display()))?;
+    }
+    if !g.quiet {
+        description_cmd::print(&d, &written, a.ssv.as_deref());
+    }
+    Ok(())
 }
 
 fn run_compare(a: CompareArgs, g: &Global) -> Result<(), String> {

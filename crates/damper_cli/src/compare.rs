@@ -3,7 +3,7 @@
 
 use crate::describe::describe_model;
 use crate::{json_summary, report};
-use damper_engine::analysis::observations;
+use damper_engine::analysis::{lag_ms, observations};
 use damper_engine::comparison::{compare, CompareOptions, Comparison};
 use damper_engine::summary::to_json;
 use std::path::Path;
@@ -35,12 +35,12 @@ pub fn terminal_summary(c: &Comparison) -> String {
     let dur = m.time[m.len() - 1] - m.time[0];
     let _ = writeln!(
         s,
-        "damper compare: {} — {} samples, {:.0} Hz, {:.2} s, {} control",
+        "damper compare: {} — {} samples, {:.0} Hz, {:.2} s, {}",
         m.path,
         m.len(),
         1.0 / a.dt,
         dur,
-        if c.drive.control_mode() == 0 { "force" } else { "spool-position" }
+        c.drive.control_words()
     );
     let _ = writeln!(s, "model: {}", describe_model(&c.setup));
     let _ = writeln!(s, "model run: {:.2} s ({:.0}× real time)", c.run_seconds, dur / c.run_seconds.max(1e-9));
@@ -52,25 +52,25 @@ pub fn terminal_summary(c: &Comparison) -> String {
     for f in &a.fits {
         let _ = writeln!(
             s,
-            "{:<16}{:>9.1}%{:>10.4}{:>11.1}%{:>10.4}{:>12.2}",
+            "{:<16}{:>9.1}%{:>10.4}{:>11.1}%{:>10.4}{:>12}",
             f.column.name(),
             f.train.fit_percent,
             f.train.nrmse,
             f.validation.fit_percent,
             f.validation.nrmse,
-            f.lag.refined_seconds * 1e3
+            lag_ms(f.lag.refined_seconds, 2)
         );
     }
     let f = a.force();
     let _ = writeln!(
         s,
-        "F_damper validation NRMSE {:.4} (white-noise floor estimate {:.4}); lag {} samples ({:+.2} ms refined, \
-         {:+.2} ms on the changes; + = measurement later)",
+        "F_damper validation NRMSE {:.4} (white-noise floor estimate {:.4}); lag {} ({} ms refined, {} ms on the \
+         changes; + = measurement later)",
         f.validation.nrmse,
         a.noise_floor_estimate,
-        f.lag.samples,
-        f.lag.refined_seconds * 1e3,
-        f.lag.changes_seconds * 1e3
+        if f.lag.found { format!("{} samples", f.lag.samples) } else { "not found".into() },
+        lag_ms(f.lag.refined_seconds, 2),
+        lag_ms(f.lag.changes_seconds, 2)
     );
     if let Some(j) = a.reversal_jump {
         let _ = writeln!(

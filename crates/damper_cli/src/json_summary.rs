@@ -117,6 +117,7 @@ pub fn compared(c: &Comparison) -> Summary {
             peak_correlation: f.lag.peak,
             search_range_s: f.lag.max_seconds,
             of_changes_s: f.lag.changes_seconds,
+            found: f.lag.found,
             definition: "argmax_k sum_t y(t+k) yhat(t): positive = the measured force comes later".into(),
         },
         whiteness: summary::Whiteness {

@@ -3,7 +3,7 @@
 
 use crate::describe::describe_model;
 use crate::svg::{esc, Axis, Plot, Series, ACCENT, GREEN, MEASURED, MODEL, ORANGE, RESIDUAL};
-use damper_engine::analysis::{observations, Analysis, V_REVERSAL};
+use damper_engine::analysis::{lag_ms, observations, Analysis, V_REVERSAL};
 use damper_engine::comparison::Comparison;
 use damper_engine::model::Demand;
 use damper_engine::units::Column;
@@ -83,11 +83,11 @@ pub fn html(c: &Comparison) -> String {
     // Summary box
     let _ = write!(
         h,
-        "<p><b>{}</b> samples at {:.0} Hz ({:.2} s), {} control; velocity {}. Model: {}. Model run {:.2} s ({:.0}× real time).</p>",
+        "<p><b>{}</b> samples at {:.0} Hz ({:.2} s), {}; velocity {}. Model: {}. Model run {:.2} s ({:.0}× real time).</p>",
         m.len(),
         1.0 / a.dt,
         dur,
-        if c.drive.control_mode() == 0 { "force" } else { "spool-position" },
+        c.drive.control_words(),
         if m.velocity_from_displacement { "derived from x_damper" } else { "measured" },
         esc(&describe_model(&c.setup)),
         c.run_seconds,
@@ -96,12 +96,12 @@ pub fn html(c: &Comparison) -> String {
     let _ = write!(
         h,
         "<p>F_damper, validation part: <b>NRMSE {:.4}</b> (fit {:.1} %); white-noise floor estimated from the residual {:.4}; \
-         lag {} samples ({:+.2} ms refined); residual {}.</p>",
+         lag {} ({} ms refined); residual {}.</p>",
         f.validation.nrmse,
         f.validation.fit_percent,
         a.noise_floor_estimate,
-        f.lag.samples,
-        f.lag.refined_seconds * 1e3,
+        if f.lag.found { format!("{} samples", f.lag.samples) } else { "not found".into() },
+        lag_ms(f.lag.refined_seconds, 2),
         if a.whiteness.white { "white (Ljung–Box)" } else { "<b>not white</b> (Ljung–Box)" }
     );
     h.push_str(
@@ -153,8 +153,8 @@ pub fn html(c: &Comparison) -> String {
             s.validation.nrmse,
             eng(s.validation.rmse),
             eng(s.validation.bias),
-            s.lag.refined_seconds * 1e3,
-            s.lag.changes_seconds * 1e3
+            lag_ms(s.lag.refined_seconds, 2),
+            lag_ms(s.lag.changes_seconds, 2)
         );
     }
     h.push_str("</table>");
@@ -359,14 +359,16 @@ pub fn html(c: &Comparison) -> String {
     let lx: Vec<f64> = (0..a.lag_curve.len()).map(|i| (i as f64 - l) * a.dt * 1e3).collect();
     let _ = write!(
         h,
-        "<h2>7. Lag between measured and modelled force</h2><p>Peak of the cross-correlation at <b>{} samples ({:+.2} ms)</b>, refined {:+.3} ms, correlation {:.4}. \
+        "<h2>7. Lag between measured and modelled force</h2><p>Peak of the cross-correlation at <b>{} samples ({} ms)</b>, refined {} ms, correlation {:.4}. \
          Positive: the measured force comes later than the model's. The same estimate on the sample-to-sample changes of both forces, \
-         which weights steps and fast transients (a delay in the valve path shows there even when the velocity-driven force dominates): <b>{:+.2} ms</b>.</p>",
+         which weights steps and fast transients (a delay in the valve path shows there even when the velocity-driven force dominates): <b>{} ms</b>. \
+         A peak at the edge of the ±{:.0} ms searched is the search's limit, not a delay: \"not found\".</p>",
         f.lag.samples,
-        f.lag.seconds * 1e3,
-        f.lag.refined_seconds * 1e3,
+        lag_ms(f.lag.seconds, 2),
+        lag_ms(f.lag.refined_seconds, 3),
         f.lag.peak,
-        f.lag.changes_seconds * 1e3
+        lag_ms(f.lag.changes_seconds, 2),
+        f.lag.max_seconds * 1e3
     );
     let lo = a.lag_curve.iter().cloned().fold(f64::INFINITY, f64::min);
     let mut lag =

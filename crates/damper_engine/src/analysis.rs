@@ -65,6 +65,19 @@ pub struct Lag {
     /// content (steps) and ignores slow drifts: a delay in the valve path shows here even when
     /// the velocity-driven part of the force dominates the signal itself (s).
     pub changes_seconds: f64,
+    /// Whether a lag was found: false where the correlation peaks at the edge of the search (or
+    /// nowhere: a constant signal), which is the search's limit, not a delay; the lags in seconds
+    /// are then NaN.
+    pub found: bool,
+}
+
+/// A lag in milliseconds with a sign, or "not found" (NaN, see [`Lag::found`]).
+pub fn lag_ms(seconds: f64, decimals: usize) -> String {
+    if seconds.is_nan() {
+        "not found".into()
+    } else {
+        format!("{:+.*}", decimals, seconds * 1e3)
+    }
 }
 
 /// Fit of one measured signal.
@@ -214,15 +227,21 @@ fn lag_of(y: &[f64], yhat: &[f64], dt: f64) -> (Lag, Vec<f64>) {
     let (k, refined, peak) = peak_lag(&c);
     let dy: Vec<f64> = y.windows(2).map(|w| w[1] - w[0]).collect();
     let dyhat: Vec<f64> = yhat.windows(2).map(|w| w[1] - w[0]).collect();
-    let (_, changes, _) = peak_lag(&cross_correlation(&dy, &dyhat, max));
+    let (k_changes, changes, _) = peak_lag(&cross_correlation(&dy, &dyhat, max));
+    // a peak on the search's edge is its limit, not a delay (a model of another damper, a
+    // constant channel)
+    let inside = |k: isize| k.unsigned_abs() < max;
+    let found = inside(k) && peak.is_finite();
+    let or_nan = |ok: bool, x: f64| if ok { x } else { f64::NAN };
     (
         Lag {
             samples: k,
-            seconds: k as f64 * dt,
-            refined_seconds: refined * dt,
+            seconds: or_nan(found, k as f64 * dt),
+            refined_seconds: or_nan(found, refined * dt),
             peak,
             max_seconds: max as f64 * dt,
-            changes_seconds: changes * dt,
+            changes_seconds: or_nan(inside(k_changes), changes * dt),
+            found,
         },
         c,
     )
@@ -643,15 +662,21 @@ pub fn observations(a: &Analysis) -> Vec<String> {
         out.push(format!("the error gathers in: {}", list.join("; ")));
     }
     let half = 0.5 * a.dt;
-    if f.lag.refined_seconds.abs() >= half || f.lag.changes_seconds.abs() >= half {
+    if !f.lag.found {
         out.push(format!(
-            "the measured force comes {:+.2} ms after the model's ({:+.2} ms on its changes){}",
-            f.lag.refined_seconds * 1e3,
-            f.lag.changes_seconds * 1e3,
+            "no lag between the measured and the modelled force within ±{:.0} ms: their cross-correlation peaks at the \
+             search's edge, so the two do not share their shape (another kind of damper, or far other parameters)",
+            f.lag.max_seconds * 1e3
+        ));
+    } else if f.lag.refined_seconds.abs() >= half || f.lag.changes_seconds.abs() >= half {
+        out.push(format!(
+            "the measured force comes {} ms after the model's ({} ms on its changes){}",
+            lag_ms(f.lag.refined_seconds, 2),
+            lag_ms(f.lag.changes_seconds, 2),
             a.fits
                 .iter()
                 .find(|s| s.column == Column::XSpool && s.lag.changes_seconds.abs() >= half)
-                .map_or(String::new(), |s| format!("; the spool position {:+.2} ms", s.lag.changes_seconds * 1e3))
+                .map_or(String::new(), |s| format!("; the spool position {} ms", lag_ms(s.lag.changes_seconds, 2)))
         ));
     }
     let top = a.bands.iter().max_by(|x, y| x.residual_share.total_cmp(&y.residual_share));
@@ -666,4 +691,30 @@ pub fn observations(a: &Analysis) -> Vec<String> {
         }
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A delay within the search is found to the sample; a correlation that peaks on the
+    /// search's edge (a force the model does not share the shape of) is "not found", not ±50 ms.
+    #[test]
+    fn a_lag_at_the_edge_of_the_search_is_not_found() {
+        let dt = 1e-3;
+        let t: Vec<f64> = (0..4000).map(|k| k as f64 * dt).collect();
+        let wave = |t: f64| {
+            libm::sin(2.0 * std::f64::consts::PI * 3.0 * t) + 0.3 * libm::sin(2.0 * std::f64::consts::PI * 7.0 * t)
+        };
+        let model: Vec<f64> = t.iter().map(|&t| wave(t)).collect();
+        let delayed: Vec<f64> = t.iter().map(|&t| wave(t - 0.004)).collect();
+        let (lag, _) = lag_of(&delayed, &model, dt);
+        assert!(lag.found && lag.samples == 4, "{lag:?}");
+        // the measurement a ramp the model does not have: the correlation grows towards the edge
+        let ramp: Vec<f64> = t.iter().map(|&t| t * t).collect();
+        let (lag, _) = lag_of(&ramp, &model, dt);
+        assert!(!lag.found && lag.refined_seconds.is_nan(), "{lag:?}");
+        assert_eq!(lag_ms(lag.refined_seconds, 2), "not found");
+        assert_eq!(lag_ms(0.00123, 2), "+1.23");
+    }
 }

@@ -24,7 +24,10 @@ pub struct CompareOptions {
     pub with: Vec<String>,
     pub without: Vec<String>,
     pub maps: Vec<Mapping>,
-    /// `--params FILE.ssv`: an SSP parameter set applied to the defaults before `--with`,
+    /// `--damper FILE.toml`: the damper's description (its datasheet), applied to the defaults
+    /// first.
+    pub damper_file: Option<PathBuf>,
+    /// `--params FILE.ssv`: an SSP parameter set applied after the description, before `--with`,
     /// `--without` and `--set`.
     pub params_file: Option<PathBuf>,
     /// `--set NAME=VALUE`, applied last.
@@ -59,6 +62,7 @@ impl CompareOptions {
             with: Vec::new(),
             without: Vec::new(),
             maps: Vec::new(),
+            damper_file: None,
             params_file: None,
             sets: Vec::new(),
             split: 0.7,
@@ -84,11 +88,27 @@ pub struct ModelSetup {
     pub changed: Vec<(&'static str, Value)>,
 }
 
-/// Builds the model for a drive: defaults, control mode from the drive, tare, `--params`,
-/// `--with`, `--without`, then `--set`; the FMU of `--fmu` imported and checked against the parameters.
+/// Builds the model for a drive: defaults, `--damper`, control mode from the drive, the starting
+/// stroke from a measured displacement, tare, `--params`, `--with`, `--without`, then `--set`;
+/// the FMU of `--fmu` imported and checked against the parameters.
 pub fn build_model(opts: &CompareOptions, drive: &Drive) -> Result<ModelSetup, String> {
-    let mut p =
-        Parameters { control_mode: drive.control_mode(), tare_load_cell: opts.tare_load_cell, ..Default::default() };
+    let mut p = Parameters::default();
+    if let Some(file) = &opts.damper_file {
+        let description = crate::description::Description::read(file)?;
+        description.apply(&mut p)?;
+        if description.kind == crate::description::Kind::Passive && drive.control_mode() != 2 {
+            return Err(format!(
+                "{}: a passive damper, but the measurement has {}: a passive damper has no demand",
+                file.display(),
+                if drive.control_mode() == 0 { "F_demand" } else { "x_spool_demand" }
+            ));
+        }
+    }
+    p.control_mode = drive.control_mode();
+    p.tare_load_cell = opts.tare_load_cell;
+    if let Some(x) = drive.x_damper_start {
+        p.x_damper_start = x;
+    }
     if let Some(file) = &opts.params_file {
         crate::ssv::apply(&mut p, file)?;
     }
@@ -119,7 +139,11 @@ pub fn build_model(opts: &CompareOptions, drive: &Drive) -> Result<ModelSetup, S
         return Err(format!(
             "--set control_mode={} contradicts the measurement: it has {} (control_mode {})",
             p.control_mode,
-            if drive.control_mode() == 0 { "F_demand" } else { "only x_spool_demand" },
+            match drive.control_mode() {
+                0 => "F_demand",
+                1 => "only x_spool_demand",
+                _ => "no demand",
+            },
             drive.control_mode()
         ));
     }

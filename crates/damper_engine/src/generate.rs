@@ -158,8 +158,10 @@ pub struct GenerateOptions {
     /// `KEY`, `KEY=VALUE` or `KEY=off`.
     pub effects: Vec<String>,
     pub sets: Vec<(String, String)>,
-    /// `--params FILE.ssv`: an SSP parameter set applied to the defaults before the effects and
-    /// `--set`.
+    /// `--damper FILE.toml`: the truth damper's description, applied to the defaults first.
+    pub damper_file: Option<PathBuf>,
+    /// `--params FILE.ssv`: an SSP parameter set applied after the description, before the
+    /// effects and `--set`.
     pub params_file: Option<PathBuf>,
     pub seed: u64,
     pub input: InputStyle,
@@ -195,6 +197,7 @@ impl GenerateOptions {
             truth: truth.into(),
             effects: Vec::new(),
             sets: Vec::new(),
+            damper_file: None,
             params_file: None,
             seed: 1,
             input: InputStyle::Rig,
@@ -368,6 +371,13 @@ fn truth_parameters(o: &GenerateOptions, rng: &mut Rng) -> Result<(Parameters, V
         tare_load_cell: o.tare_load_cell.unwrap_or(o.input == InputStyle::Hil),
         ..Default::default()
     };
+    if let Some(file) = &o.damper_file {
+        crate::description::Description::read(file)?.apply(&mut p)?;
+        p.rtol = TRUTH_RTOL;
+        if p.control_mode == 2 && o.input == InputStyle::Hil {
+            return Err(format!("{}: a passive damper: --input hil needs a semi-active one", file.display()));
+        }
+    }
     if let Some(file) = &o.params_file {
         crate::ssv::apply(&mut p, file)?;
     }
@@ -678,8 +688,13 @@ pub fn generate(o: &GenerateOptions) -> Result<Generated, String> {
     // `errors_in_variables` the truth moves with the true velocity and only the CSV gets the
     // sensor's version (the controller is then given a velocity it could not have measured).
     let nz = o.noise;
-    let demand_of =
-        |d: &Vec<f64>| if o.spool_control { Demand::SpoolPosition(d.clone()) } else { Demand::Force(d.clone()) };
+    // a passive damper (the valve held) has no demand: none is written
+    let held = params.control_mode == 2;
+    let demand_of = |d: &Vec<f64>| match (held, o.spool_control) {
+        (true, _) => Demand::Held,
+        (false, true) => Demand::SpoolPosition(d.clone()),
+        (false, false) => Demand::Force(d.clone()),
+    };
     let (velocity_column, v_drive, demand, clean) = match o.input {
         InputStyle::Rig => {
             let (v_true, d) = rig_inputs(&t, &mut input_rng, o.spool_control, params.x_spool_start);
@@ -696,7 +711,13 @@ pub fn generate(o: &GenerateOptions) -> Result<Generated, String> {
                 ((Column::VDamper, v.clone()), v)
             };
             let drive_truth = if o.errors_in_variables { v_true } else { v_measured.clone() };
-            let drive = Drive { time: t.clone(), v_damper: drive_truth, demand: demand_of(&d), t_oil: t_oil.clone() };
+            let drive = Drive {
+                time: t.clone(),
+                v_damper: drive_truth,
+                demand: demand_of(&d),
+                t_oil: t_oil.clone(),
+                x_damper_start: None,
+            };
             let pred = Model { params, load_cell_lowpass_hz: o.lowpass_hz }.run(&drive)?;
             (column, v_measured, d, pred)
         }
@@ -706,7 +727,13 @@ pub fn generate(o: &GenerateOptions) -> Result<Generated, String> {
             // interpolated between samples), as the motion of a real truck is continuous
             let (v_measured, v_true, d) = hil_run(o, &params, &t, &mut input_rng, &mut noise_rng)?;
             let drive_truth = if o.errors_in_variables { v_true } else { v_measured.clone() };
-            let drive = Drive { time: t.clone(), v_damper: drive_truth, demand: demand_of(&d), t_oil: t_oil.clone() };
+            let drive = Drive {
+                time: t.clone(),
+                v_damper: drive_truth,
+                demand: demand_of(&d),
+                t_oil: t_oil.clone(),
+                x_damper_start: None,
+            };
             let pred = Model { params, load_cell_lowpass_hz: o.lowpass_hz }.run(&drive)?;
             ((Column::VDamper, v_measured.clone()), v_measured, d, pred)
         }
@@ -715,14 +742,19 @@ pub fn generate(o: &GenerateOptions) -> Result<Generated, String> {
     // Measurement chain of the other sensors.
     let f_meas = measure(&clean.f_damper, nz.f_damper, &mut noise_rng);
     let mut columns: Vec<(Column, Vec<f64>)> = vec![(Column::Time, t.clone()), velocity_column];
-    columns.push((if o.spool_control { Column::XSpoolDemand } else { Column::FDemand }, demand.clone()));
+    if !held {
+        columns.push((if o.spool_control { Column::XSpoolDemand } else { Column::FDemand }, demand.clone()));
+    }
     columns.push((Column::FDamper, f_meas.clone()));
     if let Some(temperature) = &t_oil {
         columns.push((Column::TOil, measure(temperature, nz.t_oil, &mut noise_rng)));
     }
     if !o.minimal {
-        columns.push((Column::XSpool, measure(&clean.x_spool, nz.x_spool, &mut noise_rng)));
-        columns.push((Column::ISol, measure(&clean.i_sol, nz.i_sol, &mut noise_rng)));
+        // a held valve's spool and coil are still: nothing to measure
+        if !held {
+            columns.push((Column::XSpool, measure(&clean.x_spool, nz.x_spool, &mut noise_rng)));
+            columns.push((Column::ISol, measure(&clean.i_sol, nz.i_sol, &mut noise_rng)));
+        }
         columns.push((Column::PExt, measure(&clean.p_ext, nz.pressure, &mut noise_rng)));
         columns.push((Column::PComp, measure(&clean.p_comp, nz.pressure, &mut noise_rng)));
     }
@@ -733,7 +765,13 @@ pub fn generate(o: &GenerateOptions) -> Result<Generated, String> {
     let (noise, quantum) = (nz.f_damper.noise, nz.f_damper.quantum);
     let sigma_f = (noise * noise + quantum * quantum / 12.0).sqrt();
     let expected_floor = sigma_f / std(&f_meas[split..]);
-    let oracle_drive = Drive { time: t.clone(), v_damper: v_drive, demand: demand_of(&demand), t_oil: t_oil.clone() };
+    let oracle_drive = Drive {
+        time: t.clone(),
+        v_damper: v_drive,
+        demand: demand_of(&demand),
+        t_oil: t_oil.clone(),
+        x_damper_start: None,
+    };
     let oracle = Model { params, load_cell_lowpass_hz: o.lowpass_hz }.force(&oracle_drive, n)?;
     let oracle_nrmse = crate::dsp::metrics(&f_meas[split..], &oracle[split..]).nrmse;
 

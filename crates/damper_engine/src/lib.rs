@@ -5,7 +5,8 @@
 //!   file, line and column);
 //! - [`model`]: the model driven by measured inputs ([`model::Model::run`], thread-safe), behind
 //!   the trait [`model::Backend`]: in-process or through a packaged FMU ([`fmu_model`]);
-//! - [`parameters`]: parameters by FMU name and the effect catalog's switches;
+//! - [`parameters`]: parameters by FMU name and the effect catalog's switches; [`description`]: a
+//!   damper described from its datasheet (TOML, values with units read by [`quantity`]);
 //! - [`dsp`]: error metrics, spectra, correlations, the load-cell filter, the noise estimate;
 //! - [`analysis`]: fit per signal and where the error lives; [`comparison`]: read, run, analyse;
 //! - [`diagnose`]: which catalog effect is missing, by the thresholds of [`criteria`], from the
@@ -25,6 +26,7 @@ pub mod calibration_file;
 pub mod candidate;
 pub mod comparison;
 pub mod criteria;
+pub mod description;
 pub mod diagnose;
 pub mod diagnosed;
 pub mod dsp;
@@ -36,6 +38,7 @@ pub mod lm;
 pub mod measurement;
 pub mod model;
 pub mod parameters;
+pub mod quantity;
 pub mod record_checks;
 pub mod rng;
 pub mod sensitivity;

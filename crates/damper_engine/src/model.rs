@@ -43,6 +43,9 @@ pub struct Drive {
     /// The oil temperature (K), where the record has it (the model's input `T_oil`; its start
     /// value otherwise).
     pub t_oil: Option<Vec<f64>>,
+    /// The stroke at the first sample (m), where the record measures the displacement: the
+    /// model starts there (`x_damper_start`) instead of at mid-stroke.
+    pub x_damper_start: Option<f64>,
 }
 
 impl Drive {
@@ -59,6 +62,7 @@ impl Drive {
             v_damper: m.get(Column::VDamper).expect("checked").to_vec(),
             demand,
             t_oil: m.get(Column::TOil).map(<[f64]>::to_vec),
+            x_damper_start: m.get(Column::XDamper).map(|x| x[0]),
         }
     }
 
@@ -76,6 +80,16 @@ impl Drive {
             Demand::Force(_) => 0,
             Demand::SpoolPosition(_) => 1,
             Demand::Held => 2,
+        }
+    }
+
+    /// How the valve is driven, in words: "force control", "spool-position control" or "valve
+    /// held (no demand)".
+    pub fn control_words(&self) -> &'static str {
+        match self.demand {
+            Demand::Force(_) => "force control",
+            Demand::SpoolPosition(_) => "spool-position control",
+            Demand::Held => "valve held (no demand)",
         }
     }
 
@@ -341,7 +355,7 @@ mod tests {
     fn drive(f: impl Fn(f64) -> f64, h: f64, n: usize) -> Drive {
         let time: Vec<f64> = (0..n).map(|k| k as f64 * h).collect();
         let v_damper = time.iter().map(|&t| f(t)).collect();
-        Drive { time, v_damper, demand: Demand::Force(vec![0.0; n]), t_oil: None }
+        Drive { time, v_damper, demand: Demand::Force(vec![0.0; n]), t_oil: None, x_damper_start: None }
     }
 
     #[test]

@@ -261,6 +261,8 @@ pub struct Lag {
     /// The same estimate on the sample-to-sample changes of both forces (s).
     #[serde(deserialize_with = "nan_if_null")]
     pub of_changes_s: f64,
+    /// False where the correlation peaks at the search's edge: the lags in seconds are then NaN.
+    pub found: bool,
     pub definition: String,
 }
 
