@@ -164,12 +164,14 @@ def smoothstep(u: float) -> float:
 
 
 def rounded_ramp(u: float) -> float:
-    """s(u) = ramp(u) - ramp(u - 1), ramp rounded over the first tenth (§3.8): the blow-off's
-    opening fraction, 0 below its preload, 1 on its stop, continuously differentiable."""
+    """s(u) = ramp(u) - ramp(u - 1), ramp rounded over a tenth centred on 0 (§3.8): the blow-off's
+    opening fraction, 0 below its preload, 1 on its stop, = u between, continuously differentiable."""
+    half = ROUNDING / 2
+
     def ramp(w: float) -> float:
-        if w <= 0.0:
+        if w <= -half:
             return 0.0
-        return w * w / (2 * ROUNDING) if w < ROUNDING else w - ROUNDING / 2
+        return (w + half) ** 2 / (2 * ROUNDING) if w < half else w
     return ramp(u) - ramp(u - 1.0)
 
 
@@ -199,7 +201,8 @@ class Circuit:
         laminar bleed G dp/mu_r, orifice bleed, blow-off of area A_open s(k_open (dp - p_open)/A_open)."""
         p = self.p
         a_open = p[f"A_open_{which}"]
-        opening = a_open * rounded_ramp(p[f"k_open_{which}"] * (dp - p[f"p_open_{which}"]) / a_open)
+        # the blow-off opens forwards only
+        opening = a_open * rounded_ramp(p[f"k_open_{which}"] * (dp - p[f"p_open_{which}"]) / a_open) if dp > 0 else 0.0
         return (p[f"G_bleed_{which}"] * dp / mu_r
                 + self.orifice(p["Cd_passive"] * (p[f"A_bleed_{which}"] + opening), dp))
 

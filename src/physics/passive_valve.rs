@@ -3,15 +3,16 @@
 //!
 //! ```text
 //! Q(Δp) = G_bleed·Δp/μ_r + Q_or(C_d, A_bleed, Δp) + Q_or(C_d, A_open·s(u), Δp),   u = k_open (Δp − p_open)/A_open
-//! s(u)  = ramp(u) − ramp(u − 1),  ramp(u) = 0 (u ≤ 0), u²/(2e) (0 < u < e), u − e/2 (u ≥ e),  e = 0.1
+//! s(u)  = ramp(u) − ramp(u − 1),  ramp(u) = 0 (u ≤ −e/2), (u + e/2)²/(2e) (|u| < e/2), u (u ≥ e/2),  e = 0.1
 //! ```
 //! Q_or is the sharp-edged orifice law of [`orifice_flow_partials`]; μ_r the oil's viscosity over
 //! its viscosity at the reference temperature (1 unless `oil_temperature` is on). The laminar
 //! bleed gives a force linear in velocity at low speed, the orifice bleed a quadratic one; above
 //! the preload the blow-off's area grows with the pressure (k_open), so the force grows more
 //! slowly than the velocity (a degressive valve), until the blow-off is fully open (A_open) and
-//! the law is an orifice's again. s(u) is continuously differentiable: the disc lifts over the
-//! first tenth of its travel gradually and settles on its stop over the last.
+//! the law is an orifice's again. s(u) is continuously differentiable: the disc lifts gradually
+//! over a tenth of its travel centred on the preload, and settles on its stop likewise, so that
+//! the straight part of the law passes through p_open exactly (s = u there).
 
 use super::fluid::orifice_flow_partials;
 
@@ -36,14 +37,16 @@ pub struct PassiveValve {
     pub cd: f64,
 }
 
-/// The rounded ramp and its slope.
+/// The rounded ramp and its slope: u beyond ±e/2, a parabola between.
 fn ramp(u: f64) -> (f64, f64) {
-    if u <= 0.0 {
+    let half = 0.5 * ROUNDING;
+    if u <= -half {
         (0.0, 0.0)
-    } else if u < ROUNDING {
-        (u * u * (0.5 / ROUNDING), u * (1.0 / ROUNDING))
+    } else if u < half {
+        let w = u + half;
+        (w * w * (0.5 / ROUNDING), w * (1.0 / ROUNDING))
     } else {
-        (u - 0.5 * ROUNDING, 1.0)
+        (u, 1.0)
     }
 }
 
@@ -63,9 +66,10 @@ impl PassiveValve {
         let (q_bleed, _, dq_bleed) = orifice_flow_partials(self.cd, self.a_bleed, dp, rho, p_transition);
         let mut q = g * dp + q_bleed;
         let mut slope = g + dq_bleed;
-        if self.a_open > 0.0 && dp > self.p_open {
-            let per_area = self.k_open / self.a_open;
-            let (s, ds) = open_fraction((dp - self.p_open) * per_area);
+        let per_area = if self.a_open > 0.0 { self.k_open / self.a_open } else { 0.0 };
+        let u = (dp - self.p_open) * per_area;
+        if per_area > 0.0 && dp > 0.0 && u > -0.5 * ROUNDING {
+            let (s, ds) = open_fraction(u);
             let (q_open, dq_da, dq_ddp) = orifice_flow_partials(self.cd, self.a_open * s, dp, rho, p_transition);
             q += q_open;
             slope += dq_ddp + dq_da * self.a_open * ds * per_area;
@@ -90,7 +94,7 @@ mod tests {
     #[test]
     fn slope_matches_differences() {
         let v = valve();
-        for dp in [-30e5, -1e5, 0.0, 3e3, 1e5, 19.9e5, 20.1e5, 21e5, 25e5, 30e5, 40e5, 80e5, 200e5] {
+        for dp in [-30e5, -1e5, 0.0, 3e3, 1e5, 15e5, 19.9e5, 20.1e5, 21e5, 25e5, 30e5, 40e5, 80e5, 200e5] {
             let h = 1.0;
             let fd = (v.flow(dp + h, 1.3, RHO, P_TR).0 - v.flow(dp - h, 1.3, RHO, P_TR).0) / (2.0 * h);
             let exact = v.flow(dp, 1.3, RHO, P_TR).1;
@@ -109,7 +113,7 @@ mod tests {
         let dp = 10e5;
         let q = v.flow(dp, 1.0, RHO, P_TR).0;
         assert!((q - (2e-11 * dp + orifice(1e-6, dp))).abs() < 1e-5 * q);
-        // fully open beyond p_open + (1 + e/2)·A_open/k_open = 20 bar + 105 bar
+        // fully open beyond p_open + (1 + e/2)·A_open/k_open = 20 bar + 102.5 bar
         let dp = 150e5;
         let q = v.flow(dp, 1.0, RHO, P_TR).0;
         assert!((q - (2e-11 * dp + orifice(1e-6 + 2e-5, dp))).abs() < 1e-5 * q);
@@ -128,10 +132,13 @@ mod tests {
     #[test]
     fn the_blow_off_lifts_and_settles_smoothly() {
         assert_eq!(open_fraction(-0.5), (0.0, 0.0));
-        assert_eq!(open_fraction(0.5), (0.45, 1.0));
+        // the straight part passes through the preload: s = u
+        assert_eq!(open_fraction(0.5), (0.5, 1.0));
+        assert_eq!(open_fraction(0.1), (0.1, 1.0));
         assert_eq!(open_fraction(2.0), (1.0, 0.0));
         // continuous value and slope at the four joints
-        for u in [0.0, ROUNDING, 1.0, 1.0 + ROUNDING] {
+        let half = 0.5 * ROUNDING;
+        for u in [-half, half, 1.0 - half, 1.0 + half] {
             let (below, above) = (open_fraction(u - 1e-12), open_fraction(u + 1e-12));
             assert!((below.0 - above.0).abs() < 1e-11 && (below.1 - above.1).abs() < 1e-10, "u = {u}");
         }

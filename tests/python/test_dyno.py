@@ -69,9 +69,10 @@ def check_valve(p, dp):
 def passive_valve(p, which, dp, mu_r):
     """physics.md §3.8: laminar bleed, orifice bleed and the blow-off on its rounded ramp s(u)."""
     def ramp(w):
-        return 0.0 if w <= 0 else (w * w / 0.2 if w < 0.1 else w - 0.05)
+        return 0.0 if w <= -0.05 else ((w + 0.05) ** 2 / 0.2 if w < 0.05 else w)
     u = p[f"k_open_{which}"] * (dp - p[f"p_open_{which}"]) / p[f"A_open_{which}"]
-    area = p[f"A_bleed_{which}"] + p[f"A_open_{which}"] * (ramp(u) - ramp(u - 1))
+    opening = p[f"A_open_{which}"] * (ramp(u) - ramp(u - 1)) if dp > 0 else 0.0
+    area = p[f"A_bleed_{which}"] + opening
     return p[f"G_bleed_{which}"] * dp / mu_r + orifice(p, p["Cd_passive"], area, dp)
 
 

@@ -310,6 +310,26 @@ pub fn smooth_rate(t: &[f64], x: &[f64], half: usize) -> Vec<f64> {
         .collect()
 }
 
+/// Velocity from displacement: three-point central difference on a possibly non-uniform grid,
+/// second-order one-sided differences at the ends.
+pub fn differentiate(t: &[f64], x: &[f64]) -> Vec<f64> {
+    let n = t.len();
+    let mut v = vec![0.0; n];
+    for i in 1..n - 1 {
+        let (h0, h1) = (t[i] - t[i - 1], t[i + 1] - t[i]);
+        v[i] =
+            (-h1 / (h0 * (h0 + h1))) * x[i - 1] + ((h1 - h0) / (h0 * h1)) * x[i] + (h0 / (h1 * (h0 + h1))) * x[i + 1];
+    }
+    let (h0, h1) = (t[1] - t[0], t[2] - t[1]);
+    let s = h0 + h1;
+    v[0] = -(2.0 * h0 + h1) / (h0 * s) * x[0] + s / (h0 * h1) * x[1] - h0 / (h1 * s) * x[2];
+    // mirror for the last point: differentiate in reversed time
+    let (h0, h1) = (t[n - 1] - t[n - 2], t[n - 2] - t[n - 3]);
+    let s = h0 + h1;
+    v[n - 1] = (2.0 * h0 + h1) / (h0 * s) * x[n - 1] - s / (h0 * h1) * x[n - 2] + h0 / (h1 * s) * x[n - 3];
+    v
+}
+
 #[cfg(test)]
 #[allow(
     clippy::disallowed_methods,

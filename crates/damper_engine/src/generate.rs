@@ -704,7 +704,7 @@ pub fn generate(o: &GenerateOptions) -> Result<Generated, String> {
                     x_true[k] = x_true[k - 1] + v_true[k - 1] * (t[k] - t[k - 1]);
                 }
                 let x = measure(&x_true, nz.x_damper, &mut noise_rng);
-                let v = crate::measurement::differentiate(&t, &x);
+                let v = crate::dsp::differentiate(&t, &x);
                 ((Column::XDamper, x), v)
             } else {
                 let v = measure(&v_true, nz.v_damper, &mut noise_rng);

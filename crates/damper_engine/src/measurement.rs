@@ -23,6 +23,7 @@
 //! than [`JITTER_TOLERANCE`] of it, every channel is resampled onto a uniform grid at the median
 //! interval by linear interpolation; the notes list each gap and the resampling.
 
+use crate::dsp::differentiate;
 use crate::units::{unit, unit_list, Column};
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -374,6 +375,24 @@ impl Measurement {
             None => (time, lines),
         };
 
+        if let (false, Some(v), Some(x)) =
+            (velocity_from_displacement, data.get(&Column::VDamper), data.get(&Column::XDamper))
+        {
+            let (v, largest) = crate::stroke::velocity_following_displacement(&time, v, x).map_err(|e| {
+                format!(
+                    "{name}: columns {} (v_damper) and {} (x_damper): {e}",
+                    chosen[&Column::VDamper].index,
+                    chosen[&Column::XDamper].index
+                )
+            })?;
+            notes.push(format!(
+                "v_damper corrected below {} Hz so that the model's stroke follows x_damper (the velocity's \
+                 integral had drifted by up to {:.3} mm)",
+                crate::stroke::STROKE_CROSSOVER_HZ,
+                largest * 1e3
+            ));
+            data.insert(Column::VDamper, v);
+        }
         let mut sources: Vec<ColumnSource> = chosen.into_values().collect();
         sources.sort_by_key(|s| s.index);
         Ok(Measurement {
@@ -706,26 +725,6 @@ fn detect_delimiter(header: &[u8]) -> u8 {
         }
     }
     counts.iter().max_by_key(|(c, _)| *c).map(|&(c, d)| if c == 0 { b',' } else { d }).unwrap_or(b',')
-}
-
-/// Velocity from displacement: three-point central difference on a possibly non-uniform grid,
-/// second-order one-sided differences at the ends.
-pub fn differentiate(t: &[f64], x: &[f64]) -> Vec<f64> {
-    let n = t.len();
-    let mut v = vec![0.0; n];
-    for i in 1..n - 1 {
-        let (h0, h1) = (t[i] - t[i - 1], t[i + 1] - t[i]);
-        v[i] =
-            (-h1 / (h0 * (h0 + h1))) * x[i - 1] + ((h1 - h0) / (h0 * h1)) * x[i] + (h0 / (h1 * (h0 + h1))) * x[i + 1];
-    }
-    let (h0, h1) = (t[1] - t[0], t[2] - t[1]);
-    let s = h0 + h1;
-    v[0] = -(2.0 * h0 + h1) / (h0 * s) * x[0] + s / (h0 * h1) * x[1] - h0 / (h1 * s) * x[2];
-    // mirror for the last point: differentiate in reversed time
-    let (h0, h1) = (t[n - 1] - t[n - 2], t[n - 2] - t[n - 3]);
-    let s = h0 + h1;
-    v[n - 1] = (2.0 * h0 + h1) / (h0 * s) * x[n - 1] - s / (h0 * h1) * x[n - 2] + h0 / (h1 * s) * x[n - 3];
-    v
 }
 
 /// `"F_damper [kN]"` → (`F_damper`, Some(`kN`)); also `(kN)`.
