@@ -55,18 +55,6 @@ static INFO: EffectInfo = EffectInfo {
     signature: "a force error in compression only, growing with velocity: at low speed (the bleed: linear or quadratic in velocity) or above a knee force (the blow-off: degressive); a changed adjuster moves the low-speed part",
 };
 
-/// The compression valve's data.
-pub fn valve(p: &Parameters) -> PassiveValve {
-    PassiveValve {
-        g_bleed: p.g_bleed_comp,
-        a_bleed: p.a_bleed_comp,
-        p_open: p.p_open_comp,
-        k_open: p.k_open_comp,
-        a_open: p.a_open_comp,
-        cd: p.cd_passive,
-    }
-}
-
 impl Effect for CompressionValve {
     fn info(&self) -> &'static EffectInfo {
         &INFO
@@ -76,10 +64,10 @@ impl Effect for CompressionValve {
     }
     /// Q(p_comp − p_reservoir) from the full bore to the reservoir.
     fn base_flow(&self, p: &Parameters, s: &PlantSignals) -> f64 {
-        valve(p).flow(s.p_comp - s.p_reservoir, s.viscosity_ratio, p.rho, p.p_transition).0
+        PassiveValve::compression(p).flow(s.p_comp - s.p_reservoir, s.viscosity_ratio, p.rho, p.p_transition).0
     }
     fn base_flow_gradient(&self, p: &Parameters, s: &PlantSignals) -> PlantSignals {
-        let slope = valve(p).flow(s.p_comp - s.p_reservoir, s.viscosity_ratio, p.rho, p.p_transition).1;
+        let slope = PassiveValve::compression(p).flow(s.p_comp - s.p_reservoir, s.viscosity_ratio, p.rho, p.p_transition).1;
         PlantSignals { p_comp: slope, p_reservoir: -slope, ..PlantSignals::ZERO }
     }
 }

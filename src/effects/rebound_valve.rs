@@ -55,18 +55,6 @@ static INFO: EffectInfo = EffectInfo {
     signature: "a force error in extension only, growing with velocity: at low speed (the bleed: linear or quadratic in velocity) or above a knee force (the blow-off: degressive); a changed adjuster moves the low-speed part",
 };
 
-/// The rebound valve's data.
-pub fn valve(p: &Parameters) -> PassiveValve {
-    PassiveValve {
-        g_bleed: p.g_bleed_reb,
-        a_bleed: p.a_bleed_reb,
-        p_open: p.p_open_reb,
-        k_open: p.k_open_reb,
-        a_open: p.a_open_reb,
-        cd: p.cd_passive,
-    }
-}
-
 impl Effect for ReboundValve {
     fn info(&self) -> &'static EffectInfo {
         &INFO
@@ -76,10 +64,10 @@ impl Effect for ReboundValve {
     }
     /// Q(p_ext − p_comp) from the annulus to the full bore.
     fn bypass_flow(&self, p: &Parameters, s: &PlantSignals) -> f64 {
-        valve(p).flow(s.p_ext - s.p_comp, s.viscosity_ratio, p.rho, p.p_transition).0
+        PassiveValve::rebound(p).flow(s.p_ext - s.p_comp, s.viscosity_ratio, p.rho, p.p_transition).0
     }
     fn bypass_flow_gradient(&self, p: &Parameters, s: &PlantSignals) -> PlantSignals {
-        let slope = valve(p).flow(s.p_ext - s.p_comp, s.viscosity_ratio, p.rho, p.p_transition).1;
+        let slope = PassiveValve::rebound(p).flow(s.p_ext - s.p_comp, s.viscosity_ratio, p.rho, p.p_transition).1;
         PlantSignals { p_ext: slope, p_comp: -slope, ..PlantSignals::ZERO }
     }
 }

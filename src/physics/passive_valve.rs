@@ -15,6 +15,7 @@
 //! the straight part of the law passes through p_open exactly (s = u there).
 
 use super::fluid::orifice_flow_partials;
+use super::params::Parameters;
 
 /// Share of the blow-off's travel over which it lifts off and settles on its stop (the rounding
 /// of the ramp s(u)) [A]: a shim stack opens gradually, not at one pressure.
@@ -57,6 +58,30 @@ pub fn open_fraction(u: f64) -> (f64, f64) {
 }
 
 impl PassiveValve {
+    /// The rebound valve of `p` (in the piston, annulus → full bore).
+    pub fn rebound(p: &Parameters) -> PassiveValve {
+        PassiveValve {
+            g_bleed: p.g_bleed_reb,
+            a_bleed: p.a_bleed_reb,
+            p_open: p.p_open_reb,
+            k_open: p.k_open_reb,
+            a_open: p.a_open_reb,
+            cd: p.cd_passive,
+        }
+    }
+
+    /// The compression valve of `p` (at the base, full bore → reservoir).
+    pub fn compression(p: &Parameters) -> PassiveValve {
+        PassiveValve {
+            g_bleed: p.g_bleed_comp,
+            a_bleed: p.a_bleed_comp,
+            p_open: p.p_open_comp,
+            k_open: p.k_open_comp,
+            a_open: p.a_open_comp,
+            cd: p.cd_passive,
+        }
+    }
+
     /// Flow (m³/s) through the valve under the drop `dp` (Pa), in the direction of the drop, and
     /// its slope dQ/dΔp (m³/(s·Pa)), for oil of density `rho` (kg/m³) whose viscosity is
     /// `viscosity_ratio` times the reference's; `p_transition` (Pa) is the orifice law's laminar

@@ -76,6 +76,18 @@ pub fn terminal_summary(c: &Calibration, o: &CalibrateOptions) -> String {
             r.path, r.samples, r.nrmse_before, r.nrmse_after, r.noise_floor
         );
     }
+    if let Some(st) = &c.steady {
+        let moved: Vec<String> = st.fitted.iter().map(|(n, from, to)| format!("{n} {from:.3e} → {to:.3e}")).collect();
+        let _ = writeln!(
+            s,
+            "steady stage: the force–velocity law on {} quasi-steady samples from {} starts, RMS {:.1} N → {:.1} N; {}",
+            st.points,
+            st.starts,
+            st.rms_before,
+            st.rms_after,
+            moved.join(", ")
+        );
+    }
     for (i, r) in c.rounds.iter().enumerate() {
         let _ = writeln!(
             s,

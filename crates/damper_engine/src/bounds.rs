@@ -43,6 +43,11 @@ impl Bound {
         }
     }
 
+    /// `x` moved into the box.
+    pub fn clamp(self, x: f64) -> f64 {
+        x.max(self.lo).min(self.hi)
+    }
+
     /// True when `x` lies within `fraction` of the (searched) range of a bound.
     pub fn near_bound(self, x: f64, fraction: f64) -> bool {
         let (lo, hi) = self.internal_box();

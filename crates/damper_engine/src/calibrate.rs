@@ -42,6 +42,42 @@ pub const DEFAULT_FIT: [&str; 11] = [
     "tau_coil",
 ];
 
+/// The parameters fitted by default on a passive damper's records (the valve held shut): the gas,
+/// the air, the mount, the seals and each passive valve the description has (its parts switched
+/// off are left out).
+pub const PASSIVE_FIT: [&str; 14] = [
+    "p_reservoir0",
+    "air_fraction",
+    "k1_mount",
+    "F_coulomb",
+    "G_bleed_reb",
+    "A_bleed_reb",
+    "p_open_reb",
+    "k_open_reb",
+    "A_open_reb",
+    "G_bleed_comp",
+    "A_bleed_comp",
+    "p_open_comp",
+    "k_open_comp",
+    "A_open_comp",
+];
+
+/// The parameters the steady stage fits (the force–velocity law's), of those fitted.
+const STEADY_FIT: [&str; 12] = [
+    "p_reservoir0",
+    "F_coulomb",
+    "G_bleed_reb",
+    "A_bleed_reb",
+    "p_open_reb",
+    "k_open_reb",
+    "A_open_reb",
+    "G_bleed_comp",
+    "A_bleed_comp",
+    "p_open_comp",
+    "k_open_comp",
+    "A_open_comp",
+];
+
 /// The controller's gains, added by `--fit-controller` (they are the user's own settings, known
 /// unless the controller is a black box).
 pub const CONTROLLER_GAINS: [&str; 5] = ["Kp_F", "Ki_F", "Kp_x", "Ki_x", "Kd_x"];
@@ -49,7 +85,7 @@ pub const CONTROLLER_GAINS: [&str; 5] = ["Kp_F", "Ki_F", "Kp_x", "Ki_x", "Kd_x"]
 /// Largest relative standard uncertainty of a parameter called identified.
 pub const MAX_RELATIVE_UNCERTAINTY: f64 = 0.25;
 /// Largest |correlation| of a parameter with another fitted one.
-pub const MAX_CORRELATION: f64 = 0.95;
+pub const MAX_CORRELATION: f64 = 0.99;
 
 /// What `damper calibrate` does.
 #[derive(Clone, Debug)]
@@ -81,11 +117,24 @@ impl CalibrateOptions {
         }
     }
 
-    /// The names to fit, checked: Real parameters of the model, each once.
+    /// The names to fit, checked: Real parameters of the model, each once ([`DEFAULT_FIT`] unless
+    /// `--fit` names them).
     pub fn names(&self) -> Result<Vec<&'static str>, String> {
+        self.names_for(None)
+    }
+
+    /// [`CalibrateOptions::names`] for the records' model `p`: a passive damper's default is
+    /// [`PASSIVE_FIT`], of the parts it has.
+    pub fn names_for(&self, p: Option<&Parameters>) -> Result<Vec<&'static str>, String> {
         let mut names: Vec<&'static str> = Vec::new();
+        let passive: Vec<&str> = match p {
+            Some(p) if crate::steady::is_passive(p) => {
+                PASSIVE_FIT.iter().copied().filter(|n| part_present(p, n)).collect()
+            }
+            _ => DEFAULT_FIT.to_vec(),
+        };
         let given: Vec<&str> =
-            if self.fit.is_empty() { DEFAULT_FIT.to_vec() } else { self.fit.iter().map(String::as_str).collect() };
+            if self.fit.is_empty() { passive } else { self.fit.iter().map(String::as_str).collect() };
         let extra = if self.fit_controller { CONTROLLER_GAINS.as_slice() } else { &[] };
         for n in given.iter().chain(extra) {
             let name = match lookup(n).map_err(|e| format!("--fit {n}: {e}"))? {
@@ -98,6 +147,37 @@ impl CalibrateOptions {
         }
         Ok(names)
     }
+}
+
+/// Whether the part a parameter belongs to is in the model: a valve's parameters need the valve,
+/// the seal friction its switch.
+fn part_present(p: &Parameters, name: &str) -> bool {
+    if name.ends_with("_reb") {
+        p.effect_rebound_valve
+    } else if name.ends_with("_comp") {
+        p.effect_compression_valve
+    } else if name == "F_coulomb" {
+        p.effect_seal_friction
+    } else if name == "k1_mount" {
+        p.effect_mount_compliance
+    } else if name == "air_fraction" {
+        p.effect_compressibility
+    } else {
+        true
+    }
+}
+
+/// What the steady stage did (a passive damper's calibration).
+#[derive(Clone, Debug)]
+pub struct SteadyStage {
+    /// Quasi-steady samples of all records, and starts tried.
+    pub points: usize,
+    pub starts: usize,
+    /// RMS force residual of the steady law before and after (N).
+    pub rms_before: f64,
+    pub rms_after: f64,
+    /// (name, the description's value, the steady stage's), each fitted.
+    pub fitted: Vec<(&'static str, f64, f64)>,
 }
 
 /// Whether a parameter was fitted.
@@ -174,6 +254,8 @@ pub struct Calibration {
     pub model_runs: usize,
     pub seconds: f64,
     pub threads: usize,
+    /// The steady stage, where it ran (a passive damper with quasi-steady samples).
+    pub steady: Option<SteadyStage>,
 }
 
 struct Record {
@@ -288,14 +370,15 @@ fn worst(s: &Solution, names: &[&'static str], o: &CalibrateOptions) -> Option<(
 /// Calibrates: fits, holds what the records cannot pin, refits; `progress` is told of each round.
 pub fn calibrate(o: &CalibrateOptions, progress: &(dyn Fn(&Round) + Sync)) -> Result<Calibration, String> {
     let t0 = Instant::now();
-    let names = o.names()?;
-    let records = read_records(o)?;
+    let mut records = read_records(o)?;
+    let names = o.names_for(Some(&records[0].model.params))?;
+    let pool = thread_pool(o.threads)?;
+    let steady = steady_stage(&mut records, &names, &pool)?;
     let base = records[0].model.params;
     let starts: Vec<f64> = names.iter().map(|n| get_real(&base, n)).collect::<Result<_, _>>()?;
     let scales: Vec<Bound> =
         names.iter().zip(&starts).map(|(n, &s)| search_box(n, s, &base)).collect::<Result<_, _>>()?;
     let measured: Vec<f64> = records.iter().flat_map(|r| r.measured.iter().copied()).collect();
-    let pool = thread_pool(o.threads)?;
     let before = forces(&records, &[], &[])?;
 
     let mut x = starts.clone();
@@ -404,5 +487,43 @@ pub fn calibrate(o: &CalibrateOptions, progress: &(dyn Fn(&Round) + Sync)) -> Re
         model_runs,
         seconds: t0.elapsed().as_secs_f64(),
         threads: o.threads,
+        steady,
     })
+}
+
+/// The steady stage of a passive damper's calibration: the force–velocity law of the parameters
+/// to fit that shape it ([`STEADY_FIT`]) fitted on the quasi-steady samples of every record, from
+/// several starts ([`crate::steady::fit_steady`]); the records' models then start the dynamic
+/// fit there. None for another damper or too few quasi-steady samples (the dynamic fit then
+/// starts from the description).
+fn steady_stage(
+    records: &mut [Record],
+    names: &[&'static str],
+    pool: &rayon::ThreadPool,
+) -> Result<Option<SteadyStage>, String> {
+    let base = records[0].model.params;
+    if !crate::steady::is_passive(&base) {
+        return Ok(None);
+    }
+    let fitted: Vec<&'static str> = names.iter().copied().filter(|n| STEADY_FIT.contains(n)).collect();
+    let points: Vec<_> = records
+        .iter()
+        .flat_map(|r| crate::steady::steady_points(&r.drive, r.model.params.x_damper_start, &r.measured))
+        .collect();
+    if fitted.is_empty() || points.len() < 4 * fitted.len() {
+        return Ok(None);
+    }
+    let fit = crate::steady::fit_steady(&base, &fitted, &points, pool)?;
+    for r in records.iter_mut() {
+        for (name, _, value) in &fit.fitted {
+            set_real(&mut r.model.params, name, *value)?;
+        }
+    }
+    Ok(Some(SteadyStage {
+        points: fit.points,
+        starts: fit.starts,
+        rms_before: fit.rms_before,
+        rms_after: fit.rms_after,
+        fitted: fit.fitted,
+    }))
 }

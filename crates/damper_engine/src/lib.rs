@@ -43,6 +43,7 @@ pub mod record_checks;
 pub mod rng;
 pub mod sensitivity;
 pub mod ssv;
+pub mod steady;
 pub mod stroke;
 pub mod summary;
 pub mod units;

@@ -1,30 +1,57 @@
-//! The stroke where a record measures both the velocity and the displacement. The model
+//! The motion where a record measures both the velocity and the displacement. The model
 //! integrates its velocity input, so a velocity sensor's noise and offset random-walk its stroke:
 //! 1–2 mm/s of noise moved it by about 0.2 mm over 20 s on independent dyno records, and a stiff
-//! end stop turned that into hundreds of newtons with the truth's parameters. The displacement
-//! tells the slow stroke better, the velocity the fast motion; so the velocity is corrected below
-//! a crossover to follow the displacement (a complementary filter):
+//! end stop turned that into hundreds of newtons with the truth's parameters. And the model's
+//! force carries the velocity's noise through the valve law's slope (errors in variables: a
+//! 1.8 mm/s transducer against a 12 kN·s/m low-speed slope is 22 N). The displacement tells the
+//! slow motion better, the velocity sensor the fast one; so the two are fused by a complementary
+//! filter at the frequency where their noise spectra cross:
 //!
 //! ```text
 //! e   = x_measured − (x_measured[0] + ∫ v_measured dt)      (trapezoids)
-//! e_s = e low-passed at STROKE_CROSSOVER_HZ, forwards then backwards (zero phase), its straight
-//!       line (a velocity offset) kept whole
-//! v   = v_measured + de_s/dt
+//! e_s = e low-passed at f_c, forwards then backwards (zero phase), its straight line (a velocity
+//!       offset) kept whole
+//! v   = v_measured + de_s/dt           (= low-passed dx/dt + high-passed v_measured)
+//! f_c = σ_v/(2π σ_x) within [STROKE_CROSSOVER_HZ, rate/4]: white noise of σ_x differentiated
+//!       has the spectrum (2πf)²·σ_x², the velocity sensor's is flat at σ_v²; each noise σ from the
+//!       signal's fourth differences
 //! ```
 
 use crate::dsp::{std, Lowpass};
 
-/// Below this (Hz) the displacement gives the stroke, above it the velocity gives the motion.
+/// The lowest crossover (Hz): below it the displacement always gives the stroke.
 pub const STROKE_CROSSOVER_HZ: f64 = 1.0;
 /// A disagreement of the two above the crossover of more than this share of the stroke's spread
 /// (RMS) is a wrong unit, sign or sensor, not drift.
 pub const MAX_DISAGREEMENT: f64 = 0.2;
 
-/// The velocity whose integral follows `x` below the crossover, and the largest correction of
-/// the stroke it makes (m); an error when the two disagree above the crossover by more than
-/// [`MAX_DISAGREEMENT`] of the stroke's spread (RMS).
-pub fn velocity_following_displacement(t: &[f64], v: &[f64], x: &[f64]) -> Result<(Vec<f64>, f64), String> {
+/// White noise's standard deviation in `x` from its fourth differences (robust: their median
+/// absolute value; a smooth signal barely enters).
+pub fn white_noise(x: &[f64]) -> f64 {
+    let mut d4: Vec<f64> = x.windows(5).map(|w| (w[0] - 4.0 * w[1] + 6.0 * w[2] - 4.0 * w[3] + w[4]).abs()).collect();
+    // median |N(0, 70σ²)| = 0.6745·√70·σ
+    crate::dsp::median(&mut d4) / (0.674_489_75 * 70f64.sqrt())
+}
+
+/// The fused motion: the velocity, the crossover (Hz) and the largest correction of the stroke (m).
+#[derive(Clone, Debug)]
+pub struct Fused {
+    pub v: Vec<f64>,
+    pub crossover_hz: f64,
+    pub largest_correction: f64,
+}
+
+/// The velocity whose integral follows `x` below the crossover ([`Fused`]); an error when the two
+/// disagree above it by more than [`MAX_DISAGREEMENT`] of the stroke's spread (RMS).
+pub fn velocity_following_displacement(t: &[f64], v: &[f64], x: &[f64]) -> Result<Fused, String> {
     let n = t.len();
+    let dt = (t[n - 1] - t[0]) / (n - 1) as f64;
+    let (sigma_v, sigma_x) = (white_noise(v), white_noise(x));
+    let crossover = if sigma_x > 0.0 && sigma_v.is_finite() {
+        (sigma_v / (2.0 * std::f64::consts::PI * sigma_x)).clamp(STROKE_CROSSOVER_HZ, 0.25 / dt)
+    } else {
+        0.25 / dt
+    };
     let mut integral = vec![x[0]; n];
     for k in 1..n {
         integral[k] = integral[k - 1] + 0.5 * (v[k] + v[k - 1]) * (t[k] - t[k - 1]);
@@ -33,7 +60,7 @@ pub fn velocity_following_displacement(t: &[f64], v: &[f64], x: &[f64]) -> Resul
     let pass = |input: &[f64], order: &mut dyn Iterator<Item = usize>| {
         let mut out = vec![0.0; n];
         let first = order.next().expect("a record has samples");
-        let mut f = Lowpass::new(STROKE_CROSSOVER_HZ, input[first]);
+        let mut f = Lowpass::new(crossover, input[first]);
         out[first] = input[first];
         let mut last = first;
         for k in order {
@@ -50,8 +77,22 @@ pub fn velocity_following_displacement(t: &[f64], v: &[f64], x: &[f64]) -> Resul
     let rest: Vec<f64> = (0..n).map(|k| e[k] - line(k)).collect();
     let forwards = pass(&rest, &mut (0..n));
     let smooth: Vec<f64> = pass(&forwards, &mut (0..n).rev()).iter().enumerate().map(|(k, r)| r + line(k)).collect();
-    // drift is slow; a disagreement above the crossover is a unit, a sign or a sensor
-    let fast: Vec<f64> = e.iter().zip(&smooth).map(|(e, s)| e - s).collect();
+    // drift is slow; a disagreement above the lowest crossover is a unit, a sign or a sensor
+    let slow = if crossover > STROKE_CROSSOVER_HZ {
+        let low = |input: &[f64], order: &mut dyn Iterator<Item = usize>| {
+            let mut out = vec![0.0; n];
+            let mut f = Lowpass::new(STROKE_CROSSOVER_HZ, input[0]);
+            for k in order {
+                out[k] = f.step(dt, input[k]);
+            }
+            out
+        };
+        let forwards = low(&rest, &mut (0..n));
+        low(&forwards, &mut (0..n).rev()).iter().enumerate().map(|(k, r)| r + line(k)).collect()
+    } else {
+        smooth.clone()
+    };
+    let fast: Vec<f64> = e.iter().zip(&slow).map(|(e, s)| e - s).collect();
     let spread = std(x);
     if std(&fast) > MAX_DISAGREEMENT * spread {
         return Err(format!(
@@ -63,8 +104,11 @@ pub fn velocity_following_displacement(t: &[f64], v: &[f64], x: &[f64]) -> Resul
         ));
     }
     let rate = crate::dsp::differentiate(t, &smooth);
-    let corrected = v.iter().zip(&rate).map(|(v, r)| v + r).collect();
-    Ok((corrected, smooth.iter().fold(0.0f64, |a, s| a.max(s.abs()))))
+    Ok(Fused {
+        v: v.iter().zip(&rate).map(|(v, r)| v + r).collect(),
+        crossover_hz: crossover,
+        largest_correction: slow.iter().fold(0.0f64, |a, s| a.max(s.abs())),
+    })
 }
 
 #[cfg(test)]
@@ -80,7 +124,8 @@ mod tests {
         let w = 2.0 * std::f64::consts::PI * 2.0;
         let x: Vec<f64> = t.iter().map(|&t| 0.02 * libm::sin(w * t)).collect();
         let v: Vec<f64> = t.iter().map(|&t| 0.02 * w * libm::cos(w * t) + 2e-3).collect();
-        let (corrected, largest) = velocity_following_displacement(&t, &v, &x).unwrap();
+        let fused = velocity_following_displacement(&t, &v, &x).unwrap();
+        let (corrected, largest) = (fused.v, fused.largest_correction);
         assert!((largest - 0.04).abs() < 2e-3, "{largest}");
         let mut stroke = x[0];
         let mut worst = 0.0f64;

@@ -151,15 +151,20 @@ fn the_parameter_set_round_trips_and_a_bad_one_names_line_and_field() {
     // an unknown name: the line of its ssv:Parameter
     let (e, f, line) = bad("unknown.ssv", "name=\"V_hose\"", "name=\"V_hoses\"");
     assert!(e.starts_with(&format!("{f}, line {line}, parameter V_hoses: unknown parameter")), "{e}");
+    // r_port's value element as written (held at its start, or fitted)
+    let after = &text[text.find("name=\"r_port\"").unwrap()..];
+    let element = &after[after.find("<ssv:Real value=\"").unwrap()..];
+    let element = &element[..element.find("/>").unwrap() + 2];
+    let value = element.split('"').nth(1).unwrap();
     // a wrong type
-    let (e, f, _) = bad("type.ssv", "<ssv:Real value=\"3e-3\" unit=\"m\"/>", "<ssv:Boolean value=\"true\"/>");
+    let (e, f, _) = bad("type.ssv", element, "<ssv:Boolean value=\"true\"/>");
     assert!(e.starts_with(&format!("{f}, line")) && e.contains("parameter r_port: the file gives a Boolean"), "{e}");
     // a value out of the model's range, and one that is not a number: the line of the value
-    let (e, _, _) = bad("range.ssv", "<ssv:Real value=\"3e-3\" unit=\"m\"/>", "<ssv:Real value=\"3\" unit=\"m\"/>");
+    let (e, _, _) = bad("range.ssv", element, "<ssv:Real value=\"3\" unit=\"m\"/>");
     assert!(e.contains("parameter r_port: r_port=3 is out of the model's range"), "{e}");
-    let (e, f, line) = bad("number.ssv", "<ssv:Real value=\"3e-3\"", "<ssv:Real value=\"3e-3x\"");
+    let (e, f, line) = bad("number.ssv", element, &element.replace(value, &format!("{value}x")));
     assert!(
-        e.starts_with(&format!("{f}, line {line}, parameter r_port, ssv:Real value=\"3e-3x\": not a number")),
+        e.starts_with(&format!("{f}, line {line}, parameter r_port, ssv:Real value=\"{value}x\": not a number")),
         "{e}"
     );
     // --params before --set: the file's value is overridden
