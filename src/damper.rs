@@ -214,7 +214,8 @@ impl Damper {
         params.validate()?;
         let derived = params.derive();
         let i0 = rest_current(&params, params.x_spool_start);
-        let at_rest = Plant { p: &params, d: &derived, v_damper: 0.0, i_command: i0, t_oil: inputs.t_oil };
+        let at_rest =
+            Plant { p: &params, d: &derived, v_damper: 0.0, i_command: i0, t_oil: inputs.t_oil, a_damper: 0.0 };
         let y = at_rest.rest_state(params.x_damper_start, params.x_spool_start);
         let mut controller = Controller::at_rest(&derived, params.x_spool_start, i0);
         controller.x_spool_demand = params.x_spool_start;
@@ -248,6 +249,7 @@ impl Damper {
             v_damper: self.inputs.v_damper,
             i_command: self.state.i_command,
             t_oil: self.inputs.t_oil,
+            a_damper: self.inputs.a_damper,
         }
     }
 
@@ -395,6 +397,7 @@ impl Damper {
             v_damper: self.inputs.velocity_at(from),
             i_command: self.state.i_command,
             t_oil: self.inputs.t_oil,
+            a_damper: self.inputs.a_damper,
         };
         self.start.0 = plant.linearise(&self.state.y, &mut self.start.1);
     }

@@ -23,7 +23,7 @@ static INFO: EffectInfo = EffectInfo {
     // 7–8 ms makes the force loop oscillate (a 25 Hz limit cycle at 20 kN demands)
     hidden_range: (0.004, 0.005),
     hide_with: HideWith::NOTHING,
-    candidacy: Candidacy::Always,
+    candidacy: Candidacy::Controlled,
     signature:
         "a constant time shift between model and measurement, the same in both directions, largest after demand steps",
 };

@@ -15,7 +15,7 @@ static INFO: EffectInfo = EffectInfo {
     other: &["theta_jet"],
     hidden_range: (0.9, 0.94),
     hide_with: HideWith::NOTHING,
-    candidacy: Candidacy::Always,
+    candidacy: Candidacy::Controlled,
     signature: "a force error growing with velocity and force: spool pushed towards closing by the jet",
 };
 

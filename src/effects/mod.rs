@@ -62,6 +62,9 @@ pub enum Candidacy {
     WhenOn,
     /// Acts through the measured oil temperature: tried only on records with a temperature column.
     WithTemperature,
+    /// Acts through the controlled valve (its spool, its amplifier): tried only where the valve is
+    /// controlled (`control_mode` 0 or 1), not held.
+    Controlled,
 }
 
 /// How a data generator hides an effect so that a record shows it.
@@ -224,7 +227,7 @@ impl PlantSignals {
 const GRADIENT_SCALE: [f64; 6] = [1e-2, 1e-3, 1e5, 1e5, 1e5, 1e-3];
 
 /// Central-difference gradient of `f` at the signals `s`.
-fn numeric_gradient(s: &PlantSignals, f: impl Fn(&PlantSignals) -> f64) -> PlantSignals {
+pub fn numeric_gradient(s: &PlantSignals, f: impl Fn(&PlantSignals) -> f64) -> PlantSignals {
     let mut gradient = PlantSignals::ZERO;
     let values = s.fields();
     for (k, slot) in gradient.fields_mut().into_iter().enumerate() {

@@ -121,7 +121,8 @@ mod tests {
     fn solves_as_the_dense_matrix_does() {
         let p = Parameters { effect_seal_friction: true, effect_piston_leakage: true, ..Default::default() };
         let d = p.derive();
-        let rest = Plant { p: &p, d: &d, v_damper: 0.0, i_command: 1.2, t_oil: 293.15 }.rest_state(0.01, 1e-3);
+        let rest =
+            Plant { p: &p, d: &d, v_damper: 0.0, i_command: 1.2, t_oil: 293.15, a_damper: 0.0 }.rest_state(0.01, 1e-3);
         for (case, (p_a, p_b, x_s, v)) in
             [(5e5, 5e5, 1e-3, 0.0), (60e5, 8e5, 2.5e-3, 0.4), (3e5, 40e5, 0.2e-3, -0.6), (120e5, 5.2e5, 4.6e-3, 1.0)]
                 .into_iter()
@@ -132,7 +133,8 @@ mod tests {
             y[idx::P_B] = p_b;
             y[idx::X_SPOOL] = x_s;
             y[idx::V_SPOOL] = 0.05;
-            let (_, lin) = Plant { p: &p, d: &d, v_damper: v, i_command: 1.2, t_oil: 293.15 }.evaluate_linearised(&y);
+            let (_, lin) = Plant { p: &p, d: &d, v_damper: v, i_command: 1.2, t_oil: 293.15, a_damper: 0.0 }
+                .evaluate_linearised(&y);
             assert!(has_plant_structure(&lin.jacobian));
             for h in [1e-7, 1e-5, 5e-4] {
                 let c = 1.0 / (0.5 * h);
@@ -167,10 +169,12 @@ mod tests {
             }
             let d = p.derive();
             let t_oil = if all_on { 335.0 } else { 293.15 };
-            let rest = Plant { p: &p, d: &d, v_damper: 0.0, i_command: 0.7, t_oil }.rest_state(0.0, 1e-3);
+            let rest =
+                Plant { p: &p, d: &d, v_damper: 0.0, i_command: 0.7, t_oil, a_damper: 0.0 }.rest_state(0.0, 1e-3);
             for _ in 0..1000 {
                 let y = random_state(&rest, &mut uniform, false);
-                let plant = Plant { p: &p, d: &d, v_damper: 1.5 * (uniform() - 0.5), i_command: 0.7, t_oil };
+                let plant =
+                    Plant { p: &p, d: &d, v_damper: 1.5 * (uniform() - 0.5), i_command: 0.7, t_oil, a_damper: 0.0 };
                 let jacobian = plant.evaluate_linearised(&y).1.jacobian;
                 for h in [1e-9, 1e-7, 1e-5, 1e-4, 5e-4, 2e-3, 1e-2, 1e-1] {
                     let c = 3.0 / h;

@@ -76,6 +76,9 @@ pub struct Derived {
     pub valve_held: bool,
     /// Whether the measured oil temperature acts (`effect_oil_temperature`).
     pub oil_temperature: bool,
+    /// Whether the reservoir's gas is a spring (`effect_gas_charge`); off: its pressure stays at
+    /// the pre-charge.
+    pub gas_spring: bool,
     pub force_controller: ForceController,
     pub fc_mode: FlowForceCompensation,
     /// The switched-on effects that add a force or a bypass flow to the plant.
@@ -155,6 +158,7 @@ impl Parameters {
             },
             valve_held: self.control_mode == 2,
             oil_temperature: self.effect_oil_temperature,
+            gas_spring: self.effect_gas_charge,
             force_controller: if self.force_controller == 1 {
                 ForceController::PaperPid
             } else {

@@ -22,7 +22,7 @@ use super::fluid::{
 use super::hydraulics::{check_valve_area, check_valve_area_slope, reservoir_pressure_and_slope};
 use super::params::{Derived, Parameters};
 use super::valve::solenoid_force;
-use crate::effects::PlantSignals;
+use crate::effects::{numeric_gradient, PlantSignals};
 use nalgebra::{SMatrix, SVector};
 
 /// Number of continuous states.
@@ -75,6 +75,9 @@ pub struct Plant<'a> {
     pub i_command: f64,
     /// Oil temperature (K), the input `T_oil` (held over the communication step).
     pub t_oil: f64,
+    /// The damper's acceleration (m/s²), the input `a_damper`: the slope of `v_damper` over the
+    /// step, which the effects' forces' rate carries into the mount (§3.4).
+    pub a_damper: f64,
 }
 
 /// The plant linearised at a state: the Jacobian ∂f/∂y and the derivative ∂f/∂v with respect to
@@ -186,7 +189,12 @@ impl Plant<'_> {
     /// gas at `gas_ratio` times its reference absolute temperature.
     #[inline]
     fn reservoir(&self, v_gas: f64, gas_ratio: f64) -> (f64, f64) {
-        let (p_r, slope) = reservoir_pressure_and_slope(&self.d.gas, v_gas);
+        // without the gas spring (effect gas_charge off) the pressure stays at the pre-charge
+        let (p_r, slope) = if self.d.gas_spring {
+            reservoir_pressure_and_slope(&self.d.gas, v_gas)
+        } else {
+            (self.p.p_reservoir0, 0.0)
+        };
         if gas_ratio == 1.0 {
             (p_r, slope)
         } else {
@@ -303,15 +311,26 @@ impl Plant<'_> {
         let (aa, ap) = (cyl.a_annulus, cyl.a_piston);
         let k_h = a * aa * aa + b * ap * ap;
         let s_flow = a * aa * r_a - b * ap * r_b;
+        // the effects' forces change as the stroke and the velocity move (an end stop, friction):
+        // the mount carries that rate too, Ḟ_e = ∂F_e/∂x·v + ∂F_e/∂v·a
+        let (effects_rate, d_effects_rate) = if d.mount.is_some() && d.effects.adds_force() {
+            let rate_at = |s: &PlantSignals| {
+                let g = d.effects.force_gradient(p, s);
+                g.x_damper * s.v_damper + g.v_damper * self.a_damper
+            };
+            (rate_at(&signals), grad::<JAC>(|| chain(numeric_gradient(&signals, rate_at))))
+        } else {
+            (0.0, Grad::zeros())
+        };
         let (delta_rate, d_delta_rate) = if d.mount.is_some() {
             let per_denominator = 1.0 / (mount_stiffness + k_h);
-            let rate = (k_h * v + s_flow) * per_denominator;
+            let rate = (k_h * v + s_flow + effects_rate) * per_denominator;
             let d_rate = grad::<JAC>(|| {
                 let k3 = d.mount.map_or(0.0, |m| m.k3);
                 let d_k_h = d_a * (aa * aa) + d_b * (ap * ap);
                 let d_s = (d_a * r_a + d_r_a * a) * aa - (d_b * r_b + d_r_b * b) * ap;
                 let d_stiffness = d_delta * (6.0 * k3 * delta);
-                (plus(d_k_h * v, G_DV, k_h) + d_s - (d_stiffness + d_k_h) * rate) * per_denominator
+                (plus(d_k_h * v, G_DV, k_h) + d_s + d_effects_rate - (d_stiffness + d_k_h) * rate) * per_denominator
             });
             (rate, d_rate)
         } else {
@@ -485,10 +504,11 @@ mod tests {
             let d = p.derive();
             let t_oil = if all_on { 335.0 } else { 293.15 };
             for case in 0..400 {
-                let rest = Plant { p: &p, d: &d, v_damper: 0.0, i_command: 0.7, t_oil }.rest_state(0.0, 1e-3);
+                let rest =
+                    Plant { p: &p, d: &d, v_damper: 0.0, i_command: 0.7, t_oil, a_damper: 0.0 }.rest_state(0.0, 1e-3);
                 let y = random_state(&rest, &mut uniform, case % 3 == 0);
                 let v = 1.5 * (uniform() - 0.5);
-                let plant = |v: f64| Plant { p: &p, d: &d, v_damper: v, i_command: 0.7, t_oil };
+                let plant = |v: f64| Plant { p: &p, d: &d, v_damper: v, i_command: 0.7, t_oil, a_damper: 3.0 };
                 let (out, lin) = plant(v).evaluate_linearised(&y);
                 assert_eq!(out.dydt, plant(v).evaluate(&y).dydt);
                 for col in 0..=N_STATES {
