@@ -3,7 +3,7 @@
 //! (clap's derive API; every value is checked while parsing, with the parse functions the
 //! commands use).
 
-use crate::{calibrate_cmd, compare, description_cmd, diagnose_cmd};
+use crate::{calibrate_cmd, compare, description_cmd, diagnose_cmd, effects_cmd};
 use clap::error::{ContextKind, ContextValue, ErrorKind};
 use clap::{Args, CommandFactory, Parser, Subcommand, ValueEnum};
 use damper_engine::calibrate::{calibrate, CalibrateOptions, Round, DEFAULT_FIT};
@@ -12,8 +12,8 @@ use damper_engine::comparison::CompareOptions;
 use damper_engine::diagnosed::diagnose_measurement;
 use damper_engine::generate::{self, GenerateOptions, InputStyle, Noise};
 use damper_engine::measurement::{Mapping, Measurement, DEFAULT_MAX_GAP};
-use damper_engine::parameters::{effect, effects, parse_assignment, EffectExt};
-use damper_engine::units::unit_list;
+use damper_engine::parameters::{effect, parse_assignment};
+use damper_engine::units::{unit_list, Column};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::io::IsTerminal;
 use std::path::PathBuf;
@@ -147,7 +147,7 @@ enum Command {
     Generate(GenerateArgs),
     /// List the effect catalog (keys, switches, parameters)
     #[command(after_help = EFFECTS_HELP)]
-    Effects,
+    Effects(EffectsArgs),
     /// Write the documented template of a damper description (its datasheet)
     ///
     /// A TOML file whose keys name what a datasheet gives (bore, rod, stroke, gas pre-charge and
@@ -168,6 +168,14 @@ Examples:
   damper init --out my_damper.toml
   damper describe my_damper.toml --ssv my_damper.ssv
   damper compare dyno.csv --out out/dyno --damper my_damper.toml";
+
+#[derive(Args, Debug)]
+struct EffectsArgs {
+    /// Print the catalog as JSON (every field of each effect: its parameters with their search
+    /// and plausible ranges, how a generator hides it, when a diagnosis tries it)
+    #[arg(long)]
+    json: bool,
+}
 
 #[derive(Args, Debug)]
 struct InitArgs {
@@ -236,6 +244,15 @@ struct MeasurementArgs {
     /// First-order low-pass of the load cell, applied to the model's force [default: none]
     #[arg(long, value_parser = number_arg, value_name = "HZ", allow_negative_numbers = true, help_heading = "Measurement")]
     load_cell_lowpass: Option<f64>,
+    /// Negate a column as it is read: F_damper, or v_damper/x_damper (the motion: both); repeatable
+    ///
+    /// For a file written in the other sign convention (compression positive). The check of the
+    /// sign convention (a damper's force opposes its motion) names the flag to give.
+    #[arg(long, value_name = "COLUMN", value_parser = flip_arg, help_heading = "Measurement")]
+    flip: Vec<Column>,
+    /// The time column wins where a comment line states another sample rate
+    #[arg(long, help_heading = "Measurement")]
+    trust_time_column: bool,
 }
 
 impl ModelArgs {
@@ -254,6 +271,8 @@ impl MeasurementArgs {
         o.max_gap = self.max_gap;
         o.tare_load_cell = self.tare_load_cell;
         o.load_cell_lowpass_hz = self.load_cell_lowpass;
+        o.flips = self.flip;
+        o.trust_time_column = self.trust_time_column;
     }
 }
 
@@ -513,6 +532,13 @@ fn set_arg(text: &str) -> Result<(String, String), String> {
     parse_assignment(text, "--set").map_err(|e| unprefixed(e, "--set", text))
 }
 
+fn flip_arg(text: &str) -> Result<Column, String> {
+    match Column::from_name(text) {
+        Some(c @ (Column::FDamper | Column::VDamper | Column::XDamper)) => Ok(c),
+        _ => Err("F_damper, v_damper or x_damper".into()),
+    }
+}
+
 fn map_arg(text: &str) -> Result<Mapping, String> {
     Mapping::parse(text).map_err(|e| unprefixed(e, "--map", text))
 }
@@ -557,9 +583,11 @@ pub fn main(args: impl IntoIterator<Item = std::ffi::OsString>) -> i32 {
         Command::Diagnose(a) => run_diagnose(a, g),
         Command::Compare(a) => run_compare(a, g),
         Command::Generate(a) => run_generate(a, g),
-        Command::Effects => {
-            if !g.quiet {
-                print_effects();
+        Command::Effects(a) => {
+            if a.json {
+                print!("{}", effects_cmd::json());
+            } else if !g.quiet {
+                print!("{}", effects_cmd::table());
             }
             Ok(())
         }
@@ -591,20 +619,6 @@ fn usage_error(mut e: clap::Error) -> i32 {
     }
     let _ = e.print();
     e.exit_code()
-}
-
-fn print_effects() {
-    println!("{:<22}{:<30}{:<9}{:<28}meaning", "effect", "switch", "default", "parameters");
-    for e in effects() {
-        println!(
-            "{:<22}{:<30}{:<9}{:<28}{}",
-            e.key,
-            e.switch(),
-            if e.default_on() { "on" } else { "off" },
-            e.parameter_names().join(", "),
-            e.meaning
-        );
-    }
 }
 
 fn run_init(a: InitArgs, g: &Global) -> Result<(), String> {

@@ -7,6 +7,9 @@ use crate::svg::esc;
 use crate::{before_after_report, compare, json_summary, report};
 use damper_engine::criteria::{DOES_NOT_FIT_NRMSE, EXPLAINED_FACTOR, MIN_EXPLAINED, MOVED_SIGMAS};
 use damper_engine::diagnosed::Diagnosed;
+use damper_engine::diagnose::Diagnosis;
+use damper_engine::record_parts::FAR_FACTOR;
+use std::fmt::Write as _;
 use damper_engine::dsp::NoiseEstimate;
 use damper_engine::floor::Floor;
 use damper_engine::ladder::Rung;
@@ -112,6 +115,30 @@ pub fn html_section(r: &Diagnosed) -> String {
             l.nrmse_validation,
             esc(&params.join("; "))
         ));
+    }
+    h.push_str("</table>");
+    h += &parts_html(d);
+    h
+}
+
+/// The baseline's error in each part of the record against that part's floor.
+fn parts_html(d: &Diagnosis) -> String {
+    let mut h = format!(
+        "<h3>The baseline over the whole record</h3><p class=\"small\">The RMS residual of each part against the part's floor          (its white noise and the model's numerical error). A part more than {FAR_FACTOR}× its floor rules out the verdict <i>none</i>.</p>         <table><tr><th class=\"l\">part</th><th>from [s]</th><th>to [s]</th><th>RMS residual [N]</th><th>floor [N]</th><th>ratio</th></tr>"
+    );
+    for p in &d.parts {
+        let _ = write!(
+            h,
+            "<tr><td class=\"l\">{}</td><td>{:.3}</td><td>{:.3}</td><td>{:.3}</td><td>{:.3}</td><td>{}{:.2}{}</td></tr>",
+            p.name,
+            p.t_start,
+            p.t_end,
+            p.rms_residual,
+            p.rms_floor,
+            if p.ratio() > FAR_FACTOR { "<b>" } else { "" },
+            p.ratio(),
+            if p.ratio() > FAR_FACTOR { "</b>" } else { "" }
+        );
     }
     h.push_str("</table>");
     h

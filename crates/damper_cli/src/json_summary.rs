@@ -6,6 +6,7 @@ use damper_engine::candidate::Candidate;
 use damper_engine::comparison::{Comparison, ModelSetup};
 use damper_engine::diagnosed::Diagnosed;
 use damper_engine::dsp::{Metrics, NoiseEstimate};
+use damper_engine::residual_signature;
 use damper_engine::summary::{self, Summary};
 
 fn metrics(m: &Metrics) -> summary::Metrics {
@@ -98,6 +99,17 @@ pub fn compared(c: &Comparison) -> Summary {
                 band_nrmse: b.band_nrmse,
             })
             .collect(),
+        residual_signature: summary::ResidualSignature {
+            follows: a
+                .signature
+                .iter()
+                .map(|f| summary::Follows { quantity: f.quantity.key().into(), share: f.share })
+                .collect(),
+            dominant_band: a
+                .dominant_band
+                .map(|b| summary::DominantBand { f_lo_hz: b.lo_hz, f_hi_hz: b.hi_hz, share: b.share }),
+            text: residual_signature::sentence(&a.signature, a.dominant_band),
+        },
         worst_windows: a
             .worst
             .iter()
@@ -199,6 +211,18 @@ pub fn diagnosed(r: &Diagnosed) -> Summary {
                     kept: l.kept,
                 })
                 .collect(),
+            parts: d
+                .parts
+                .iter()
+                .map(|p| summary::RecordPart {
+                    part: p.name.clone(),
+                    t_start: p.t_start,
+                    t_end: p.t_end,
+                    rms_residual: p.rms_residual,
+                    rms_floor: p.rms_floor,
+                    ratio: p.ratio(),
+                })
+                .collect(),
         }),
         ..compared(&r.comparison)
     }
@@ -246,3 +270,4 @@ fn after(c: &Comparison, after: &After) -> summary::After {
             .collect(),
     }
 }
+

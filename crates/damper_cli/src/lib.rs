@@ -17,6 +17,7 @@ pub mod compare;
 pub mod describe;
 pub mod description_cmd;
 pub mod diagnose_cmd;
+pub mod effects_cmd;
 pub mod json_summary;
 pub mod report;
 pub mod svg;

@@ -3,6 +3,7 @@
 
 use crate::describe::describe_model;
 use crate::svg::{esc, Axis, Plot, Series, ACCENT, GREEN, MEASURED, MODEL, ORANGE, RESIDUAL};
+use damper_engine::residual_signature;
 use damper_engine::analysis::{lag_ms, observations, Analysis, V_REVERSAL};
 use damper_engine::comparison::Comparison;
 use damper_engine::model::Demand;
@@ -284,6 +285,7 @@ pub fn html(c: &Comparison) -> String {
         .with(Series::line(bins_x, fall, MODEL, "mean, velocity falling").width(2.2));
     hyst.zero_line = true;
     h += &hyst.svg();
+    h += &signature_section(c);
 
     // Spectrum
     h.push_str("<h2>5. Residual spectrum</h2>");
@@ -410,6 +412,28 @@ pub fn html(c: &Comparison) -> String {
          effect switched on (or refitted), its parameters fitted on the train part and scored on the validation part, ranked, with a \
          verdict and the ladder of the error as the effects are added.</p></body></html>",
     );
+    h
+}
+
+/// What the residual follows (ranked), and the residual against the stroke: a force that hangs on
+/// the position (an end stop, a bump rubber) shows there and nowhere else.
+fn signature_section(c: &Comparison) -> String {
+    let a = &c.analysis;
+    let mut h = String::from("<h3>What the residual follows</h3><p class=\"small\">Share of the residual's variance above the white noise that a function of each quantity explains (the bin means of the residual over 20 equal-width bins, less chance). The first is where to look for a missing effect.</p><table><tr><th class=\"l\">quantity</th><th>share</th></tr>");
+    for f in &a.signature {
+        let _ = write!(h, "<tr><td class=\"l\">{}</td><td>{}</td></tr>", f.quantity.name(), pct(f.share));
+    }
+    h.push_str("</table>");
+    let _ = write!(h, "<p>{}.</p>", esc(&residual_signature::sentence(&a.signature, a.dominant_band)));
+    let x = &c.prediction.x_damper;
+    let keep: Vec<bool> = c.measurement.excluded.iter().map(|e| !e).collect();
+    let (centres, means, _) = residual_signature::binned(x, &a.residual, &keep);
+    let mut plot = Plot::new("Residual vs stroke", Axis::new("x_damper [mm]"), Axis::new("residual [kN]"))
+        .size(900.0, 340.0)
+        .with(Series::points(scaled(x, 1e3), scaled(&a.residual, 1e-3), RESIDUAL, "samples"))
+        .with(Series::line(scaled(&centres, 1e3), scaled(&means, 1e-3), ACCENT, "mean in 20 stroke bins").width(2.2));
+    plot.zero_line = true;
+    h += &plot.svg();
     h
 }
 

@@ -12,11 +12,12 @@
 //!   residual test should).
 
 use crate::dsp::{
-    autocorrelation, chi2_95, cross_correlation, ljung_box, mean, metrics, noise_sigma, peak_lag, rms, smooth_rate,
-    std, welch, Metrics,
+    autocorrelation, chi2_95, cross_correlation, kept, ljung_box, mean, metrics, noise_sigma, peak_lag, rms,
+    smooth_rate, std, welch, Metrics,
 };
 use crate::measurement::Measurement;
 use crate::model::{Demand, Drive, Prediction};
+use crate::residual_signature::{self, DominantBand, Follows, Quantity};
 use crate::units::Column;
 
 /// Velocity below which the damper counts as at standstill for the direction split (m/s).
@@ -199,6 +200,10 @@ pub struct Analysis {
     /// White-noise level of the validation residual from its second differences, as an NRMSE:
     /// the floor the residual would sit at if only white sensor noise were left.
     pub noise_floor_estimate: f64,
+    /// What the force residual follows, ranked ([`residual_signature`]).
+    pub signature: Vec<Follows>,
+    /// The frequency band holding most of the residual's power above the noise.
+    pub dominant_band: Option<DominantBand>,
 }
 
 impl Analysis {
@@ -210,7 +215,7 @@ impl Analysis {
 /// Signals compared, in report order, and the model signal each is compared with.
 pub fn compared_columns(m: &Measurement, drive: &Drive) -> Vec<Column> {
     let mut cols = vec![Column::FDamper];
-    for c in [Column::XSpool, Column::ISol, Column::PExt, Column::PComp] {
+    for c in [Column::XDamper, Column::XSpool, Column::ISol, Column::PExt, Column::PComp] {
         if m.has(c) {
             cols.push(c);
         }
@@ -260,12 +265,16 @@ pub fn analyse(m: &Measurement, drive: &Drive, p: &Prediction, split: usize) -> 
         if c == Column::FDamper {
             lag_curve = curve;
         }
-        fits.push(SignalFit {
-            column: c,
-            train: metrics(&y[..split], &yhat[..split]),
-            validation: metrics(&y[split..], &yhat[split..]),
-            lag,
-        });
+        // the force's scores leave out what the record's checks exclude (a clipped channel)
+        let score = |range: std::ops::Range<usize>| {
+            if c == Column::FDamper && m.excluded[range.clone()].iter().any(|&e| e) {
+                let keep: Vec<bool> = m.excluded[range.clone()].iter().map(|e| !e).collect();
+                metrics(&kept(&y[range.clone()], &keep), &kept(&yhat[range], &keep))
+            } else {
+                metrics(&y[range.clone()], &yhat[range])
+            }
+        };
+        fits.push(SignalFit { column: c, train: score(0..split), validation: score(split..n), lag });
     }
 
     let y = m.get(Column::FDamper).expect("F_damper");
@@ -340,7 +349,7 @@ pub fn analyse(m: &Measurement, drive: &Drive, p: &Prediction, split: usize) -> 
     let total: f64 = psd_residual.iter().sum::<f64>() * df;
     let mut edges: Vec<f64> = FREQUENCY_BANDS.iter().copied().filter(|&f| f < fs / 2.0).collect();
     edges.push(fs / 2.0 + df);
-    let bands = edges
+    let bands: Vec<Band> = edges
         .windows(2)
         .map(|w| {
             let sel = |p: &[f64]| {
@@ -504,6 +513,7 @@ pub fn analyse(m: &Measurement, drive: &Drive, p: &Prediction, split: usize) -> 
     let reversal_jump = (!jumps.is_empty()).then(|| mean(&jumps));
 
     let noise_floor_estimate = noise_sigma(rv) / std(&y[split..]);
+    let (signature, dominant_band) = signature_of(m, drive, p, &r, &force_rate, &bands, fs);
 
     Analysis {
         samples: n,
@@ -527,7 +537,36 @@ pub fn analyse(m: &Measurement, drive: &Drive, p: &Prediction, split: usize) -> 
         velocity_bins,
         reversal_jump,
         noise_floor_estimate,
+        signature,
+        dominant_band,
     }
+}
+
+/// What the force residual `r` follows over the whole record ([`residual_signature`]).
+fn signature_of(
+    m: &Measurement,
+    drive: &Drive,
+    p: &Prediction,
+    r: &[f64],
+    force_rate: &[f64],
+    bands: &[Band],
+    fs: f64,
+) -> (Vec<Follows>, Option<DominantBand>) {
+    let keep: Vec<bool> = m.excluded.iter().map(|e| !e).collect();
+    let sigma = noise_sigma(r);
+    let mut series: Vec<(Quantity, &[f64])> = vec![
+        (Quantity::Stroke, &p.x_damper),
+        (Quantity::Velocity, &drive.v_damper),
+        (Quantity::Force, &p.f_damper),
+        (Quantity::ForceRate, force_rate),
+        (Quantity::Time, &m.time),
+    ];
+    if let Some(t_oil) = &drive.t_oil {
+        series.push((Quantity::Temperature, t_oil));
+    }
+    // the bands' power: mean squares (N²), as the Welch density summed over each band
+    let powers: Vec<(f64, f64, f64)> = bands.iter().map(|b| (b.lo, b.hi, b.residual_rms * b.residual_rms)).collect();
+    (residual_signature::rank(&series, r, &keep, sigma), residual_signature::dominant_band(&powers, sigma, fs))
 }
 
 fn band_name(what: &str, lo: f64, hi: f64, scale: f64, unit: &str) -> String {

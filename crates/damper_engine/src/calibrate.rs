@@ -17,7 +17,6 @@
 use crate::comparison::{build_model, CompareOptions, ANALYSIS_RTOL};
 use crate::dsp::{noise_sigma, nrmse, std};
 use crate::lm::{self, Bound, Solution};
-use crate::measurement::Measurement;
 use crate::model::{thread_pool, Backend, Drive, Model};
 use crate::parameters::{changed_parameters, get_real, lookup, set_real, Param, Value};
 use crate::units::Column;
@@ -261,6 +260,8 @@ pub struct Calibration {
 struct Record {
     path: String,
     measured: Vec<f64>,
+    /// Per sample: scored (not left out by the record's checks, e.g. a clipped force).
+    kept: Vec<bool>,
     drive: Drive,
     model: Model,
     backend: Arc<dyn Backend>,
@@ -275,13 +276,14 @@ fn read_records(o: &CalibrateOptions) -> Result<Vec<Record>, String> {
         .map(|path| {
             let c =
                 CompareOptions { measurement: path.clone(), rtol_at_most: Some(ANALYSIS_RTOL), ..o.compare.clone() };
-            let m = Measurement::read(path, &c.maps, c.max_gap)?;
+            let m = crate::comparison::read_checked(&c, path)?;
             // calibration fits the whole record: no validation part of its own
             crate::record_checks::check(&m, 0)?;
             let measured = m.get(Column::FDamper).ok_or_else(|| format!("{}: no F_damper column", m.path))?.to_vec();
             let drive = Drive::from_measurement(&m);
             let setup = build_model(&c, &drive)?;
-            Ok(Record { path: m.path.clone(), measured, drive, model: setup.model, backend: setup.backend })
+            let kept = m.excluded.iter().map(|e| !e).collect();
+            Ok(Record { path: m.path.clone(), measured, kept, drive, model: setup.model, backend: setup.backend })
         })
         .collect()
 }
@@ -379,6 +381,7 @@ pub fn calibrate(o: &CalibrateOptions, progress: &(dyn Fn(&Round) + Sync)) -> Re
     let scales: Vec<Bound> =
         names.iter().zip(&starts).map(|(n, &s)| search_box(n, s, &base)).collect::<Result<_, _>>()?;
     let measured: Vec<f64> = records.iter().flat_map(|r| r.measured.iter().copied()).collect();
+    let kept: Vec<bool> = records.iter().flat_map(|r| r.kept.iter().copied()).collect();
     let before = forces(&records, &[], &[])?;
 
     let mut x = starts.clone();
@@ -397,7 +400,7 @@ pub fn calibrate(o: &CalibrateOptions, progress: &(dyn Fn(&Round) + Sync)) -> Re
             all_names.extend(&active_names);
             all_x.extend(y);
             let f = forces(&records, &all_names, &all_x)?;
-            Ok(f.iter().flatten().zip(&measured).map(|(m, y)| m - y).collect())
+            Ok(f.iter().flatten().zip(&measured).zip(&kept).filter(|(_, k)| **k).map(|((m, y), _)| m - y).collect())
         };
         let x0: Vec<f64> = active.iter().map(|&i| x[i]).collect();
         let sc: Vec<Bound> = active.iter().map(|&i| scales[i]).collect();

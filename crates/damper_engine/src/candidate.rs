@@ -37,12 +37,14 @@ pub fn catalog() -> impl Iterator<Item = &'static EffectInfo> {
 
 /// The effects a diagnosis tries on a model `baseline` and a record with or without a temperature
 /// column ([`Candidacy`]): every effect that may be missing, the damper's own passive valves where
-/// it has them, the temperature's effect where the record measures it.
+/// it has them, the temperature's effect where the record measures it, the controlled valve's
+/// effects where the valve is controlled.
 pub fn candidates(baseline: &Parameters, has_temperature: bool) -> impl Iterator<Item = &'static EffectInfo> + '_ {
     catalog().filter(move |e| match e.candidacy {
         Candidacy::Always => true,
         Candidacy::WhenOn => effect_on(baseline, e.key).unwrap_or(false),
         Candidacy::WithTemperature => has_temperature,
+        Candidacy::Controlled => baseline.control_mode != 2,
     })
 }
 

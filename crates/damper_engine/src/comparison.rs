@@ -47,6 +47,10 @@ pub struct CompareOptions {
     pub max_gap: usize,
     /// The model's `rtol` at most this, unless `--set rtol=…` (diagnose and calibrate: [`ANALYSIS_RTOL`]).
     pub rtol_at_most: Option<f64>,
+    /// Columns negated as they are read (`--flip`): a logger's other sign convention.
+    pub flips: Vec<Column>,
+    /// The time column wins over a sample rate the logger states in a comment (`--trust-time-column`).
+    pub trust_time_column: bool,
 }
 
 /// The tolerance `diagnose` and `calibrate` run the model at, unless the user sets one: the FMU's
@@ -72,6 +76,8 @@ impl CompareOptions {
             skip: Vec::new(),
             max_gap: DEFAULT_MAX_GAP,
             rtol_at_most: None,
+            flips: Vec::new(),
+            trust_time_column: false,
         }
     }
 }
@@ -203,7 +209,7 @@ pub struct Comparison {
 
 /// Reads, runs and analyses (no files written).
 pub fn compare(opts: &CompareOptions) -> Result<Comparison, String> {
-    let m = Measurement::read(&opts.measurement, &opts.maps, opts.max_gap)?;
+    let m = read_checked(opts, &opts.measurement)?;
     let split = split_index(&m, opts.split)?;
     crate::record_checks::check(&m, split)?;
     let drive = Drive::from_measurement(&m);
@@ -220,6 +226,17 @@ pub fn compare(opts: &CompareOptions) -> Result<Comparison, String> {
         warnings.push(w);
     }
     Ok(Comparison { options: opts.clone(), measurement: m, drive, setup, prediction, analysis, run_seconds, warnings })
+}
+
+/// Reads a record with the options' columns, flips and gaps, and checks its traps
+/// ([`crate::record_traps`]): the samples a clipped force leaves out are marked in `excluded`, the
+/// warnings added to its notes.
+pub fn read_checked(opts: &CompareOptions, path: &std::path::Path) -> Result<Measurement, String> {
+    let mut m = Measurement::read_flipped(path, &opts.maps, opts.max_gap, &opts.flips)?;
+    let findings = crate::record_traps::check(&m, opts.trust_time_column)?;
+    m.excluded = findings.excluded;
+    m.notes.extend(findings.warnings);
+    Ok(m)
 }
 
 /// If the record starts at rest and the measured and modelled forces there differ by the gas

@@ -15,6 +15,7 @@ use crate::candidate::{Candidate, FitSetup};
 use crate::dsp::nrmse_kept;
 use crate::floor::{floor, Numerics};
 use crate::ladder::{climb, Ladder};
+use crate::record_parts::{self, Part};
 use crate::verdict::{judge, Judged};
 use semi_active_damper::effects::EffectInfo;
 use semi_active_damper::physics::params::Parameters;
@@ -36,13 +37,16 @@ pub struct Diagnosis {
     /// The answer: the effects the model lacks, in the ladder's order (verdict `effect`), or
     /// those that explain part of the error (verdict `partial`); else none.
     pub effects: Vec<&'static str>,
+    /// The baseline's error in each part of the record against that part's floor.
+    pub parts: Vec<Part>,
 }
 
-/// Runs the diagnosis over `specs` (usually the whole [`catalog`](crate::candidate::catalog)) with
+/// Runs the diagnosis of a record sampled at `time` over `specs` (usually the whole [`catalog`](crate::candidate::catalog)) with
 /// the model, data and thread pool of `fit`, from the `baseline` parameters whose force over the
 /// measurement is `numerics.base` (the comparison has it already), over the samples
 /// `fit.informative` keeps.
 pub fn diagnose(
+    time: &[f64],
     fit: &FitSetup<'_>,
     specs: &[&'static EffectInfo],
     baseline: &Parameters,
@@ -60,8 +64,9 @@ pub fn diagnose(
     let errors = (nrmse_baseline, floor.nrmse);
     let candidates = fit.all(specs, baseline, errors)?;
     let ladder = climb(fit, specs, baseline, &candidates, errors)?;
-    let Judged { verdict, best_effect, explanation, ladder, effects } =
-        judge(nrmse_baseline, &floor, &candidates, ladder)?;
+    let judged = judge(nrmse_baseline, &floor, &candidates, ladder)?;
+    let parts = record_parts::parts(time, measured, numerics.base, numerics.base_check, split, &informative.keep);
+    let Judged { verdict, best_effect, explanation, ladder, effects } = whole_record(judged, &parts);
     Ok(Diagnosis {
         verdict,
         best_effect,
@@ -72,5 +77,25 @@ pub fn diagnose(
         explanation,
         ladder,
         effects,
+        parts,
     })
+}
+
+/// No `none` while a part of the record is far above its floor ([`record_parts`]): the verdict
+/// becomes `unexplained`, naming the part.
+fn whole_record(judged: Judged, parts: &[Part]) -> Judged {
+    let Some(far) = record_parts::far_above_floor(parts).filter(|_| judged.verdict == "none") else {
+        return judged;
+    };
+    let explanation = format!(
+        "{}; but not over the whole record: {} ({:.2}–{:.2} s) is {:.1}× its floor (RMS residual {:.3} N against {:.3} N). The error lies where the validation part does not reach: diagnose with a --split whose validation part covers it, or cut the record there.",
+        judged.explanation,
+        far.name,
+        far.t_start,
+        far.t_end,
+        far.ratio(),
+        far.rms_residual,
+        far.rms_floor
+    );
+    Judged { verdict: "unexplained", explanation, ..judged }
 }

@@ -9,6 +9,7 @@ use crate::diagnose::{diagnose, Diagnosis};
 use crate::dsp::noise_sigma;
 use crate::floor::Numerics;
 use crate::model::{force_simulator, thread_pool, Drive};
+use crate::residual_signature;
 use crate::rng::Rng;
 use crate::sensitivity::{informative, velocity_resolution, SENSITIVITY_SEEDS};
 use crate::units::Column;
@@ -63,7 +64,11 @@ pub fn diagnose_measurement(
     });
     let base = &c.prediction.f_damper;
     let residual: Vec<f64> = base.iter().zip(&measured).map(|(m, y)| m - y).collect();
-    let informative = informative(base, &plus?, &minus?, delta_v, noise_sigma(&residual));
+    let mut informative = informative(base, &plus?, &minus?, delta_v, noise_sigma(&residual));
+    // the samples the record's checks leave out (a clipped force)
+    for (keep, excluded) in informative.keep.iter_mut().zip(&c.measurement.excluded) {
+        *keep &= !excluded;
+    }
     let fit = FitSetup {
         simulate: &simulate,
         measured: &measured,
@@ -75,11 +80,17 @@ pub fn diagnose_measurement(
         progress,
     };
     let numerics = Numerics { base, base_check: &base_check?, rtol: baseline.rtol, rtol_check: check.rtol };
-    let d = diagnose(&fit, &candidates, &baseline, &numerics)?;
+    let mut d = diagnose(&c.measurement.time, &fit, &candidates, &baseline, &numerics)?;
     drop(simulate);
     let after = match d.effects.as_slice() {
         [] => None,
         effects => Some(before_after::after(&c, effects, d.ladder.params)?),
     };
+    // what is left unexplained, and what it follows: where to look for the effect to write
+    if matches!(d.verdict, "unexplained" | "partial" | "does_not_fit") {
+        let left = after.as_ref().map_or(&c.analysis, |a| &a.analysis);
+        let follows = residual_signature::sentence(&left.signature, left.dominant_band);
+        d.explanation = format!("{}. What is left: {follows}.", d.explanation.trim_end_matches('.'));
+    }
     Ok(Diagnosed { comparison: c, diagnosis: d, after })
 }

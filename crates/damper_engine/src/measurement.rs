@@ -102,6 +102,13 @@ pub struct Measurement {
     pub velocity_from_displacement: bool,
     /// Things the reader decided that the user should know.
     pub notes: Vec<String>,
+    /// The `#` comment lines: (line, text after the `#`), for what a logger states (a sample rate).
+    pub comments: Vec<(usize, String)>,
+    /// Samples left out of every score and fit (a force channel flat at its rail), with why.
+    pub excluded: Vec<bool>,
+    /// The stroke at the first sample (m) where the record measures the displacement: its first
+    /// sample, or where the velocity fused with it starts ([`crate::stroke`]).
+    pub x_start: Option<f64>,
 }
 
 impl Measurement {
@@ -139,13 +146,42 @@ impl Measurement {
 
     /// Reads and checks a measurement CSV; gaps of up to `max_gap` missing samples are bridged.
     pub fn read(path: &Path, maps: &[Mapping], max_gap: usize) -> Result<Measurement, String> {
+        Measurement::read_flipped(path, maps, max_gap, &[])
+    }
+
+    /// [`Measurement::read`] with the columns `flips` negated (`--flip`: a logger's other sign
+    /// convention; the velocity and the displacement together, as they describe one motion).
+    pub fn read_flipped(
+        path: &Path,
+        maps: &[Mapping],
+        max_gap: usize,
+        flips: &[Column],
+    ) -> Result<Measurement, String> {
         let bytes = std::fs::read(path).map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
-        Measurement::parse(&path.display().to_string(), &bytes, maps, max_gap)
+        Measurement::parse_flipped(&path.display().to_string(), &bytes, maps, max_gap, flips)
     }
 
     /// Parses CSV bytes; `name` is used in messages.
     pub fn parse(name: &str, bytes: &[u8], maps: &[Mapping], max_gap: usize) -> Result<Measurement, String> {
+        Measurement::parse_flipped(name, bytes, maps, max_gap, &[])
+    }
+
+    /// [`Measurement::parse`] with the columns `flips` negated (see [`Measurement::read_flipped`]).
+    pub fn parse_flipped(
+        name: &str,
+        bytes: &[u8],
+        maps: &[Mapping],
+        max_gap: usize,
+        flips: &[Column],
+    ) -> Result<Measurement, String> {
         let bytes = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
+        let comments: Vec<(usize, String)> = bytes
+            .split(|&b| b == b'\n')
+            .enumerate()
+            .filter_map(|(i, l)| {
+                l.trim_ascii().strip_prefix(b"#").map(|c| (i + 1, String::from_utf8_lossy(c).trim().to_string()))
+            })
+            .collect();
         let table = Table::read(name, bytes)?;
         let header_line = table.header_line;
         let cells = &table.header;
@@ -343,6 +379,25 @@ impl Measurement {
             }
         }
 
+        for &c in flips {
+            let motion = [Column::VDamper, Column::XDamper];
+            let negated: Vec<Column> = if motion.contains(&c) { motion.to_vec() } else { vec![c] };
+            let mut done = Vec::new();
+            for column in negated {
+                if let Some(x) = data.get_mut(&column) {
+                    x.iter_mut().for_each(|v| *v = -*v);
+                    done.push(column.name());
+                }
+            }
+            if done.is_empty() {
+                return Err(format!("{name}: --flip {}: the file has no such column", c.name()));
+            }
+            notes.push(format!(
+                "{} negated (--flip {}): the file's sign convention is the other one",
+                done.join(" and "),
+                c.name()
+            ));
+        }
         let mut velocity_from_displacement = false;
         if !data.contains_key(&Column::VDamper) {
             let v = differentiate(&time, &data[&Column::XDamper]);
@@ -375,25 +430,7 @@ impl Measurement {
             None => (time, lines),
         };
 
-        if let (false, Some(v), Some(x)) =
-            (velocity_from_displacement, data.get(&Column::VDamper), data.get(&Column::XDamper))
-        {
-            let fused = crate::stroke::velocity_following_displacement(&time, v, x).map_err(|e| {
-                format!(
-                    "{name}: columns {} (v_damper) and {} (x_damper): {e}",
-                    chosen[&Column::VDamper].index,
-                    chosen[&Column::XDamper].index
-                )
-            })?;
-            notes.push(format!(
-                "v_damper fused with x_damper: below {:.1} Hz (where their noise spectra cross) the motion is the \
-                 displacement's, above it the velocity sensor's; the velocity's integral had drifted from x_damper \
-                 by up to {:.3} mm",
-                fused.crossover_hz,
-                fused.largest_correction * 1e3
-            ));
-            data.insert(Column::VDamper, fused.v);
-        }
+        // a noisy velocity smoothed, then made to follow a measured displacement
         if let Some(v) = data.get_mut(&Column::VDamper) {
             let sigma = crate::stroke::white_noise(v);
             if sigma > SMOOTHED_VELOCITY_NOISE {
@@ -407,8 +444,28 @@ impl Measurement {
                 ));
             }
         }
+        let mut x_start = data.get(&Column::XDamper).map(|x| x[0]);
+        if let (Some(v), Some(x)) = (data.get(&Column::VDamper), data.get(&Column::XDamper)) {
+            let fused = crate::stroke::velocity_following_displacement(&time, v, x).map_err(|e| {
+                let v_column =
+                    chosen.get(&Column::VDamper).map_or("derived".to_string(), |c| format!("column {}", c.index));
+                format!("{name}: v_damper ({v_column}) and x_damper (column {}): {e}", chosen[&Column::XDamper].index)
+            })?;
+            if !velocity_from_displacement {
+                notes.push(format!(
+                    "v_damper fused with x_damper: below {:.1} Hz (where their noise spectra cross) the motion is the \
+                     displacement's, above it the velocity sensor's; the velocity's integral had drifted from x_damper \
+                     by up to {:.3} mm",
+                    fused.crossover_hz,
+                    fused.largest_correction * 1e3
+                ));
+            }
+            x_start = Some(fused.start);
+            data.insert(Column::VDamper, fused.v);
+        }
         let mut sources: Vec<ColumnSource> = chosen.into_values().collect();
         sources.sort_by_key(|s| s.index);
+        let excluded = vec![false; time.len()];
         Ok(Measurement {
             path: name.to_string(),
             time,
@@ -418,6 +475,9 @@ impl Measurement {
             ignored,
             velocity_from_displacement,
             notes,
+            comments,
+            excluded,
+            x_start,
         })
     }
 }

@@ -62,7 +62,7 @@ impl Drive {
             v_damper: m.get(Column::VDamper).expect("checked").to_vec(),
             demand,
             t_oil: m.get(Column::TOil).map(<[f64]>::to_vec),
-            x_damper_start: m.get(Column::XDamper).map(|x| x[0]),
+            x_damper_start: m.x_start,
         }
     }
 

@@ -194,6 +194,7 @@ pub fn distance(a: &str, b: &str) -> usize {
 }
 
 pub use semi_active_damper::effects::EffectInfo as Effect;
+pub use semi_active_damper::effects::{Candidacy, FittedParameter, Start};
 
 /// What the command line needs of an effect beyond its [`Effect`] description.
 pub trait EffectExt {

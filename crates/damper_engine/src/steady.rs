@@ -82,7 +82,7 @@ fn drop_for(flow: impl Fn(f64) -> f64, target: f64) -> Option<f64> {
 /// velocity, stroke and temperature; None where no pressure drop passes the flow.
 pub fn steady_force(p: &Parameters, d: &Derived, pt: &SteadyPoint) -> Option<f64> {
     let cyl = &d.cylinder;
-    let plant = Plant { p, d, v_damper: 0.0, i_command: 0.0, t_oil: pt.t_oil };
+    let plant = Plant { p, d, v_damper: 0.0, i_command: 0.0, t_oil: pt.t_oil, a_damper: 0.0 };
     let p_r = plant.rest_state(pt.x, p.x_spool_start)[0];
     let mu = if p.effect_oil_temperature { viscosity_ratio(p.visc_temp_coeff, pt.t_oil, p.t_ref) } else { 1.0 };
     let orifice = |cd: f64, area: f64, dp: f64| orifice_flow(cd, area, dp, p.rho, p.p_transition);

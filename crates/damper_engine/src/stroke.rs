@@ -37,6 +37,9 @@ pub fn white_noise(x: &[f64]) -> f64 {
 #[derive(Clone, Debug)]
 pub struct Fused {
     pub v: Vec<f64>,
+    /// The stroke the model starts at (m): x[0] plus the smoothed disagreement there, so that the
+    /// integral of `v` from it follows x.
+    pub start: f64,
     pub crossover_hz: f64,
     pub largest_correction: f64,
 }
@@ -106,6 +109,7 @@ pub fn velocity_following_displacement(t: &[f64], v: &[f64], x: &[f64]) -> Resul
     let rate = crate::dsp::differentiate(t, &smooth);
     Ok(Fused {
         v: v.iter().zip(&rate).map(|(v, r)| v + r).collect(),
+        start: x[0] + smooth[0],
         crossover_hz: crossover,
         largest_correction: slow.iter().fold(0.0f64, |a, s| a.max(s.abs())),
     })
@@ -126,8 +130,15 @@ mod tests {
         let v: Vec<f64> = t.iter().map(|&t| 0.02 * w * libm::cos(w * t) + 2e-3).collect();
         let fused = velocity_following_displacement(&t, &v, &x).unwrap();
         let (corrected, largest) = (fused.v, fused.largest_correction);
+        let mut worst = 0.0f64;
+        let mut stroke = fused.start;
+        for k in 1..t.len() {
+            stroke += 0.5 * (corrected[k] + corrected[k - 1]) * dt;
+            worst = worst.max((stroke - x[k]).abs());
+        }
+        assert!(worst < 1e-4, "from its start, the corrected stroke is {worst} m off");
         assert!((largest - 0.04).abs() < 2e-3, "{largest}");
-        let mut stroke = x[0];
+        let mut stroke = fused.start;
         let mut worst = 0.0f64;
         for k in 1..t.len() {
             stroke += 0.5 * (corrected[k] + corrected[k - 1]) * dt;

@@ -80,6 +80,8 @@ pub struct Summary {
     pub regimes: Vec<Regime>,
     /// The F_damper residual by frequency band (validation part).
     pub frequency_bands: Vec<Band>,
+    /// What the F_damper residual follows (whole record).
+    pub residual_signature: ResidualSignature,
     /// The windows with the largest F_damper residual, worst first.
     pub worst_windows: Vec<Window>,
     /// Lag between the measured and the modelled F_damper.
@@ -197,6 +199,40 @@ pub struct Regime {
     /// error_share / time_share (1): above 1 the error concentrates there.
     #[serde(deserialize_with = "nan_if_null")]
     pub concentration: f64,
+}
+
+/// What the F_damper residual follows ([`crate::residual_signature`]).
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct ResidualSignature {
+    /// Stroke, velocity, force, force rate, time (and oil temperature when measured), ranked by
+    /// the share of the residual's variance above the noise that a function of each explains.
+    pub follows: Vec<Follows>,
+    /// The frequency band with the most residual power above the noise; null when none is above it.
+    pub dominant_band: Option<DominantBand>,
+    /// The same in one sentence.
+    pub text: String,
+}
+
+/// One quantity of [`ResidualSignature::follows`].
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Follows {
+    /// `stroke`, `velocity`, `force`, `force_rate`, `temperature` or `time`.
+    pub quantity: String,
+    /// Share of the residual's variance above the noise (1).
+    #[serde(deserialize_with = "nan_if_null")]
+    pub share: f64,
+}
+
+/// [`ResidualSignature::dominant_band`].
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct DominantBand {
+    #[serde(deserialize_with = "nan_if_null")]
+    pub f_lo_hz: f64,
+    #[serde(deserialize_with = "nan_if_null")]
+    pub f_hi_hz: f64,
+    /// Share of the residual's power above the noise in the band (1).
+    #[serde(deserialize_with = "nan_if_null")]
+    pub share: f64,
 }
 
 /// The F_damper residual in one frequency band.
@@ -379,6 +415,28 @@ pub struct Diagnosis {
     pub explanation: String,
     /// The validation NRMSE as effects are added one at a time, baseline first.
     pub ladder: Vec<Rung>,
+    /// The baseline's error in each part of the record against that part's floor.
+    pub parts: Vec<RecordPart>,
+}
+
+/// One part of the record ([`crate::record_parts`]).
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct RecordPart {
+    /// `train`, `validation` or `block k of 5`.
+    pub part: String,
+    #[serde(deserialize_with = "nan_if_null")]
+    pub t_start: f64,
+    #[serde(deserialize_with = "nan_if_null")]
+    pub t_end: f64,
+    /// RMS of the baseline's residual over the part (N).
+    #[serde(deserialize_with = "nan_if_null")]
+    pub rms_residual: f64,
+    /// The part's floor (N).
+    #[serde(deserialize_with = "nan_if_null")]
+    pub rms_floor: f64,
+    /// `rms_residual / rms_floor` (1).
+    #[serde(deserialize_with = "nan_if_null")]
+    pub ratio: f64,
 }
 
 /// The floor of the validation NRMSE: sensor noise and the model's numerical error.

@@ -1,0 +1,273 @@
+//! The traps of real records, checked before a model run, each with a clear message: the force's
+//! sign convention, a channel flat at its amplifier's rail, a logger's stated sample rate that the
+//! time column contradicts, and a load-cell zero that drifts. A reversed sign, a clipped input and
+//! a contradicted rate stop the run (the comparison would be meaningless); a clipped force leaves
+//! its samples out of every score and fit; a drift is reported.
+
+use crate::dsp::{mean, std};
+use crate::measurement::Measurement;
+use crate::units::Column;
+
+/// The correlation of force and velocity below which the sign convention is reversed: a damper's
+/// force opposes its motion (tension + when extending), so the two rise together.
+pub const MIN_SIGN_CORRELATION: f64 = -0.2;
+/// A plateau at a channel's extreme this long or longer (samples) may be a rail.
+pub const MIN_RAIL_RUN: usize = 5;
+/// ... and is one when the slope it arrived with, held for half the plateau, would have gone this
+/// share of the channel's range beyond it (a smooth peak arrives flat).
+pub const RAIL_OVERSHOOT: f64 = 0.05;
+/// Samples left out on each side of a clipped stretch (the amplifier's recovery).
+pub const RAIL_MARGIN: usize = 3;
+/// A stated sample rate that differs from the time column's by more than this share contradicts it.
+pub const RATE_TOLERANCE: f64 = 0.01;
+/// Rests (|v| below this, m/s, or 2 % of the largest |v|) at least this long (s) measure the
+/// force's zero.
+pub const REST_VELOCITY: f64 = 2e-3;
+pub const MIN_REST: f64 = 0.05;
+/// A drift of the force at rest over the record beyond this many noise sigmas is reported.
+pub const DRIFT_SIGMAS: f64 = 5.0;
+
+/// What the checks leave out and report.
+#[derive(Clone, Debug, Default)]
+pub struct Findings {
+    pub warnings: Vec<String>,
+    /// Per sample: left out of scores and fits.
+    pub excluded: Vec<bool>,
+}
+
+/// Checks `m`; `trust_time`: the time column wins over a stated sample rate.
+pub fn check(m: &Measurement, trust_time: bool) -> Result<Findings, String> {
+    let mut f = Findings { warnings: Vec::new(), excluded: vec![false; m.len()] };
+    if !trust_time {
+        stated_rate(m)?;
+    }
+    for c in [Column::VDamper, Column::XDamper] {
+        if let Some((start, end)) = m.get(c).and_then(|x| rails(x).into_iter().next()) {
+            return Err(format!(
+                "{}, lines {}–{}: {} ({}) sits flat at its extreme {} for {} samples: the channel is clipped at its \
+                 amplifier's rail, and the model cannot be driven by a motion it does not know; cut the record there, \
+                 or re-range the transducer",
+                m.path,
+                m.lines[start],
+                m.lines[end - 1],
+                c.name(),
+                m.describe_column(c),
+                m.get(c).expect("checked")[start],
+                end - start
+            ));
+        }
+    }
+    if let Some(y) = m.get(Column::FDamper) {
+        for (start, end) in rails(y) {
+            let (a, b) = (start.saturating_sub(RAIL_MARGIN), (end + RAIL_MARGIN).min(m.len()));
+            f.excluded[a..b].iter_mut().for_each(|e| *e = true);
+            f.warnings.push(format!(
+                "F_damper ({}) sits flat at {} N, its extreme, at lines {}–{} ({} samples): clipped at the load cell's \
+                 rail; those samples (±{RAIL_MARGIN}) are left out of every score and fit",
+                m.describe_column(Column::FDamper),
+                y[start],
+                m.lines[start],
+                m.lines[end - 1],
+                end - start
+            ));
+        }
+    }
+    sign_convention(m, &f.excluded)?;
+    if let Some(w) = drifting_zero(m) {
+        f.warnings.push(w);
+    }
+    Ok(f)
+}
+
+/// The stretches [start, end) where `x` sits at its global maximum or minimum for
+/// [`MIN_RAIL_RUN`] samples or more, having arrived there with a slope that would have carried
+/// it [`RAIL_OVERSHOOT`] of the range further (a clipped channel, not a smooth peak).
+pub fn rails(x: &[f64]) -> Vec<(usize, usize)> {
+    let (lo, hi) = x.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| (a.min(v), b.max(v)));
+    let range = hi - lo;
+    let mut out = Vec::new();
+    if range.is_nan() || range <= 0.0 {
+        return out;
+    }
+    let mut k = 0;
+    while k < x.len() {
+        if x[k] != hi && x[k] != lo {
+            k += 1;
+            continue;
+        }
+        let start = k;
+        while k < x.len() && x[k] == x[start] {
+            k += 1;
+        }
+        let run = k - start;
+        if run < MIN_RAIL_RUN {
+            continue;
+        }
+        // the slope it arrived (or left) with, over three samples
+        let arriving = if start >= 3 { (x[start] - x[start - 3]).abs() / 3.0 } else { 0.0 };
+        let leaving = if k + 3 <= x.len() { (x[k + 2] - x[k - 1]).abs() / 3.0 } else { 0.0 };
+        if arriving.max(leaving) * run as f64 / 2.0 > RAIL_OVERSHOOT * range {
+            out.push((start, k));
+        }
+    }
+    out
+}
+
+/// A damper's force opposes its motion: refuses a record whose force falls as the velocity rises.
+fn sign_convention(m: &Measurement, excluded: &[bool]) -> Result<(), String> {
+    let (Some(y), Some(v)) = (m.get(Column::FDamper), m.get(Column::VDamper)) else { return Ok(()) };
+    let largest = v.iter().fold(0.0f64, |a, x| a.max(x.abs()));
+    let moving: Vec<usize> = (0..v.len()).filter(|&k| !excluded[k] && v[k].abs() > 0.05 * largest).collect();
+    if moving.len() < 20 {
+        return Ok(());
+    }
+    let (fy, fv): (Vec<f64>, Vec<f64>) = moving.iter().map(|&k| (y[k], v[k])).unzip();
+    let (my, mv) = (mean(&fy), mean(&fv));
+    let cov = fy.iter().zip(&fv).map(|(a, b)| (a - my) * (b - mv)).sum::<f64>() / fy.len() as f64;
+    let corr = cov / (std(&fy) * std(&fv)).max(1e-300);
+    if corr < MIN_SIGN_CORRELATION {
+        return Err(format!(
+            "{}: the force falls as the velocity rises (correlation {corr:+.2} of {} and {} where the damper moves): a \
+             damper's force opposes its motion, tension positive when extending. One of the two is written with the \
+             other sign convention (compression positive): give --flip F_damper, or --flip v_damper if the velocity \
+             (or --flip x_damper the displacement) is the one that counts compression positive",
+            m.path,
+            m.describe_column(Column::FDamper),
+            m.describe_column(Column::VDamper)
+        ));
+    }
+    Ok(())
+}
+
+/// A sample rate a logger states in a comment line (`# Sample rate: 500 Hz`, `# fs = 2 kHz`): the
+/// line and the rate (Hz).
+pub fn stated_rate_of(comments: &[(usize, String)]) -> Option<(usize, f64)> {
+    for (line, text) in comments {
+        let lower = text.to_ascii_lowercase();
+        let Some(at) = ["sample rate", "sampling rate", "sample frequency", "sampling frequency", "samplerate", "fs"]
+            .iter()
+            .find_map(|key| lower.find(key).map(|i| i + key.len()))
+        else {
+            continue;
+        };
+        let rest = lower[at..].trim_start_matches(|c: char| c == ':' || c == '=' || c.is_whitespace());
+        let number: String = rest.chars().take_while(|c| c.is_ascii_digit() || *c == '.').collect();
+        let Ok(value) = number.parse::<f64>() else { continue };
+        let unit = rest[number.len()..].trim_start();
+        let factor = if unit.starts_with("khz") {
+            1e3
+        } else if unit.starts_with("hz") || unit.is_empty() {
+            1.0
+        } else {
+            continue;
+        };
+        return Some((*line, value * factor));
+    }
+    None
+}
+
+fn stated_rate(m: &Measurement) -> Result<(), String> {
+    let Some((line, stated)) = stated_rate_of(&m.comments) else { return Ok(()) };
+    let measured = 1.0 / m.median_interval();
+    if (stated - measured).abs() > RATE_TOLERANCE * measured {
+        return Err(format!(
+            "{}, line {line}: the logger states a sample rate of {stated} Hz, but the time column's median interval gives \
+             {measured:.4} Hz: one of them is wrong (a logger set to one rate and writing at another, or a time column \
+             in another unit). If the time column is right, give --trust-time-column; if the stated rate is, fix the \
+             time column's unit (e.g. 'time [ms]' or --map)",
+            m.path
+        ));
+    }
+    Ok(())
+}
+
+/// The force at rest drifting over the record beyond what the gas force's change with the stroke
+/// gives: the rests' mean forces fitted by a + b·t + c·x (c: the gas spring, linear over the rests'
+/// strokes, where they spread over a millimetre); reported when the drift b·T is above
+/// [`DRIFT_SIGMAS`] of the force's noise.
+fn drifting_zero(m: &Measurement) -> Option<String> {
+    let (y, v) = (m.get(Column::FDamper)?, m.get(Column::VDamper)?);
+    let t = &m.time;
+    let largest = v.iter().fold(0.0f64, |a, x| a.max(x.abs()));
+    let threshold = REST_VELOCITY.max(0.02 * largest);
+    let mut x = 0.0;
+    let mut stroke = vec![0.0; v.len()];
+    for k in 1..v.len() {
+        x += 0.5 * (v[k] + v[k - 1]) * (t[k] - t[k - 1]);
+        stroke[k] = m.get(Column::XDamper).map_or(x, |xs| xs[k]);
+    }
+    // (time, stroke, mean force) of each rest
+    let mut rests: Vec<(f64, f64, f64)> = Vec::new();
+    let mut k = 0;
+    while k < v.len() {
+        let start = k;
+        while k < v.len() && v[k].abs() < threshold {
+            k += 1;
+        }
+        if k > start && t[k - 1] - t[start] >= MIN_REST {
+            let n = (k - start) as f64;
+            rests.push((mean(&t[start..k]), stroke[start..k].iter().sum::<f64>() / n, mean(&y[start..k])));
+        }
+        k += 1;
+    }
+    if rests.len() < 4 || rests.last()?.0 - rests[0].0 < 0.5 * (t[t.len() - 1] - t[0]) {
+        return None;
+    }
+    // least squares of F = a + b t (+ c x where the rests' strokes spread over a millimetre), the
+    // regressors centred
+    let (tm, xm) =
+        (mean(&rests.iter().map(|r| r.0).collect::<Vec<_>>()), mean(&rests.iter().map(|r| r.1).collect::<Vec<_>>()));
+    let x_spread = rests.iter().map(|r| (r.1 - xm).abs()).fold(0.0, f64::max) > 1e-3;
+    let columns = if x_spread { 3 } else { 2 };
+    let a = nalgebra::DMatrix::from_fn(rests.len(), columns, |i, j| match j {
+        0 => 1.0,
+        1 => rests[i].0 - tm,
+        _ => rests[i].1 - xm,
+    });
+    let f = nalgebra::DVector::from_iterator(rests.len(), rests.iter().map(|r| r.2));
+    let solution = a.svd(true, true).solve(&f, 1e-12).ok()?;
+    let drift = solution[1] * (t[t.len() - 1] - t[0]);
+    // a rest's mean over 50 samples or more has a noise of σ/7 at most: 5σ is far beyond it
+    let sigma = crate::dsp::noise_sigma(y);
+    if drift.abs() > DRIFT_SIGMAS * sigma {
+        let why = if m.has(Column::TOil) {
+            "the oil heating (see T_oil), or the load cell's zero"
+        } else {
+            "the load cell's zero (temperature, amplifier)"
+        };
+        return Some(format!(
+            "the force at rest drifts by {drift:+.0} N over the record ({:+.2} N/s, {} rests), beyond what the gas \
+             force's change with the stroke gives: {why}. A drifting zero is outside the model; tare the load cell \
+             per segment, or expect the diagnosis to find a slow residual",
+            solution[1],
+            rests.len()
+        ));
+    }
+    None
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_clipped_plateau_is_a_rail_a_smooth_peak_is_not() {
+        // a sine quantised to 1 N: its peaks repeat for a dozen samples, arriving flat
+        let smooth: Vec<f64> =
+            (0..4000).map(|k| (3000.0 * libm::sin(2.0 * std::f64::consts::PI * k as f64 * 5e-4)).round()).collect();
+        assert!(rails(&smooth).is_empty());
+        // the same clipped at 2500 N: it arrives steeply
+        let clipped: Vec<f64> = smooth.iter().map(|x| x.min(2500.0)).collect();
+        let found = rails(&clipped);
+        assert!(!found.is_empty() && found.iter().all(|&(a, b)| clipped[a] == 2500.0 && b - a > 100), "{found:?}");
+    }
+
+    #[test]
+    fn a_logger_s_stated_rate_is_read() {
+        let c = |t: &str| vec![(3, t.to_string())];
+        assert_eq!(stated_rate_of(&c("Sample rate: 500 Hz")), Some((3, 500.0)));
+        assert_eq!(stated_rate_of(&c("SamplingFrequency n/a; fs = 2 kHz")), Some((3, 2000.0)));
+        assert_eq!(stated_rate_of(&c("Sampling rate=1000")), Some((3, 1000.0)));
+        assert_eq!(stated_rate_of(&c("Test: rig 2, force control")), None);
+    }
+}
