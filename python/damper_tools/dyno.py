@@ -855,7 +855,9 @@ def _float(x: float) -> str:
 
 
 def datasheet_toml(size: str, seed: int) -> str:
-    """The damper's NOMINAL values in the format of crates/damper_engine/src/damper_template.toml."""
+    """The damper's NOMINAL values in the format of crates/damper_engine/src/damper_template.toml.
+    The end stops (bump and rebound rubbers) are left out, as datasheets leave them out: a record
+    that reaches them shows what the description lacks."""
     p = NOMINAL[size]
 
     def q(value: float, unit: str) -> str:
@@ -883,7 +885,6 @@ def datasheet_toml(size: str, seed: int) -> str:
                          ("full_open_pressure", q(p["p_cv_full"] / 1e5, "bar"))],
         "mount": [("stiffness", q(p["k1_mount"], "N/m")), ("cubic_stiffness", q(p["k3_mount"], "N/m3"))],
         "seals": [("friction", q(p["F_coulomb"], "N")), ("friction_velocity", q(p["v_friction"] * 1e3, "mm/s"))],
-        "end_stops": [("free_stroke", q(p["x_end_stop"] * 1e3, "mm")), ("stiffness", q(p["k_end_stop"], "N/m2"))],
         "parameters": [(name, _float(p[name])) for name in ("beta_oil", "p_transition", "Cd_cv", "A_cv_leak")],
     }
     lines = [f"# {size} passive twin-tube damper, datasheet values (damper_tools.dyno, seed {seed}).",

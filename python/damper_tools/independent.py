@@ -35,7 +35,7 @@ hidden range. Same case and seed: the same record, bit for bit.
 import argparse
 import json
 import math
-import re
+import subprocess
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
@@ -46,6 +46,7 @@ from damper_tools import REPO, cosim, roads
 from damper_tools.fmu import FmuUnit, Slave
 
 DAMPER_FMU = REPO / "target" / "fmu" / "SemiActiveDamper.fmu"
+DAMPER = REPO / "target" / "release" / "damper"
 TRUCK_FMU = REPO / "target" / "fmu" / "QuarterTruck.fmu"
 
 FINE_STEP = 1e-4  # s: communication step of the truth
@@ -75,31 +76,25 @@ class CatalogEffect:
     parameter: str  # the first fitted parameter: the effect's size
     hidden_range: tuple[float, float]
     default_on: bool
+    # other parameters a generator sets with it (an end stop within the stroke)
+    hide_with: dict[str, float] = field(default_factory=dict)
+    # when a diagnosis tries it: always, when_on, with_temperature or controlled
+    candidacy: str = "always"
+
+    @property
+    def hideable(self) -> bool:
+        """Whether these records (semi-active, controlled, without a temperature column) can hide it
+        so that a diagnosis may name it: a passive valve the model lacks is never switched on by a
+        diagnosis, and the oil temperature needs a temperature column."""
+        return self.candidacy in ("always", "controlled") or (self.candidacy == "when_on" and self.default_on)
 
 
-def _rust_float(text: str) -> float:
-    return float(text.strip().replace("_", ""))
-
-
-def catalog(repo: Path = REPO, damper_fmu: str | Path = DAMPER_FMU) -> dict[str, CatalogEffect]:
-    """The effect catalog as src/effects/*.rs declares it; whether each is on by default from the
-    FMU's modelDescription.xml (the start value of `effect_<key>`)."""
-    unit = FmuUnit.load(damper_fmu)
-    effects = {}
-    for path in sorted((repo / "src" / "effects").glob("*.rs")):
-        text = path.read_text(encoding="utf-8")
-        key = re.search(r'\bkey:\s*"(\w+)"', text)
-        if path.name == "mod.rs" or not key:
-            continue
-        name = re.search(r'FittedParameter\s*\{\s*name:\s*"(\w+)"', text)
-        hidden = re.search(r"hidden_range:\s*\(([^,]+),([^)]+)\)", text)
-        if not (name and hidden):
-            raise ValueError(f"{path}: no fitted parameter or hidden_range found")
-        start = unit.variable(f"effect_{key.group(1)}").start
-        effects[key.group(1)] = CatalogEffect(key.group(1), name.group(1),
-                                              (_rust_float(hidden.group(1)), _rust_float(hidden.group(2))),
-                                              str(start).lower() in ("true", "1"))
-    return effects
+def catalog(damper: str | Path = DAMPER) -> dict[str, CatalogEffect]:
+    """The effect catalog as `damper effects --json` exports it."""
+    listed = json.loads(subprocess.run([str(damper), "effects", "--json"], capture_output=True, text=True,
+                                       check=True).stdout)
+    return {e["key"]: CatalogEffect(e["key"], e["size_parameter"], tuple(e["hidden_range"]), e["default_on"],
+                                    dict(e["hide_with"]["set"]), e["candidacy"]) for e in listed}
 
 
 # --------------------------------------------------------------------------- a case
@@ -165,7 +160,7 @@ def hidden_values(case: Case, cat: dict[str, CatalogEffect], rng: np.random.Gene
         lo, hi = e.hidden_range
         value = float(math.exp(rng.uniform(math.log(lo), math.log(hi))) if hi / lo > 3 else rng.uniform(lo, hi))
         out[key] = {"switch": f"effect_{key}", "switched_on": not e.default_on, "parameter": e.parameter,
-                    "value": value, "hidden_range": list(e.hidden_range)}
+                    "value": value, "hidden_range": list(e.hidden_range), "set": dict(e.hide_with)}
     return out
 
 
@@ -292,6 +287,7 @@ def _damper_parameters(effects: dict[str, dict], tared: bool) -> dict:
     for e in effects.values():
         if e["switched_on"]:
             params[e["switch"]] = True
+        params.update(e.get("set", {}))
         params[e["parameter"]] = e["value"]
     return params
 
@@ -409,7 +405,7 @@ def make(case: Case, out: str | Path, truth_path: str | Path, damper_fmu: str | 
                    "sensors": {k: {"noise": s, "quantum": q} for k, (s, q) in SENSORS.items()},
                    "demand_quantum_N": DEMAND_QUANTUM, "motion": case.motion}
     if case.kind in ("rig", "hil"):
-        effects = hidden_values(case, catalog(damper_fmu=damper_fmu), rng["effects"])
+        effects = hidden_values(case, catalog(), rng["effects"])
         params = _damper_parameters(effects, case.tared)
         truth.update(model="SemiActiveDamper.fmu through fmpy", fmu_rtol=RTOL, hidden_effects=effects,
                      fmu_parameters=params)

@@ -34,11 +34,14 @@ def diagnose(damper, case, work_dir, fmu, truck_fmu):
     return run(damper, "diagnose", record, work_dir / f"d_{case.name}", *(["--tare-load-cell"] if case.tared else []))
 
 
-def test_the_catalog_is_read_from_the_effect_files(fmu):
-    cat = ind.catalog(damper_fmu=fmu)
+def test_the_catalog_is_damper_effects_json(damper):
+    cat = ind.catalog(damper)
     assert len(cat) == len(list((REPO / "src" / "effects").glob("*.rs"))) - 1  # mod.rs is not an effect
     assert cat["seal_friction"].parameter == "F_coulomb" and not cat["seal_friction"].default_on
     assert cat["amplifier_delay"].hidden_range == (0.004, 0.005) and cat["amplifier_delay"].default_on
+    # an end stop is hidden within the records' stroke; a passive valve or the oil temperature not here
+    assert cat["end_stops"].hide_with == {"x_end_stop": 0.012} and cat["end_stops"].hideable
+    assert not cat["rebound_valve"].hideable and not cat["oil_temperature"].hideable
 
 
 @pytest.mark.parametrize("kind", ["rig", "hil", "foreign_passive"])

@@ -1,0 +1,210 @@
+"""The real-damper loop scored on independent passive-damper records (damper_tools.dyno).
+
+    .venv/bin/python -m damper_tools.dyno_score --sizes small car truck --seeds 1 2 3 --out out/dyno_score
+
+For each damper (a size and a seed) it does what a user with a dyno does: writes the datasheet
+description and the records (damper_tools.dyno: an independent model, logger-like measurement
+chains), calibrates on the calibration records from the datasheet (`damper calibrate --damper`),
+then diagnoses each other record with the calibrated parameters (`damper diagnose --damper
+--params`): a record of the unchanged damper, and one each with the gas pre-charge changed, an
+adjuster (bleed area) changed, the oil heated by 30-50 K (with a temperature column) and the stroke
+reaching the bump rubbers, which the datasheet does not describe.
+
+Scoring (the truth files are read only here, never by `damper`):
+- calibration: each record's NRMSE after calibration against its noise floor; each fitted
+  parameter's error against the truth, in relative terms and in its reported standard
+  uncertainties (z);
+- unchanged: nothing named (verdict `none`);
+- a change: the verdict names the effect that carries it first (gas_charge, rebound_valve or
+  compression_valve, oil_temperature, end_stops), and its size parameter: its relative error and
+  z against the truth (for the heated oil the viscosity coefficient, which the truth did not
+  change: the change's size is the measured temperature).
+
+Writes OUT/dyno_score.md (tables) and OUT/dyno_score.json (every case).
+"""
+
+import argparse
+import json
+import subprocess
+import time
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
+
+from damper_tools import REPO, dyno
+
+DAMPER = REPO / "target" / "release" / "damper"
+SCENARIOS = ("unchanged", "gas", "valve", "heated", "end_stop")
+# the effect that carries each change, and its size parameter (None: the change's parameter)
+EXPECTED = {"gas": ("gas_charge", "p_reservoir0"), "heated": ("oil_temperature", "visc_temp_coeff"),
+            "end_stop": ("end_stops", "k_end_stop")}
+
+
+@dataclass
+class Case:
+    size: str
+    seed: int
+    scenario: str
+    record: str
+    change: dict
+    verdict: str = ""
+    effects: list[str] = field(default_factory=list)
+    expected: str | None = None
+    parameter: str | None = None
+    fitted: float | None = None
+    std_error: float | None = None
+    truth: float | None = None
+    nrmse_baseline: float = 0.0
+    nrmse_after: float = 0.0
+    floor: float = 0.0
+    seconds: float = 0.0
+
+    @property
+    def named(self) -> bool:
+        if self.scenario == "unchanged":
+            return self.verdict == "none" and not self.effects
+        return self.verdict == "effect" and bool(self.effects) and self.effects[0] == self.expected
+
+    @property
+    def relative_error(self) -> float | None:
+        if self.fitted is None or not self.truth:
+            return None
+        return (self.fitted - self.truth) / self.truth
+
+    @property
+    def z(self) -> float | None:
+        if self.fitted is None or self.truth is None or not self.std_error:
+            return None
+        return (self.fitted - self.truth) / self.std_error
+
+
+def run(args: list[str]) -> float:
+    """Runs `damper` with `args`; returns the seconds it took."""
+    t0 = time.perf_counter()
+    done = subprocess.run([str(DAMPER), *args, "-q"], capture_output=True, text=True)
+    if done.returncode != 0:
+        raise RuntimeError(f"damper {' '.join(args)}: {done.stderr}")
+    return time.perf_counter() - t0
+
+
+def calibrate(records: list[Path], sheet: Path, out: Path, threads: int) -> dict:
+    seconds = run(["calibrate", *map(str, records), "--damper", str(sheet), "--out", str(out),
+                   "--threads", str(threads)])
+    c = json.loads((out / "calibration.json").read_text())
+    truth = json.loads(records[0].with_suffix(".json").read_text())["truth_parameters"]
+    params = []
+    for p in c["parameters"]:
+        t, u = truth.get(p["name"]), p["std_uncertainty"]
+        params.append({"name": p["name"], "value": p["value"], "std_uncertainty": u, "truth": t,
+                       "status": p["status"], "relative_error": (p["value"] - t) / t if t else None,
+                       "z": (p["value"] - t) / u if (u and t is not None) else None})
+    fits = [{"record": Path(r["path"]).name, "after": r["nrmse_after"], "floor": r["noise_floor"]}
+            for r in c["records"]]
+    return {"seconds": seconds, "parameters": params, "records": fits}
+
+
+def expected(scenario: str, change: dict) -> tuple[str | None, str | None]:
+    if scenario == "valve":
+        name = change["parameter"]
+        return ("rebound_valve" if name.endswith("_reb") else "compression_valve"), name
+    return EXPECTED.get(scenario, (None, None))
+
+
+def diagnose(size: str, seed: int, scenario: str, record: Path, sheet: Path, params: Path, out: Path,
+             threads: int) -> Case:
+    truth_file = json.loads(record.with_suffix(".json").read_text())
+    change = truth_file["change"]
+    seconds = run(["diagnose", str(record), "--damper", str(sheet), "--params", str(params), "--out", str(out),
+                   "--threads", str(threads)])
+    s = json.loads((out / "summary.json").read_text())
+    case = Case(size, seed, scenario, record.name, change, verdict=s["verdict"], effects=s.get("effects") or [],
+                nrmse_baseline=s["nrmse_baseline"], nrmse_after=s.get("nrmse_after_ladder") or s["nrmse_baseline"],
+                floor=s["nrmse_noise_floor"], seconds=seconds)
+    case.expected, case.parameter = expected(scenario, change)
+    if case.parameter:
+        case.truth = truth_file["truth_parameters"].get(case.parameter)
+        for c in s["candidates"]:
+            if c["effect"] == case.expected and case.parameter in c["params"]:
+                case.fitted = c["params"][case.parameter]["value"]
+                case.std_error = c["params"][case.parameter]["std_error"]
+                break
+    return case
+
+
+def one_damper(size: str, seed: int, out: Path, threads: int) -> tuple[dict, list[Case]]:
+    records = out / "records"
+    made = {sc: dyno.make_records(size, seed, sc, records) for sc in ("calibration", *SCENARIOS)}
+    sheet = records / f"{size}_{seed}_datasheet.toml"
+    cal_dir = out / "calibrate" / f"{size}_{seed}"
+    cal = calibrate(made["calibration"], sheet, cal_dir, threads)
+    cases = [diagnose(size, seed, sc, made[sc][0], sheet, cal_dir / "parameters.ssv",
+                      out / "diagnose" / f"{size}_{seed}_{sc}", threads) for sc in SCENARIOS]
+    return cal, cases
+
+
+def fmt(x: float | None, spec: str) -> str:
+    return "–" if x is None else format(x, spec)
+
+
+def report(calibrations: dict, cases: list[Case]) -> str:
+    lines = ["# The real-damper loop on independent passive-damper records", "",
+             "`.venv/bin/python -m damper_tools.dyno_score` (damper_tools.dyno's records; docs/real-dampers.md).", "",
+             "## Calibration from the datasheet", "",
+             "| damper | records: NRMSE after / noise floor | parameters: largest relative error | |z| > 2 | |z| > 3 | "
+             "time |", "|---|---|---|---|---|---|"]
+    for key, cal in calibrations.items():
+        ratios = ", ".join(f"{r['after'] / r['floor']:.2f}" for r in cal["records"])
+        fitted = [p for p in cal["parameters"] if p["status"] == "fitted" and p["z"] is not None]
+        worst = max(fitted, key=lambda p: abs(p["relative_error"]))
+        lines.append(f"| {key} | {ratios} | {worst['name']} {100 * worst['relative_error']:+.1f} % | "
+                     f"{sum(abs(p['z']) > 2 for p in fitted)} of {len(fitted)} | "
+                     f"{sum(abs(p['z']) > 3 for p in fitted)} | {cal['seconds']:.1f} s |")
+    lines += ["", "## Diagnosis of each record with the calibrated parameters", "",
+              "| damper | record | change | verdict | named | expected | size: fitted / truth | rel. error | z | "
+              "NRMSE after / floor | time |", "|---|---|---|---|---|---|---|---|---|---|---|"]
+    for c in cases:
+        size = (f"{c.parameter} {fmt(c.fitted, '.4g')} / {fmt(c.truth, '.4g')}" if c.parameter else "–")
+        rel = fmt(None if c.relative_error is None else 100 * c.relative_error, "+.1f")
+        lines.append(f"| {c.size} {c.seed} | {c.scenario} | {c.change.get('what', '')} | {c.verdict} | "
+                     f"{', '.join(c.effects) or '–'} | {c.expected or 'nothing'} | {size} | {rel} % | "
+                     f"{fmt(c.z, '+.1f')} | {c.nrmse_after / c.floor:.2f} | {c.seconds:.1f} s |")
+    lines += ["", "## Summary", ""]
+    for sc in SCENARIOS:
+        these = [c for c in cases if c.scenario == sc]
+        ok = sum(c.named for c in these)
+        line = f"- **{sc}**: {ok} of {len(these)} {'nothing named' if sc == 'unchanged' else 'named'}"
+        sized = [c for c in these if c.named and c.relative_error is not None]
+        if sized:
+            line += (f"; size within 10 %: {sum(abs(c.relative_error) <= 0.1 for c in sized)} of {len(sized)}, "
+                     f"|z| ≤ 3: {sum(c.z is not None and abs(c.z) <= 3 for c in sized)} of {len(sized)}")
+        lines.append(line)
+    changed = [c for c in cases if c.scenario != "unchanged"]
+    lines.append(f"- **all changes**: {sum(c.named for c in changed)} of {len(changed)} named")
+    return "\n".join(lines) + "\n"
+
+
+def main(argv: list[str] | None = None) -> None:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--sizes", nargs="+", default=list(dyno.SIZES), choices=dyno.SIZES)
+    ap.add_argument("--seeds", nargs="+", type=int, default=[1, 2, 3])
+    ap.add_argument("--threads", type=int, default=2)
+    ap.add_argument("--out", type=Path, default=REPO / "out" / "dyno_score")
+    a = ap.parse_args(argv)
+    a.out.mkdir(parents=True, exist_ok=True)
+    calibrations: dict = {}
+    cases: list[Case] = []
+    for seed in a.seeds:
+        for size in a.sizes:
+            cal, these = one_damper(size, seed, a.out, a.threads)
+            calibrations[f"{size} {seed}"] = cal
+            cases += these
+            print(f"{size} {seed}: " + ", ".join(f"{c.scenario} {'ok' if c.named else 'MISSED'}" for c in these),
+                  flush=True)
+    (a.out / "dyno_score.md").write_text(report(calibrations, cases), encoding="utf-8")
+    (a.out / "dyno_score.json").write_text(json.dumps(
+        {"calibrations": calibrations, "cases": [asdict(c) | {"named": c.named} for c in cases]}, indent=1),
+        encoding="utf-8")
+    print(report(calibrations, cases))
+
+
+if __name__ == "__main__":
+    main()
