@@ -1,3 +1,4 @@
+# ruff: noqa: E501  (the effect file and the XML are embedded verbatim, as a user writes them)
 """Adding an effect as docs/effects.md says: one new file in src/effects/ and the XML, nothing else.
 
 A copy of the project gets a toy effect with a dead band, a position-sensitive bypass groove (a

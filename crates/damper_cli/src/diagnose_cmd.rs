@@ -6,14 +6,14 @@
 use crate::svg::esc;
 use crate::{before_after_report, compare, json_summary, report};
 use damper_engine::criteria::{DOES_NOT_FIT_NRMSE, EXPLAINED_FACTOR, MIN_EXPLAINED, MOVED_SIGMAS};
-use damper_engine::diagnosed::Diagnosed;
 use damper_engine::diagnose::Diagnosis;
-use damper_engine::record_parts::FAR_FACTOR;
-use std::fmt::Write as _;
+use damper_engine::diagnosed::Diagnosed;
 use damper_engine::dsp::NoiseEstimate;
 use damper_engine::floor::Floor;
 use damper_engine::ladder::Rung;
+use damper_engine::record_parts::FAR_FACTOR;
 use damper_engine::summary::to_json;
+use std::fmt::Write as _;
 use std::path::Path;
 
 /// A rung as the report and the terminal name it: `+ effect` or `effect refitted`, and a note
@@ -35,7 +35,7 @@ fn rung_label(l: &Rung) -> (String, &'static str) {
 /// The floor's parts, one line, and the samples left out.
 fn floor_line(f: &Floor) -> String {
     format!(
-        "floor {:.4} = sensor noise {:.4} (σ {:.1} N; cross-checks {:.1} N windowed, {:.1} N median-absolute, {:.1} N over all samples) ⊕ the model's numerical error {:.4} (rtol {:.0e} against {:.0e}); {} validation samples left out, where a velocity noise of {:.2} mm/s moves the force by more than {:.0} N",
+        "floor {:.4} = sensor noise {:.4} (σ {:.1} N; cross-checks {:.1} N windowed, {:.1} N median-absolute, {:.1} N over all samples) ⊕ the model's numerical error {:.4} (rtol {:.0e} against {:.0e}); {} validation samples left out, where a velocity noise of {:.2} mm/s moves the force by more than {:.0} N; that velocity noise carried through the model: {:.4} (reported, not in the floor)",
         f.nrmse,
         f.nrmse_noise,
         f.noise.sigma,
@@ -47,7 +47,8 @@ fn floor_line(f: &Floor) -> String {
         f.rtol_check,
         f.left_out_validation,
         1e3 * f.delta_v,
-        f.sensitive_threshold
+        f.sensitive_threshold,
+        f.nrmse_inputs
     )
 }
 

@@ -105,9 +105,11 @@ pub fn compared(c: &Comparison) -> Summary {
                 .iter()
                 .map(|f| summary::Follows { quantity: f.quantity.key().into(), share: f.share })
                 .collect(),
-            dominant_band: a
-                .dominant_band
-                .map(|b| summary::DominantBand { f_lo_hz: b.lo_hz, f_hi_hz: b.hi_hz, share: b.share }),
+            dominant_band: a.dominant_band.map(|b| summary::DominantBand {
+                f_lo_hz: b.lo_hz,
+                f_hi_hz: b.hi_hz,
+                share: b.share,
+            }),
             text: residual_signature::sentence(&a.signature, a.dominant_band),
         },
         worst_windows: a
@@ -196,6 +198,7 @@ pub fn diagnosed(r: &Diagnosed) -> Summary {
                 delta_v: d.floor.delta_v,
                 sensitive_threshold: d.floor.sensitive_threshold,
                 left_out_validation: d.floor.left_out_validation,
+                nrmse_inputs: d.floor.nrmse_inputs,
             },
             explanation: d.explanation.clone(),
             ladder: d
@@ -270,4 +273,3 @@ fn after(c: &Comparison, after: &After) -> summary::After {
             .collect(),
     }
 }
-

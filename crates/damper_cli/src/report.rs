@@ -3,10 +3,10 @@
 
 use crate::describe::describe_model;
 use crate::svg::{esc, Axis, Plot, Series, ACCENT, GREEN, MEASURED, MODEL, ORANGE, RESIDUAL};
-use damper_engine::residual_signature;
 use damper_engine::analysis::{lag_ms, observations, Analysis, V_REVERSAL};
 use damper_engine::comparison::Comparison;
 use damper_engine::model::Demand;
+use damper_engine::residual_signature;
 use damper_engine::units::Column;
 use std::fmt::Write;
 

@@ -80,6 +80,12 @@ fn a_passive_record_is_compared_with_the_valve_held() {
         |s: &serde_json::Value| s["nrmse_baseline"].as_f64().unwrap() / s["noise_floor_estimate"].as_f64().unwrap();
     assert!(ratio(&with) < 1.3, "with the description: {} × the floor", ratio(&with));
     assert!(ratio(&stock) > 50.0, "the stock model: {} × the floor", ratio(&stock));
+    // diagnosed with the stock model: it does not fit, and the reason is the valve's law
+    damper_in(&dir, &["diagnose", "p.csv", "--out", "stock_d", "--load-cell-lowpass", "400"]);
+    let d = summary(&dir, "stock_d");
+    let why = d["explanation"].as_str().unwrap();
+    assert_eq!(d["verdict"], "does_not_fit", "{why}");
+    assert!(why.contains("The force–velocity laws differ") && why.contains("degressive"), "{why}");
     // a passive description refuses a record with a demand
     let rows: String = (0..400).map(|k| format!("{},0.1,0,{}\n", k as f64 * 1e-3, k % 7)).collect();
     std::fs::write(dir.join("d.csv"), format!("time,v_damper,F_demand,F_damper\n{rows}")).unwrap();
@@ -89,4 +95,45 @@ fn a_passive_record_is_compared_with_the_valve_held() {
         .output()
         .unwrap();
     assert!(String::from_utf8_lossy(&o.stderr).contains("a passive damper has no demand"), "{o:?}");
+}
+
+/// An end stop the model lacks (its stops off, the catalog's end_stops skipped, as if the catalog
+/// had none): one local effect, `unexplained` with the stroke named, not `does_not_fit`; with the
+/// catalog's effect, `effect (end_stops)`.
+#[test]
+fn a_missing_end_stop_is_named_by_the_stroke_it_follows() {
+    let dir = scratch("end_stop");
+    damper_in(&dir, &["init", "--out", "mine.toml"]);
+    let generate = [
+        "generate",
+        "--damper",
+        "mine.toml",
+        "--out",
+        "e.csv",
+        "--truth",
+        "e.json",
+        "--duration",
+        "5",
+        "--seed",
+        "3",
+        "--set",
+        "x_end_stop=0.02",
+    ];
+    damper_in(&dir, &generate);
+    let diagnose =
+        ["diagnose", "e.csv", "--damper", "mine.toml", "--set", "effect_end_stops=0", "--load-cell-lowpass", "400"];
+    damper_in(&dir, &[&diagnose[..], &["--out", "without", "--skip", "end_stops"]].concat());
+    let d = summary(&dir, "without");
+    let why = d["explanation"].as_str().unwrap();
+    assert_eq!(d["verdict"], "unexplained", "{why}");
+    assert!(why.contains("follows the stroke alone"), "{why}");
+    assert_eq!(d["residual_signature"]["follows"][0]["quantity"], "stroke");
+    damper_in(&dir, &[&diagnose[..], &["--out", "with"]].concat());
+    let d = summary(&dir, "with");
+    assert_eq!(
+        (d["verdict"].as_str(), d["effects"][0].as_str()),
+        (Some("effect"), Some("end_stops")),
+        "{}",
+        d["explanation"]
+    );
 }

@@ -8,8 +8,9 @@ use crate::criteria::NUMERICS_CHECK_FACTOR;
 use crate::diagnose::{diagnose, Diagnosis};
 use crate::dsp::noise_sigma;
 use crate::floor::Numerics;
+use crate::force_velocity;
 use crate::model::{force_simulator, thread_pool, Drive};
-use crate::residual_signature;
+use crate::residual_signature::{self, Quantity};
 use crate::rng::Rng;
 use crate::sensitivity::{informative, velocity_resolution, SENSITIVITY_SEEDS};
 use crate::units::Column;
@@ -64,7 +65,8 @@ pub fn diagnose_measurement(
     });
     let base = &c.prediction.f_damper;
     let residual: Vec<f64> = base.iter().zip(&measured).map(|(m, y)| m - y).collect();
-    let mut informative = informative(base, &plus?, &minus?, delta_v, noise_sigma(&residual));
+    let (plus, minus) = (plus?, minus?);
+    let mut informative = informative(base, &plus, &minus, delta_v, noise_sigma(&residual));
     // the samples the record's checks leave out (a clipped force)
     for (keep, excluded) in informative.keep.iter_mut().zip(&c.measurement.excluded) {
         *keep &= !excluded;
@@ -79,18 +81,64 @@ pub fn diagnose_measurement(
         pool: &pool,
         progress,
     };
-    let numerics = Numerics { base, base_check: &base_check?, rtol: baseline.rtol, rtol_check: check.rtol };
+    let numerics = Numerics {
+        base,
+        perturbed: [&plus, &minus],
+        base_check: &base_check?,
+        rtol: baseline.rtol,
+        rtol_check: check.rtol,
+    };
     let mut d = diagnose(&c.measurement.time, &fit, &candidates, &baseline, &numerics)?;
     drop(simulate);
     let after = match d.effects.as_slice() {
         [] => None,
         effects => Some(before_after::after(&c, effects, d.ladder.params)?),
     };
+    let left = after.as_ref().map_or(&c.analysis, |a| &a.analysis);
+    if d.verdict == "does_not_fit" {
+        let (verdict, explanation) = does_not_fit_why(&d.explanation, left, &c.drive.v_damper, &measured, base);
+        (d.verdict, d.explanation) = (verdict, explanation);
+    }
     // what is left unexplained, and what it follows: where to look for the effect to write
     if matches!(d.verdict, "unexplained" | "partial" | "does_not_fit") {
-        let left = after.as_ref().map_or(&c.analysis, |a| &a.analysis);
         let follows = residual_signature::sentence(&left.signature, left.dominant_band);
         d.explanation = format!("{}. What is left: {follows}.", d.explanation.trim_end_matches('.'));
     }
     Ok(Diagnosed { comparison: c, diagnosis: d, after })
 }
+
+/// Why the model does not fit, in physical terms. A residual that mostly follows the stroke, the
+/// time or the temperature is one local effect the catalog lacks, not a damper of another kind:
+/// the verdict becomes `unexplained`. Otherwise the measured force–velocity law is set beside the
+/// model's ([`force_velocity::contrast`]).
+fn does_not_fit_why(
+    explanation: &str,
+    left: &crate::analysis::Analysis,
+    v: &[f64],
+    measured: &[f64],
+    model: &[f64],
+) -> (&'static str, String) {
+    let local = left.signature.first().filter(|f| {
+        f.share >= LOCAL_SHARE && matches!(f.quantity, Quantity::Stroke | Quantity::Time | Quantity::Temperature)
+    });
+    if let Some(f) = local {
+        return (
+            "unexplained",
+            format!(
+                "the model misses one effect the catalog lacks, not the damper's kind: {:.0} % of the error above the noise follows the {} alone, where the model's laws of velocity and force would spread it; write the effect (docs/effects.md) and diagnose again",
+                100.0 * f.share,
+                f.quantity.name()
+            ),
+        );
+    }
+    match force_velocity::contrast(v, measured, model) {
+        Some(laws) => {
+            ("does_not_fit", format!("{}. The force–velocity laws differ: {laws}", explanation.trim_end_matches('.')))
+        }
+        None => ("does_not_fit", explanation.to_string()),
+    }
+}
+
+/// A residual whose variance above the noise follows one local quantity (stroke, time,
+/// temperature) by at least this share is one missing effect, not a misfit of the model's laws.
+pub const LOCAL_SHARE: f64 = 0.6;

@@ -16,6 +16,12 @@ pub struct Floor {
     pub nrmse_numerics: f64,
     /// √(noise² + numerics²): what the verdict judges by.
     pub nrmse: f64,
+    /// The measured velocity's white noise carried through the model into its force: RMS of the
+    /// baseline with white noise of the velocity's resolution δ added, less the baseline, over the
+    /// validation part / std(measured). Reported, not in [`nrmse`](Self::nrmse): a dyno's force
+    /// comes from the true motion, so there it belongs to the floor, but a rig's controller acts
+    /// on the measured velocity, so there part of it is in the force too.
+    pub nrmse_inputs: f64,
     /// The noise estimate (N), three ways.
     pub noise: NoiseEstimate,
     /// The tolerance the model ran at, and the one of the check.
@@ -31,6 +37,9 @@ pub struct Floor {
 /// The force of the model at its tolerance and at the check's tighter one, over the measurement.
 pub struct Numerics<'a> {
     pub base: &'a [f64],
+    /// The baseline with white noise of the velocity's resolution added to its velocity (two
+    /// seeds, [`crate::sensitivity`]).
+    pub perturbed: [&'a [f64]; 2],
     pub base_check: &'a [f64],
     pub rtol: f64,
     pub rtol_check: f64,
@@ -47,10 +56,19 @@ pub fn floor(measured: &[f64], numerics: &Numerics<'_>, split: usize, informativ
     let nrmse_noise = noise.sigma / val_std;
     let diff: Vec<f64> = numerics.base[split..].iter().zip(&numerics.base_check[split..]).map(|(a, b)| a - b).collect();
     let nrmse_numerics = rms(&kept(&diff, keep)) / val_std;
+    let carried: Vec<f64> = numerics
+        .perturbed
+        .iter()
+        .flat_map(|run| {
+            kept(&run[split..].iter().zip(&numerics.base[split..]).map(|(p, b)| p - b).collect::<Vec<_>>(), keep)
+        })
+        .collect();
+    let nrmse_inputs = rms(&carried) / val_std;
     Floor {
         nrmse_noise,
         nrmse_numerics,
         nrmse: libm::hypot(nrmse_noise, nrmse_numerics),
+        nrmse_inputs,
         noise,
         rtol: numerics.rtol,
         rtol_check: numerics.rtol_check,

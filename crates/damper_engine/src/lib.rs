@@ -32,6 +32,7 @@ pub mod diagnosed;
 pub mod dsp;
 pub mod floor;
 pub mod fmu_model;
+pub mod force_velocity;
 pub mod generate;
 pub mod ladder;
 pub mod lm;

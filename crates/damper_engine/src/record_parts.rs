@@ -40,12 +40,22 @@ impl Part {
 /// The parts of a record sampled at `time`, with the baseline's force `base`, the same run at the
 /// check's tolerance `base_check`, the `measured` force, the validation part from `split` and the
 /// samples `keep` keeps.
-pub fn parts(time: &[f64], measured: &[f64], base: &[f64], base_check: &[f64], split: usize, keep: &[bool]) -> Vec<Part> {
+pub fn parts(
+    time: &[f64],
+    measured: &[f64],
+    base: &[f64],
+    base_check: &[f64],
+    split: usize,
+    keep: &[bool],
+) -> Vec<Part> {
     let n = measured.len();
     let part = |name: String, range: std::ops::Range<usize>| {
         let residual: Vec<f64> = base[range.clone()].iter().zip(&measured[range.clone()]).map(|(m, y)| m - y).collect();
-        let kept = |x: &[f64]| -> Vec<f64> { x.iter().zip(&keep[range.clone()]).filter(|(_, &k)| k).map(|(v, _)| *v).collect() };
-        let numerics: Vec<f64> = base[range.clone()].iter().zip(&base_check[range.clone()]).map(|(a, b)| a - b).collect();
+        let kept = |x: &[f64]| -> Vec<f64> {
+            x.iter().zip(&keep[range.clone()]).filter(|(_, &k)| k).map(|(v, _)| *v).collect()
+        };
+        let numerics: Vec<f64> =
+            base[range.clone()].iter().zip(&base_check[range.clone()]).map(|(a, b)| a - b).collect();
         let sigma = noise_floor(&residual).sigma;
         Part {
             name,
@@ -80,11 +90,11 @@ mod tests {
         let n = 5000;
         let time: Vec<f64> = (0..n).map(|i| i as f64 * 1e-3).collect();
         let mut rng = crate::rng::Rng::new(11);
-        let truth: Vec<f64> = time.iter().map(|t| 1e3 * (6.0 * t).sin()).collect();
+        let truth: Vec<f64> = time.iter().map(|t| 1e3 * libm::sin(6.0 * t)).collect();
         let measured: Vec<f64> = truth.iter().map(|f| f + 10.0 * rng.normal()).collect();
         // the model misses a slow 200 N force in the first second only
         let base: Vec<f64> =
-            time.iter().zip(&truth).map(|(t, f)| f + if *t < 1.0 { 200.0 * (3.0 * t).sin() } else { 0.0 }).collect();
+            time.iter().zip(&truth).map(|(t, f)| f + if *t < 1.0 { 200.0 * libm::sin(3.0 * t) } else { 0.0 }).collect();
         let keep = vec![true; n];
         let parts = parts(&time, &measured, &base, &base, 3500, &keep);
         let far = far_above_floor(&parts).expect("a part far above the floor");

@@ -181,9 +181,11 @@ fn stated_rate(m: &Measurement) -> Result<(), String> {
     Ok(())
 }
 
-/// The force at rest drifting over the record beyond what the gas force's change with the stroke
-/// gives: the rests' mean forces fitted by a + b·t + c·x (c: the gas spring, linear over the rests'
-/// strokes, where they spread over a millimetre); reported when the drift b·T is above
+/// The force at rest drifting over the record beyond what the stroke explains: the rests' mean
+/// forces fitted by b·t plus one level per stroke (rests within [`SAME_STROKE`] of each other
+/// share it: any force that hangs on the stroke, the gas spring or an end stop, is the level's);
+/// where no stroke is rested at twice, a + b·t + c·x (the gas spring linear over the rests'
+/// strokes, where they spread over a millimetre). Reported when the drift b·T is above
 /// [`DRIFT_SIGMAS`] of the force's noise.
 fn drifting_zero(m: &Measurement) -> Option<String> {
     let (y, v) = (m.get(Column::FDamper)?, m.get(Column::VDamper)?);
@@ -213,20 +215,28 @@ fn drifting_zero(m: &Measurement) -> Option<String> {
     if rests.len() < 4 || rests.last()?.0 - rests[0].0 < 0.5 * (t[t.len() - 1] - t[0]) {
         return None;
     }
-    // least squares of F = a + b t (+ c x where the rests' strokes spread over a millimetre), the
-    // regressors centred
-    let (tm, xm) =
-        (mean(&rests.iter().map(|r| r.0).collect::<Vec<_>>()), mean(&rests.iter().map(|r| r.1).collect::<Vec<_>>()));
-    let x_spread = rests.iter().map(|r| (r.1 - xm).abs()).fold(0.0, f64::max) > 1e-3;
-    let columns = if x_spread { 3 } else { 2 };
-    let a = nalgebra::DMatrix::from_fn(rests.len(), columns, |i, j| match j {
-        0 => 1.0,
-        1 => rests[i].0 - tm,
-        _ => rests[i].1 - xm,
-    });
+    let tm = mean(&rests.iter().map(|r| r.0).collect::<Vec<_>>());
+    let levels = stroke_levels(&rests);
+    let repeated = (0..levels.len()).any(|i| levels[i + 1..].contains(&levels[i]));
+    let a = if repeated {
+        // b·t and one level per stroke: column 0 time, then one indicator per level
+        let n_levels = levels.iter().max().map_or(0, |g| g + 1);
+        nalgebra::DMatrix::from_fn(rests.len(), 1 + n_levels, |i, j| match j {
+            0 => rests[i].0 - tm,
+            _ => f64::from(u8::from(levels[i] == j - 1)),
+        })
+    } else {
+        let xm = mean(&rests.iter().map(|r| r.1).collect::<Vec<_>>());
+        let x_spread = rests.iter().map(|r| (r.1 - xm).abs()).fold(0.0, f64::max) > 1e-3;
+        nalgebra::DMatrix::from_fn(rests.len(), if x_spread { 3 } else { 2 }, |i, j| match j {
+            0 => rests[i].0 - tm,
+            1 => 1.0,
+            _ => rests[i].1 - xm,
+        })
+    };
     let f = nalgebra::DVector::from_iterator(rests.len(), rests.iter().map(|r| r.2));
     let solution = a.svd(true, true).solve(&f, 1e-12).ok()?;
-    let drift = solution[1] * (t[t.len() - 1] - t[0]);
+    let drift = solution[0] * (t[t.len() - 1] - t[0]);
     // a rest's mean over 50 samples or more has a noise of σ/7 at most: 5σ is far beyond it
     let sigma = crate::dsp::noise_sigma(y);
     if drift.abs() > DRIFT_SIGMAS * sigma {
@@ -236,14 +246,33 @@ fn drifting_zero(m: &Measurement) -> Option<String> {
             "the load cell's zero (temperature, amplifier)"
         };
         return Some(format!(
-            "the force at rest drifts by {drift:+.0} N over the record ({:+.2} N/s, {} rests), beyond what the gas \
-             force's change with the stroke gives: {why}. A drifting zero is outside the model; tare the load cell \
-             per segment, or expect the diagnosis to find a slow residual",
-            solution[1],
+            "the force at rest drifts by {drift:+.0} N over the record ({:+.2} N/s, {} rests), beyond what the \
+             stroke explains (the gas force, an end stop): {why}. A drifting zero is outside the model; tare the \
+             load cell per segment, or expect the diagnosis to find a slow residual",
+            solution[0],
             rests.len()
         ));
     }
     None
+}
+
+/// Rests within this distance of each other's stroke (m) are at the same stroke.
+const SAME_STROKE: f64 = 1e-3;
+
+/// Each rest's stroke level: rests sorted by stroke, a new level where the gap to the previous
+/// one exceeds [`SAME_STROKE`].
+fn stroke_levels(rests: &[(f64, f64, f64)]) -> Vec<usize> {
+    let mut order: Vec<usize> = (0..rests.len()).collect();
+    order.sort_by(|&a, &b| rests[a].1.total_cmp(&rests[b].1));
+    let mut levels = vec![0; rests.len()];
+    let mut level = 0;
+    for w in 1..order.len() {
+        if rests[order[w]].1 - rests[order[w - 1]].1 > SAME_STROKE {
+            level += 1;
+        }
+        levels[order[w]] = level;
+    }
+    levels
 }
 
 #[cfg(test)]

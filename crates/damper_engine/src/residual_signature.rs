@@ -109,8 +109,12 @@ pub fn share(z: &[f64], residual: &[f64], keep: &[bool], noise_sigma: f64) -> f6
     }
     let nf = n as f64;
     let mean = means.iter().zip(&counts).map(|(m, &c)| m * c as f64).sum::<f64>() / nf;
-    let var = (0..z.len()).filter(|&i| keep[i] && z[i].is_finite()).map(|i| (residual[i] - mean).powi(2)).sum::<f64>() / nf;
-    let between = means.iter().zip(&counts).map(|(m, &c)| c as f64 * (m - mean).powi(2)).sum::<f64>() / nf;
+    let var = (0..z.len())
+        .filter(|&i| keep[i] && z[i].is_finite())
+        .map(|i| (residual[i] - mean) * (residual[i] - mean))
+        .sum::<f64>()
+        / nf;
+    let between = means.iter().zip(&counts).map(|(m, &c)| c as f64 * (m - mean) * (m - mean)).sum::<f64>() / nf;
     let chance = (means.len() as f64 - 1.0) / nf * var;
     let above_noise = var - noise_sigma * noise_sigma;
     if above_noise <= 0.0 {
@@ -156,7 +160,11 @@ fn take_out(z: &[f64], residual: &mut [f64], keep: &[bool]) {
         if x.is_finite() {
             // the mean of the nearest bin centre: a step function of z
             let k = centres.partition_point(|c| *c < x.clamp(lo, hi));
-            let k = if k > 0 && (k == centres.len() || (x - centres[k - 1]).abs() <= (centres[k] - x).abs()) { k - 1 } else { k };
+            let k = if k > 0 && (k == centres.len() || (x - centres[k - 1]).abs() <= (centres[k] - x).abs()) {
+                k - 1
+            } else {
+                k
+            };
             *r -= means[k];
         }
     }
@@ -201,11 +209,15 @@ mod tests {
     fn a_residual_that_hangs_on_the_stroke_ranks_stroke_first() {
         let n = 4000;
         let t: Vec<f64> = (0..n).map(|i| i as f64 * 1e-3).collect();
-        let x: Vec<f64> = t.iter().map(|t| 0.05 * (2.0 * std::f64::consts::PI * 1.3 * t).sin()).collect();
-        let v: Vec<f64> = t.iter().map(|t| 0.05 * 2.6 * std::f64::consts::PI * (2.0 * std::f64::consts::PI * 1.3 * t).cos()).collect();
+        let x: Vec<f64> = t.iter().map(|t| 0.05 * libm::sin(2.0 * std::f64::consts::PI * 1.3 * t)).collect();
+        let v: Vec<f64> = t
+            .iter()
+            .map(|t| 0.05 * 2.6 * std::f64::consts::PI * libm::cos(2.0 * std::f64::consts::PI * 1.3 * t))
+            .collect();
         let mut rng = crate::rng::Rng::new(7);
         // a stop beyond 30 mm, plus white noise
-        let r: Vec<f64> = x.iter().map(|x| 1e5 * (x.abs() - 0.03).max(0.0) * x.signum() + 20.0 * rng.normal()).collect();
+        let r: Vec<f64> =
+            x.iter().map(|x| 1e5 * (x.abs() - 0.03).max(0.0) * x.signum() + 20.0 * rng.normal()).collect();
         let keep = vec![true; n];
         let ranked = rank(&[(Quantity::Velocity, &v), (Quantity::Time, &t), (Quantity::Stroke, &x)], &r, &keep, 20.0);
         assert_eq!(ranked[0].quantity, Quantity::Stroke);

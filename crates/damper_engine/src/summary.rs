@@ -474,6 +474,10 @@ pub struct Floor {
     pub sensitive_threshold: f64,
     /// Validation samples left out.
     pub left_out_validation: usize,
+    /// The velocity's white noise δ carried through the model into its force, as an NRMSE on the
+    /// validation part (1): reported beside the floor, not in it.
+    #[serde(deserialize_with = "nan_if_null")]
+    pub nrmse_inputs: f64,
 }
 
 /// A rung of the ladder.
