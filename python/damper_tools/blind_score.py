@@ -45,12 +45,17 @@ def category(case: ind.Case) -> str:
 
 
 def cases(quick: bool = False, seeds: int = 3, clean_seeds: int = 20, foreign_seeds: int = 4,
-          motion: str = "continuous") -> list[ind.Case]:
-    """The case set. Sample rates cycle through 500, 1000 and 2000 Hz, formats through ms/mm/s/kN and SI."""
+          motion: str = "continuous", chain: str = "transducer") -> list[ind.Case]:
+    """The case set. Sample rates cycle through 500, 1000 and 2000 Hz, formats through ms/mm/s/kN and SI.
+    With the LVDT chain (the velocity differentiated by the logger), rig records only."""
     def case(kind, seed, effects=(), k=0):
         rate = ind.RATES[(seed + k) % len(ind.RATES)]
         fmt = "ms" if (seed + k) % 2 else "si"
-        return ind.Case(kind, seed, tuple(effects), rate, fmt=fmt, motion=motion)
+        return ind.Case(kind, seed, tuple(effects), rate, fmt=fmt, motion=motion, chain=chain)
+
+    if chain != "transducer":
+        return [c for c in cases(quick, seeds, clean_seeds, 0, motion) if c.kind == "rig"
+                for c in [ind.Case(c.kind, c.seed, c.effects, c.rate, fmt=c.fmt, motion=motion, chain=chain)]]
 
     if quick:
         return [case("rig", 1), case("hil", 1), case("rig", 1, ("seal_friction",)),
@@ -156,12 +161,14 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--foreign-seeds", type=int, default=4)
     parser.add_argument("--motion", choices=ind.MOTIONS, default="continuous",
                         help="how the truth moves between samples (see damper_tools.independent)")
+    parser.add_argument("--chain", choices=ind.CHAINS, default="transducer",
+                        help="lvdt: rig records whose velocity the logger differentiates from the displacement")
     parser.add_argument("--only", choices=("single", "pair", "clean", "foreign"), default=None)
     parser.add_argument("--jobs", type=int, default=1, help="cases at once (each diagnose uses --threads)")
     parser.add_argument("--threads", type=int, default=2, help="threads of each diagnose")
     args = parser.parse_args(argv)
 
-    todo = cases(args.quick, args.seeds, args.clean_seeds, args.foreign_seeds, args.motion)
+    todo = cases(args.quick, args.seeds, args.clean_seeds, args.foreign_seeds, args.motion, args.chain)
     if args.only:
         todo = [c for c in todo if category(c) == args.only]
     args.out.mkdir(parents=True, exist_ok=True)
@@ -178,7 +185,7 @@ def main(argv: list[str] | None = None) -> int:
     wall = time.perf_counter() - start
     md = table(rows)
     head = (f"Blind score, {date.today().isoformat()}, {platform.node()} ({platform.machine()}), "
-            f"{len(rows)} cases, motion {args.motion}, jobs {args.jobs} x threads {args.threads}, "
+            f"{len(rows)} cases, motion {args.motion}, chain {args.chain}, jobs {args.jobs} x threads {args.threads}, "
             f"wall time {wall:.0f} s\n\n")
     (args.out / "blind_score.md").write_text(head + md, encoding="utf-8")
     (args.out / "blind_score.json").write_text(json.dumps(

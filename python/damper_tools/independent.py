@@ -40,7 +40,7 @@ from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
 import numpy as np
-from scipy.signal import lfilter, lfilter_zi
+from scipy.signal import butter, filtfilt, lfilter, lfilter_zi
 
 from damper_tools import REPO, cosim, roads
 from damper_tools.fmu import FmuUnit, Slave
@@ -59,12 +59,21 @@ SENSORS = {"F_damper": (20.0, 1.0), "v_damper": (1e-4, 1e-5)}
 DEMAND_QUANTUM = 0.1  # N: the demand is digital
 KINDS = ("rig", "hil", "foreign_mr", "foreign_passive")
 MOTIONS = ("continuous", "sample_hold")
+# The measurement chain of a rig record: `transducer`, a velocity transducer (white noise); `lvdt`,
+# the velocity a logger differentiates from an LVDT's displacement and filters zero-phase (both
+# columns written), and a quieter load cell (LVDT_SENSORS).
+CHAINS = ("transducer", "lvdt")
+# LVDT chain: displacement noise and quantum (m), the logger's zero-phase Butterworth (order, Hz),
+# and the load cell (noise, quantum) in N.
+LVDT_NOISE, LVDT_QUANTUM = 5e-6, 1e-6
+LOGGER_FILTER = (4, 100.0)
+LVDT_LOAD_CELL = (6.0, 0.5)
 # How the columns are written: SI, or ms / mm/s / kN.
 FORMATS = {
-    "si": {"time": ("time", 1.0, 6), "v": ("v_damper", 1.0, 5), "fd": ("F_demand", 1.0, 1),
-           "f": ("F_damper", 1.0, 0)},
-    "ms": {"time": ("time [ms]", 1e-3, 3), "v": ("v_damper [mm/s]", 1e-3, 2), "fd": ("F_demand [kN]", 1e3, 4),
-           "f": ("F_damper [kN]", 1e3, 3)},
+    "si": {"time": ("time", 1.0, 6), "x": ("x_damper", 1.0, 7), "v": ("v_damper", 1.0, 5),
+           "fd": ("F_demand", 1.0, 1), "f": ("F_damper", 1.0, 1)},
+    "ms": {"time": ("time [ms]", 1e-3, 3), "x": ("x_damper [mm]", 1e-3, 4), "v": ("v_damper [mm/s]", 1e-3, 2),
+           "fd": ("F_demand [kN]", 1e3, 4), "f": ("F_damper [kN]", 1e3, 4)},
 }
 
 
@@ -114,6 +123,7 @@ class Case:
     # with the true velocity of the record's sample held over the sample interval, as the diagnosis's
     # model is driven (isolates the other differences: tolerance, fine step, filter, inputs, format).
     motion: str = "continuous"
+    chain: str = "transducer"
     name: str = ""
 
     def __post_init__(self) -> None:
@@ -125,6 +135,8 @@ class Case:
             raise ValueError("catalog effects are hidden in the FMU's records only")
         if self.motion not in MOTIONS:
             raise ValueError(f"motion {self.motion!r}: one of {', '.join(MOTIONS)}")
+        if self.chain not in CHAINS or (self.chain == "lvdt" and self.kind != "rig"):
+            raise ValueError(f"chain {self.chain!r}: one of {', '.join(CHAINS)}; lvdt on rig records only")
         self.effects = tuple(self.effects)
         if self.duration is None:
             self.duration = 6.0 if self.kind == "hil" else 4.0
@@ -132,7 +144,8 @@ class Case:
             what = "+".join(self.effects) if self.effects else ("clean" if not self.kind.startswith("foreign")
                                                                  else "foreign")
             held = "_held" if self.motion == "sample_hold" else ""
-            self.name = f"{self.kind}_{what}_s{self.seed}_{int(self.rate)}hz{held}"
+            lvdt = "_lvdt" if self.chain == "lvdt" else ""
+            self.name = f"{self.kind}_{what}_s{self.seed}_{int(self.rate)}hz{held}{lvdt}"
 
     @property
     def tared(self) -> bool:
@@ -183,9 +196,18 @@ def quantise(x: np.ndarray, quantum: float) -> np.ndarray:
     return np.round(x / quantum) * quantum
 
 
-def measure(x: np.ndarray, sensor: str, rng: np.random.Generator) -> np.ndarray:
-    sigma, q = SENSORS[sensor]
+def measure(x: np.ndarray, sensor: str | tuple[float, float], rng: np.random.Generator) -> np.ndarray:
+    sigma, q = SENSORS[sensor] if isinstance(sensor, str) else sensor
     return quantise(x + sigma * rng.standard_normal(x.size), q)
+
+
+def lvdt_velocity(x_true: np.ndarray, rate: float, rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray]:
+    """The displacement an LVDT records (noise, quantum) and the velocity a logger makes of it:
+    central differences, then a zero-phase Butterworth (LOGGER_FILTER) run forwards and backwards."""
+    x = quantise(x_true + LVDT_NOISE * rng.standard_normal(x_true.size), LVDT_QUANTUM)
+    order, corner = LOGGER_FILTER
+    b, a = butter(order, corner / (rate / 2.0))
+    return x, filtfilt(b, a, np.gradient(x, 1.0 / rate))
 
 
 def steps_per_sample(rate: float) -> int:
@@ -292,6 +314,23 @@ def _damper_parameters(effects: dict[str, dict], tared: bool) -> dict:
     return params
 
 
+# An end stop hidden on the rig: at this share of the rig's largest stroke (the catalog's hide_with
+# places it for `damper generate`'s strokes, which are shorter: at the rig's 45 mm its stiffness
+# would give forces of meganewtons).
+END_STOP_SHARE = 0.85
+
+
+def place_within_stroke(effects: dict[str, dict], params: dict, rig: "RigInputs", duration: float) -> None:
+    """Moves a hidden end stop to END_STOP_SHARE of the rig motion's largest stroke in the part the
+    diagnosis fits on (the first SPLIT of the record), so that the stop acts there."""
+    if "end_stops" not in effects:
+        return
+    t = np.arange(0.0, SPLIT * duration, FINE_STEP)
+    x_stop = END_STOP_SHARE * float(np.max(np.abs(np.cumsum(rig.velocity(t)) * FINE_STEP)))
+    effects["end_stops"]["set"]["x_end_stop"] = x_stop
+    params["x_end_stop"] = x_stop
+
+
 def rig_truth_fmu(case: Case, rig: RigInputs, noise_v: np.ndarray, params: dict,
                   damper_fmu: str | Path) -> dict[str, np.ndarray]:
     """The damper FMU driven at the fine step by the true velocity plus the current sample's velocity
@@ -307,7 +346,8 @@ def rig_truth_fmu(case: Case, rig: RigInputs, noise_v: np.ndarray, params: dict,
     # What the FMU's velocity input sees in each fine step: the true motion at the step's start plus the
     # sensor noise of the sample it belongs to (unquantised: the controller's converter is finer).
     motion = v_true[:-1] if case.motion == "continuous" else np.repeat(v_true[:-1:m], m)
-    v_drive = motion + np.repeat(noise_v[:n_samples - 1], m)
+    # the LVDT chain's controller senses the motion itself (its converter is not the logger's)
+    v_drive = motion + (0.0 if case.chain == "lvdt" else np.repeat(noise_v[:n_samples - 1], m))
     # continuous: the velocity moves along the true motion's chord over each fine step (the FMU's
     # a_damper input), not held (a hold would lag the motion by half a fine step, 0.05 ms)
     a_drive = np.diff(v_true) / FINE_STEP if case.motion == "continuous" else np.zeros(n_fine)
@@ -329,7 +369,7 @@ def rig_truth_fmu(case: Case, rig: RigInputs, noise_v: np.ndarray, params: dict,
         slave.free()
     x = np.concatenate([[0.0], np.cumsum(v_drive) * FINE_STEP])
     return {"t_fine": t_fine, "force_fine": force, "t": t_rec, "v_measured": v_meas, "demand": demand,
-            "v_true": v_true[::m], "max_abs_stroke": float(np.max(np.abs(x)))}
+            "v_true": v_true[::m], "x_true": x[::m], "max_abs_stroke": float(np.max(np.abs(x)))}
 
 
 def hil_truth_fmu(case: Case, noise_v: np.ndarray, road_seed: int, params: dict,
@@ -376,7 +416,7 @@ def _fixed(x: float, digits: int) -> str:
 
 def write_csv(path: Path, case: Case, columns: dict[str, np.ndarray], comment: str) -> None:
     fmt = FORMATS[case.fmt]
-    keys = ("time", "v", "fd", "f")
+    keys = ("time", "x", "v", "fd", "f") if "x" in columns else ("time", "v", "fd", "f")
     scaled = [np.asarray(columns[k]) / fmt[k][1] for k in keys]
     lines = [f"# {comment}", ",".join(fmt[k][0] for k in keys)]
     digits = [fmt[k][2] for k in keys]
@@ -411,6 +451,7 @@ def make(case: Case, out: str | Path, truth_path: str | Path, damper_fmu: str | 
                      fmu_parameters=params)
         if case.kind == "rig":
             rig = RigInputs.draw(case.duration, rng["inputs"])
+            place_within_stroke(effects, params, rig, case.duration)
             sim = rig_truth_fmu(case, rig, noise_v, params, damper_fmu)
             truth["inputs"] = rig.describe()
         else:
@@ -424,14 +465,22 @@ def make(case: Case, out: str | Path, truth_path: str | Path, damper_fmu: str | 
         truth.update(model=desc, hidden_effects={}, inputs=rig.describe())
     m = steps_per_sample(case.rate)
     filtered = lowpass_fine(sim["force_fine"], FINE_STEP, case.lowpass_hz)[::m]
-    force = measure(filtered, "F_damper", rng["noise_f"])
+    load_cell = LVDT_LOAD_CELL if case.chain == "lvdt" else SENSORS["F_damper"]
+    force = measure(filtered, load_cell, rng["noise_f"])
     t = sim["t"]
     valid = force[int(SPLIT * force.size):]
-    sigma, q = SENSORS["F_damper"]
+    sigma, q = load_cell
+    columns = {"time": t, "v": sim["v_measured"], "fd": sim["demand"], "f": force}
+    if case.chain == "lvdt":
+        x_measured, v_logged = lvdt_velocity(sim["x_true"], case.rate, rng["noise_v"])
+        columns.update(x=x_measured, v=v_logged)
+        truth["chain"] = {"lvdt_noise_m": LVDT_NOISE, "lvdt_quantum_m": LVDT_QUANTUM,
+                          "logger_filter": f"Butterworth order {LOGGER_FILTER[0]} at {LOGGER_FILTER[1]} Hz, "
+                                           "zero-phase (filtfilt) on the central differences of x",
+                          "load_cell": {"noise": LVDT_LOAD_CELL[0], "quantum": LVDT_LOAD_CELL[1]}}
     truth.update(samples=int(t.size), max_abs_stroke_m=sim["max_abs_stroke"],
                  noise_floor_nrmse=math.sqrt(sigma ** 2 + q ** 2 / 12) / float(np.std(valid)))
-    write_csv(out, case, {"time": t, "v": sim["v_measured"], "fd": sim["demand"], "f": force},
-              f"independent record {case.name} (damper_tools.independent); truth kept elsewhere")
+    write_csv(out, case, columns, f"independent record {case.name} (damper_tools.independent); truth kept elsewhere")
     truth_path.parent.mkdir(parents=True, exist_ok=True)
     truth_path.write_text(json.dumps(truth, indent=1, sort_keys=True) + "\n", encoding="utf-8")
     if keep is not None:
@@ -458,12 +507,15 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--duration", type=float, default=None, help="s (default 4 rig, 6 HiL)")
     parser.add_argument("--format", dest="fmt", choices=tuple(FORMATS), default="ms")
     parser.add_argument("--motion", choices=MOTIONS, default="continuous")
+    parser.add_argument("--chain", choices=CHAINS, default="transducer",
+                        help="lvdt: velocity differentiated from the displacement by the logger (rig only)")
     parser.add_argument("--damper-fmu", type=Path, default=DAMPER_FMU)
     parser.add_argument("--truck-fmu", type=Path, default=TRUCK_FMU)
     parser.add_argument("--out", type=Path, required=True)
     parser.add_argument("--truth", type=Path, required=True)
     args = parser.parse_args(argv)
-    case = Case(args.kind, args.seed, tuple(args.effect), args.rate, args.duration, args.fmt, motion=args.motion)
+    case = Case(args.kind, args.seed, tuple(args.effect), args.rate, args.duration, args.fmt, motion=args.motion,
+                chain=args.chain)
     truth = make(case, args.out, args.truth, args.damper_fmu, args.truck_fmu)
     print(f"wrote {args.out} ({truth['samples']} samples) and {args.truth}; noise floor NRMSE "
           f"{truth['noise_floor_nrmse']:.4f}")

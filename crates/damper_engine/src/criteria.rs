@@ -5,6 +5,12 @@
 pub const MIN_EXPLAINED: f64 = 0.5;
 /// The best plausible runner-up must explain less than this fraction of what the best explains.
 pub const MAX_RUNNER_UP_RATIO: f64 = 0.7;
+/// A best candidate near the floor is also confident when every plausible rival leaves at least
+/// this many times its mean-square error above the floor. Shares of the error explained compress
+/// large differences: compressibility hidden on a rig record left 1.6× the floor, a refitted gas
+/// pre-charge 18× (explaining 83 % against 100 %: "ambiguous"); the reverse with the gas
+/// pre-charge hidden, 1.9× against 17×.
+pub const RIVAL_LEFT_FACTOR: f64 = 10.0;
 /// A baseline within this factor of the noise floor has nothing to explain.
 pub const FLOOR_FACTOR: f64 = 1.3;
 /// Effects "explain" the record only when they leave at most this factor of the noise floor;

@@ -5,7 +5,8 @@
 //! - `effect` (the named effects explain the record): L ≤ [`EXPLAINED_FACTOR`]·f, and either the
 //!   best candidate alone is confident (it explains ≥ [`MIN_EXPLAINED`] of the error above the
 //!   floor with plausible, moved parameters, clearly more than any plausible runner-up, or it
-//!   alone reaches the floor) or two or more effects of the ladder reach it together. Near the
+//!   alone reaches the floor, or it leaves at most 2× the floor and every plausible rival leaves
+//!   [`RIVAL_LEFT_FACTOR`] times its mean-square error above the floor) or two or more effects of the ladder reach it together. Near the
 //!   floor, a weak effect is named when it cuts the mean-square error by at least [`MIN_GAIN`] of
 //!   the noise variance and [`NUMERICS_MARGIN`] times the numerical error's, clearly more than
 //!   any other candidate;
@@ -18,7 +19,7 @@
 use crate::candidate::Candidate;
 use crate::criteria::{
     share, DOES_NOT_FIT_FLOOR_FACTOR, DOES_NOT_FIT_NRMSE, EXPLAINED_FACTOR, FLOOR_FACTOR, MAX_RUNNER_UP_RATIO,
-    MIN_EXPLAINED, MIN_GAIN, NUMERICS_MARGIN, PARTIAL_MIN_EXPLAINED,
+    MIN_EXPLAINED, MIN_GAIN, NUMERICS_MARGIN, PARTIAL_MIN_EXPLAINED, RIVAL_LEFT_FACTOR,
 };
 use crate::floor::Floor;
 use crate::ladder::Ladder;
@@ -41,10 +42,17 @@ pub fn judge(b: f64, floor: &Floor, candidates: &[Candidate], mut ladder: Ladder
     let runner_up = rivals().map(|c| c.explained).fold(0.0, f64::max);
     let at = |c: &Candidate| c.nrmse_validation <= FLOOR_FACTOR * f;
     let only_best_at_floor = best.is_some_and(at) && !rivals().any(at);
+    // the mean-square error a candidate leaves above the floor
+    let left = |c: &Candidate| (c.nrmse_validation * c.nrmse_validation - f * f).max(f64::MIN_POSITIVE);
+    // every plausible rival leaves far more than the best, which is near the floor: shares of the
+    // error explained compress the difference (83 % against 100 % is 11× the residual)
+    let rivals_far_behind = |c: &Candidate| {
+        c.nrmse_validation <= EXPLAINED_FACTOR * f && rivals().all(|r| left(r) >= RIVAL_LEFT_FACTOR * left(c))
+    };
     let confident = best.filter(|c| {
         c.plausible
             && c.explained >= MIN_EXPLAINED
-            && (runner_up < MAX_RUNNER_UP_RATIO * c.explained || only_best_at_floor)
+            && (runner_up < MAX_RUNNER_UP_RATIO * c.explained || only_best_at_floor || rivals_far_behind(c))
     });
     let done = |verdict, ladder: Ladder, explanation: String| {
         let effects = if matches!(verdict, "effect" | "partial") { ladder.effects.clone() } else { Vec::new() };
