@@ -50,7 +50,7 @@ pub fn white_noise(x: &[f64]) -> f64 {
 #[derive(Clone, Debug)]
 pub struct Fused {
     pub v: Vec<f64>,
-    /// The stroke the model starts at (m): x[0] plus the smoothed disagreement there, so that the
+    /// The stroke the model starts at (m): `x[0]` plus the smoothed disagreement there, so that the
     /// integral of `v` from it follows x.
     pub start: f64,
     pub crossover_hz: f64,
