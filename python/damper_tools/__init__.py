@@ -18,6 +18,8 @@ import numpy as np
 # The repository the package is installed from (editable install): the FMUs are built under its
 # target/, the outputs go to its out/ and the road data are in its data/.
 REPO = Path(__file__).resolve().parents[2]
+# The `damper` program as `cargo build --release -p damper_cli` writes it.
+DAMPER = REPO / "target" / "release" / "damper"
 
 
 def jsonable(x: Any, drop: Collection[str] = ()) -> Any:

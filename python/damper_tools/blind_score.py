@@ -29,10 +29,9 @@ from dataclasses import asdict
 from datetime import date
 from pathlib import Path
 
-from damper_tools import REPO
+from damper_tools import DAMPER, REPO
 from damper_tools import independent as ind
 
-DAMPER = REPO / "target" / "release" / "damper"
 PAIRS = (("seal_friction", "check_valve_cracking"), ("piston_leakage", "check_valve_cracking"),
          ("seal_friction", "amplifier_delay"))
 FOREIGN_FACTOR = 2.0  # a foreign damper's named effect must bring the NRMSE within this times the floor

@@ -42,10 +42,9 @@ from typing import Any
 
 from distributed.diagnostics.plugin import WorkerPlugin
 
-from damper_tools import REPO
+from damper_tools import DAMPER, REPO
 from damper_tools.sweep import dask_client
 
-DAMPER = REPO / "target" / "release" / "damper"
 PLUGIN_NAME = "damper-campaign-program"
 OUT = REPO / "out" / "campaign"
 COLUMNS = ("record", "status", "verdict", "effects", "best_effect", "fitted", "nrmse_baseline", "nrmse_after",

@@ -30,9 +30,8 @@ import time
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
-from damper_tools import REPO, dyno
+from damper_tools import DAMPER, REPO, dyno
 
-DAMPER = REPO / "target" / "release" / "damper"
 SCENARIOS = ("unchanged", "gas", "valve", "heated", "end_stop")
 # the effect that carries each change, and its size parameter (None: the change's parameter)
 EXPECTED = {"gas": ("gas_charge", "p_reservoir0"), "heated": ("oil_temperature", "visc_temp_coeff"),

@@ -42,11 +42,10 @@ from pathlib import Path
 import numpy as np
 from scipy.signal import butter, filtfilt, lfilter, lfilter_zi
 
-from damper_tools import REPO, cosim, roads
+from damper_tools import DAMPER, REPO, cosim, roads
 from damper_tools.fmu import FmuUnit, Slave
 
 DAMPER_FMU = REPO / "target" / "fmu" / "SemiActiveDamper.fmu"
-DAMPER = REPO / "target" / "release" / "damper"
 TRUCK_FMU = REPO / "target" / "fmu" / "QuarterTruck.fmu"
 
 FINE_STEP = 1e-4  # s: communication step of the truth

@@ -310,6 +310,16 @@ pub fn smooth_rate(t: &[f64], x: &[f64], half: usize) -> Vec<f64> {
         .collect()
 }
 
+/// The integral of `v` sampled at `t` from `x0` at the first sample, by trapezoids: the stroke
+/// along a velocity.
+pub fn integrate(t: &[f64], v: &[f64], x0: f64) -> Vec<f64> {
+    let mut x = vec![x0; t.len()];
+    for k in 1..t.len() {
+        x[k] = x[k - 1] + 0.5 * (v[k] + v[k - 1]) * (t[k] - t[k - 1]);
+    }
+    x
+}
+
 /// Velocity from displacement: three-point central difference on a possibly non-uniform grid,
 /// second-order one-sided differences at the ends.
 pub fn differentiate(t: &[f64], x: &[f64]) -> Vec<f64> {

@@ -5,7 +5,7 @@
 //! the record) would leave it at the floor. No `none` is then given while a part is far above its
 //! floor ([`crate::diagnose`]), and the part that holds the error is named.
 
-use crate::dsp::{noise_floor, rms};
+use crate::dsp::{kept, noise_floor, rms};
 
 /// Blocks of equal length the record is cut into.
 pub const BLOCKS: usize = 5;
@@ -51,9 +51,7 @@ pub fn parts(
     let n = measured.len();
     let part = |name: String, range: std::ops::Range<usize>| {
         let residual: Vec<f64> = base[range.clone()].iter().zip(&measured[range.clone()]).map(|(m, y)| m - y).collect();
-        let kept = |x: &[f64]| -> Vec<f64> {
-            x.iter().zip(&keep[range.clone()]).filter(|(_, &k)| k).map(|(v, _)| *v).collect()
-        };
+        let keep = &keep[range.clone()];
         let numerics: Vec<f64> =
             base[range.clone()].iter().zip(&base_check[range.clone()]).map(|(a, b)| a - b).collect();
         let sigma = noise_floor(&residual).sigma;
@@ -61,8 +59,8 @@ pub fn parts(
             name,
             t_start: time[range.start],
             t_end: time[range.end - 1],
-            rms_residual: rms(&kept(&residual)),
-            rms_floor: libm::hypot(sigma, rms(&kept(&numerics))),
+            rms_residual: rms(&kept(&residual, keep)),
+            rms_floor: libm::hypot(sigma, rms(&kept(&numerics, keep))),
         }
     };
     let mut out = vec![part("train".into(), 0..split), part("validation".into(), split..n)];

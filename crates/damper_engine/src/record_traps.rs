@@ -192,12 +192,7 @@ fn drifting_zero(m: &Measurement) -> Option<String> {
     let t = &m.time;
     let largest = v.iter().fold(0.0f64, |a, x| a.max(x.abs()));
     let threshold = REST_VELOCITY.max(0.02 * largest);
-    let mut x = 0.0;
-    let mut stroke = vec![0.0; v.len()];
-    for k in 1..v.len() {
-        x += 0.5 * (v[k] + v[k - 1]) * (t[k] - t[k - 1]);
-        stroke[k] = m.get(Column::XDamper).map_or(x, |xs| xs[k]);
-    }
+    let stroke = m.get(Column::XDamper).map_or_else(|| crate::dsp::integrate(t, v, 0.0), <[f64]>::to_vec);
     // (time, stroke, mean force) of each rest
     let mut rests: Vec<(f64, f64, f64)> = Vec::new();
     let mut k = 0;

@@ -118,12 +118,9 @@ pub fn steady_force(p: &Parameters, d: &Derived, pt: &SteadyPoint) -> Option<f64
 pub fn steady_points(drive: &Drive, x_start: f64, measured: &[f64]) -> Vec<SteadyPoint> {
     let (t, v) = (&drive.time, &drive.v_damper);
     let a = crate::dsp::smooth_rate(t, v, 2);
-    let mut x = x_start;
+    let stroke = crate::dsp::integrate(t, v, x_start);
     let mut out = Vec::new();
-    for k in 0..t.len() {
-        if k > 0 {
-            x += 0.5 * (v[k] + v[k - 1]) * (t[k] - t[k - 1]);
-        }
+    for (k, &x) in stroke.iter().enumerate() {
         let t_oil = drive.t_oil.as_ref().map_or(semi_active_damper::damper::T_OIL_START, |t| t[k]);
         if v[k].abs() >= MIN_STEADY_VELOCITY && a[k].abs() * SETTLING <= STEADY_SHARE * v[k].abs() {
             out.push(SteadyPoint { v: v[k], x, t_oil, force: measured[k] });

@@ -68,10 +68,7 @@ pub fn velocity_following_displacement(t: &[f64], v: &[f64], x: &[f64]) -> Resul
     } else {
         0.25 / dt
     };
-    let mut integral = vec![x[0]; n];
-    for k in 1..n {
-        integral[k] = integral[k - 1] + 0.5 * (v[k] + v[k - 1]) * (t[k] - t[k - 1]);
-    }
+    let integral = crate::dsp::integrate(t, v, x[0]);
     let e: Vec<f64> = x.iter().zip(&integral).map(|(x, i)| x - i).collect();
     let pass = |input: &[f64], order: &mut dyn Iterator<Item = usize>| {
         let mut out = vec![0.0; n];
