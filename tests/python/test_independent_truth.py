@@ -106,6 +106,17 @@ def test_a_clean_record_of_continuous_motion_is_at_the_noise_floor(kind, seed, r
     assert summary["verdict"] == "none", (summary["verdict"], summary["effects"], summary["explanation"])
 
 
+def test_a_clean_lvdt_record_carries_its_velocity_noise_in_the_floor(damper, work_dir, fmu, truck_fmu):
+    """A rig record whose velocity the logger differentiated from its LVDT and filtered: the reader
+    makes the velocity again from x_damper, the floor carries the displacement's noise through the
+    model (many times the 6 N load cell), and nothing is named."""
+    case = ind.Case("rig", 1, (), 1000.0, chain="lvdt")
+    summary = diagnose(damper, case, work_dir, fmu, truck_fmu)
+    floor = summary["floor"]
+    assert floor["nrmse_inputs_unseen"] > 3 * floor["nrmse_noise"], floor
+    assert summary["verdict"] == "none", (summary["verdict"], summary["effects"], summary["explanation"])
+
+
 def test_hidden_seal_friction_is_named(damper, work_dir, fmu, truck_fmu):
     case = ind.Case("rig", 1, ("seal_friction",), 1000.0, 3.0)
     summary = diagnose(damper, case, work_dir, fmu, truck_fmu)

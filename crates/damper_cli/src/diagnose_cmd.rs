@@ -35,7 +35,7 @@ fn rung_label(l: &Rung) -> (String, &'static str) {
 /// The floor's parts, one line, and the samples left out.
 fn floor_line(f: &Floor) -> String {
     format!(
-        "floor {:.4} = sensor noise {:.4} (σ {:.1} N; cross-checks {:.1} N windowed, {:.1} N median-absolute, {:.1} N over all samples) ⊕ the model's numerical error {:.4} (rtol {:.0e} against {:.0e}); {} validation samples left out, where a velocity noise of {:.2} mm/s moves the force by more than {:.0} N; that velocity noise carried through the model: {:.4} (reported, not in the floor)",
+        "floor {:.4} = sensor noise {:.4} (σ {:.1} N; cross-checks {:.1} N windowed, {:.1} N median-absolute, {:.1} N over all samples) ⊕ the model's numerical error {:.4} (rtol {:.0e} against {:.0e}) ⊕ the velocity's noise carried through the model where the noise estimate cannot see it {:.4} (all of it {:.4}); {} validation samples left out, where a velocity noise of {:.2} mm/s moves the force by more than {:.0} N",
         f.nrmse,
         f.nrmse_noise,
         f.noise.sigma,
@@ -45,10 +45,11 @@ fn floor_line(f: &Floor) -> String {
         f.nrmse_numerics,
         f.rtol,
         f.rtol_check,
+        f.nrmse_inputs_unseen,
+        f.nrmse_inputs,
         f.left_out_validation,
         1e3 * f.delta_v,
         f.sensitive_threshold,
-        f.nrmse_inputs
     )
 }
 

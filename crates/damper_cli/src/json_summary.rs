@@ -199,6 +199,7 @@ pub fn diagnosed(r: &Diagnosed) -> Summary {
                 sensitive_threshold: d.floor.sensitive_threshold,
                 left_out_validation: d.floor.left_out_validation,
                 nrmse_inputs: d.floor.nrmse_inputs,
+                nrmse_inputs_unseen: d.floor.nrmse_inputs_unseen,
             },
             explanation: d.explanation.clone(),
             ladder: d

@@ -51,6 +51,9 @@ pub struct CompareOptions {
     pub flips: Vec<Column>,
     /// The time column wins over a sample rate the logger states in a comment (`--trust-time-column`).
     pub trust_time_column: bool,
+    /// Drive the model with a velocity made again from the displacement where the logger's was
+    /// made from it ([`Measurement::with_velocity_made_again`]): the diagnosis's choice.
+    pub velocity_made_again: bool,
 }
 
 /// The tolerance `diagnose` and `calibrate` run the model at, unless the user sets one: the FMU's
@@ -78,6 +81,7 @@ impl CompareOptions {
             rtol_at_most: None,
             flips: Vec::new(),
             trust_time_column: false,
+            velocity_made_again: false,
         }
     }
 }
@@ -233,6 +237,9 @@ pub fn compare(opts: &CompareOptions) -> Result<Comparison, String> {
 /// warnings added to its notes.
 pub fn read_checked(opts: &CompareOptions, path: &std::path::Path) -> Result<Measurement, String> {
     let mut m = Measurement::read_flipped(path, &opts.maps, opts.max_gap, &opts.flips)?;
+    if opts.velocity_made_again {
+        m = m.with_velocity_made_again();
+    }
     let findings = crate::record_traps::check(&m, opts.trust_time_column)?;
     m.excluded = findings.excluded;
     m.notes.extend(findings.warnings);

@@ -65,7 +65,7 @@ pub fn diagnose(
     let candidates = fit.all(specs, baseline, errors)?;
     let ladder = climb(fit, specs, baseline, &candidates, errors)?;
     let judged = judge(nrmse_baseline, &floor, &candidates, ladder)?;
-    let parts = record_parts::parts(time, measured, numerics.base, numerics.base_check, split, &informative.keep);
+    let parts = record_parts::parts(time, measured, numerics, split, &informative.keep);
     let Judged { verdict, best_effect, explanation, ladder, effects } = whole_record(judged, &parts);
     Ok(Diagnosis {
         verdict,

@@ -14,6 +14,7 @@ use crate::residual_signature::{self, Quantity};
 use crate::rng::Rng;
 use crate::sensitivity::{informative, velocity_resolution, SENSITIVITY_SEEDS};
 use crate::units::Column;
+use rayon::prelude::*;
 
 /// A finished diagnosis with its comparison.
 pub struct Diagnosed {
@@ -30,7 +31,7 @@ pub fn diagnose_measurement(
     threads: usize,
     progress: &Progress<'_>,
 ) -> Result<Diagnosed, String> {
-    let opts = &CompareOptions { rtol_at_most: Some(ANALYSIS_RTOL), ..opts.clone() };
+    let opts = &CompareOptions { rtol_at_most: Some(ANALYSIS_RTOL), velocity_made_again: true, ..opts.clone() };
     let c = comparison::compare(opts)?;
     let split = comparison::split_index(&c.measurement, opts.split)?;
     let measured = c.measurement.get(Column::FDamper).ok_or("the measurement has no F_damper column")?.to_vec();
@@ -49,24 +50,53 @@ pub fn diagnose_measurement(
     let largest_stroke = c.prediction.x_damper[..train].iter().fold(0.0f64, |a, x| a.max(x.abs()));
     let mut check = baseline;
     check.rtol = baseline.rtol * NUMERICS_CHECK_FACTOR;
-    let delta_v = velocity_resolution(&c.drive.v_damper);
-    let shifted = |seed: u64| {
-        let mut rng = Rng::new(seed);
-        let v_damper = c.drive.v_damper.iter().map(|v| v + delta_v * rng.normal()).collect();
+    let n = c.drive.v_damper.len();
+    // the velocity's noise: coloured where it is made from the displacement, else white at its resolution
+    let coloured = c.measurement.velocity_noise.as_ref();
+    let delta_v = coloured
+        .map_or_else(|| velocity_resolution(&c.drive.v_damper), |noise| noise.carried_rms(SENSITIVITY_SEEDS[0], n));
+    // the velocity's noise paths: white, one per seed; a coloured path runs both ways (antithetic):
+    // at a slow reversal one of the two moves the zero crossing earlier and the other later, so
+    // the semi-active clip's sign is always tried
+    let paths: Vec<Vec<f64>> = match coloured {
+        None => SENSITIVITY_SEEDS
+            .iter()
+            .map(|seed| {
+                let mut rng = Rng::new(*seed);
+                (0..n).map(|_| delta_v * rng.normal()).collect()
+            })
+            .collect(),
+        Some(noise) => SENSITIVITY_SEEDS
+            .iter()
+            .flat_map(|seed| {
+                let path = noise.path(*seed, n);
+                [path.iter().map(|e| -e).collect(), path]
+            })
+            .collect(),
+    };
+    let signs: Vec<Vec<f64>> =
+        if coloured.is_some() { sign_runs(&c.drive.v_damper, delta_v).into() } else { Vec::new() };
+    let shifted = |noise: &Vec<f64>| {
+        let v_damper = c.drive.v_damper.iter().zip(noise).map(|(v, e)| v + e).collect();
         let drive = Drive { v_damper, ..c.drive.clone() };
         let run = force_simulator(c.setup.backend.as_ref(), &drive, opts.load_cell_lowpass_hz);
         run(&baseline, drive.len())
     };
-    let (base_check, (plus, minus)) = pool.install(|| {
+    let (base_check, (perturbed, signed)) = pool.install(|| {
         rayon::join(
             || simulate(&check, measured.len()),
-            || rayon::join(|| shifted(SENSITIVITY_SEEDS[0]), || shifted(SENSITIVITY_SEEDS[1])),
+            || {
+                rayon::join(
+                    || paths.par_iter().map(shifted).collect::<Result<Vec<_>, _>>(),
+                    || signs.par_iter().map(shifted).collect::<Result<Vec<_>, _>>(),
+                )
+            },
         )
     });
     let base = &c.prediction.f_damper;
     let residual: Vec<f64> = base.iter().zip(&measured).map(|(m, y)| m - y).collect();
-    let (plus, minus) = (plus?, minus?);
-    let mut informative = informative(base, &plus, &minus, delta_v, noise_sigma(&residual));
+    let (perturbed, signed) = (perturbed?, signed?);
+    let mut informative = informative(base, &perturbed, &signed, delta_v, noise_sigma(&residual));
     // the samples the record's checks leave out (a clipped force)
     for (keep, excluded) in informative.keep.iter_mut().zip(&c.measurement.excluded) {
         *keep &= !excluded;
@@ -81,13 +111,8 @@ pub fn diagnose_measurement(
         pool: &pool,
         progress,
     };
-    let numerics = Numerics {
-        base,
-        perturbed: [&plus, &minus],
-        base_check: &base_check?,
-        rtol: baseline.rtol,
-        rtol_check: check.rtol,
-    };
+    let numerics =
+        Numerics { base, perturbed: &perturbed, base_check: &base_check?, rtol: baseline.rtol, rtol_check: check.rtol };
     let mut d = diagnose(&c.measurement.time, &fit, &candidates, &baseline, &numerics)?;
     drop(simulate);
     let after = match d.effects.as_slice() {
@@ -106,6 +131,27 @@ pub fn diagnose_measurement(
     }
     Ok(Diagnosed { comparison: c, diagnosis: d, after })
 }
+
+/// Two velocity shifts that try the sign of the motion both ways where the velocity is within its
+/// noise `delta_v` of zero: `±SIGN_SHIFT·δ·exp(−(v/δ)²)`, which makes every |v| < δ positive in one
+/// run and negative in the other, and fades out by 2δ. A velocity made from the displacement is
+/// not the one the damper's controller sensed, and where the motion rests or turns slowly the
+/// semi-active clip's sign, and with it the force for a few hundred milliseconds, hangs on what
+/// the record cannot tell (a rig's wave touching zero between its parts: up to 1.3 kN).
+fn sign_runs(v: &[f64], delta_v: f64) -> [Vec<f64>; 2] {
+    let up: Vec<f64> = v
+        .iter()
+        .map(|v| {
+            let u = v / delta_v;
+            SIGN_SHIFT * delta_v * libm::exp(-u * u)
+        })
+        .collect();
+    [up.iter().map(|e| -e).collect(), up]
+}
+
+/// The sign runs' largest shift, in the velocity's noise: 3 > e makes v + 3δ·exp(−(v/δ)²) positive
+/// for every v ≥ −δ.
+const SIGN_SHIFT: f64 = 3.0;
 
 /// Why the model does not fit, in physical terms. A residual that mostly follows the stroke, the
 /// time or the temperature is one local effect the catalog lacks, not a damper of another kind:

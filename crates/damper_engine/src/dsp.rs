@@ -340,20 +340,114 @@ pub fn differentiate(t: &[f64], x: &[f64]) -> Vec<f64> {
     v
 }
 
-/// Zero-phase Wiener smoothing of a signal carrying white noise of standard deviation `sigma`:
-/// each frequency's share kept is max(0, 1 − N·σ²/P̄(f)), P̄ the periodogram averaged over
-/// `2·SMOOTH_BINS + 1` neighbouring bins; the record is mirrored at both ends against edge
-/// effects. Where the signal stands above the noise it passes unchanged; where the noise
-/// dominates it is removed.
+/// The periodogram's average of [`wiener_smooth`]: ±15 bins.
+pub const WHITE_NOISE_BINS: usize = 15;
+
+/// Zero-phase Wiener smoothing of a signal carrying white noise of standard deviation `sigma`
+/// ([`WienerGains`] with a flat noise spectrum).
 pub fn wiener_smooth(x: &[f64], sigma: f64) -> Vec<f64> {
-    const SMOOTH_BINS: usize = 15;
-    let n = x.len();
-    if n < 8 || sigma.is_nan() || sigma <= 0.0 {
+    if x.len() < 8 || sigma.is_nan() || sigma <= 0.0 {
         return x.to_vec();
     }
-    // even extension: x, then x reversed, so that the circular transform sees no jump at the ends
+    WienerGains::new(x, |_| sigma * sigma, WHITE_NOISE_BINS).apply(x)
+}
+
+/// The gains of a zero-phase Wiener smoother fitted to a signal: each frequency's share kept is
+/// max(0, 1 − N(f)/P̄(f)), N the noise's power spectral density (as the variance per sample of
+/// white noise of that level) and P̄ the periodogram averaged over `2·bins + 1`
+/// neighbouring bins; the record is mirrored at both ends against edge effects. Where the signal
+/// stands above the noise it passes unchanged; where the noise dominates it is removed. The gains
+/// are fixed once fitted, so that the same linear smoother can be applied to a noise path
+/// (what the smoothed signal still carries of its noise).
+#[derive(Clone, Debug)]
+pub struct WienerGains {
+    n: usize,
+    gain: Vec<f64>,
+    /// Per bin, the signal's share of the mean square (P̄ − N, at least 0, over m²).
+    signal: Vec<f64>,
+}
+
+impl WienerGains {
+    /// Gains for `x` under noise of spectral density `noise(f)`, `f` in cycles per sample (0–0.5),
+    /// its periodogram averaged over ±`bins`.
+    pub fn new(x: &[f64], noise: impl Fn(f64) -> f64, bins: usize) -> WienerGains {
+        let n = x.len();
+        let (mut re, mut im) = even_extension(x);
+        let m = re.len();
+        fft(&mut re, &mut im);
+        let power: Vec<f64> = re.iter().zip(&im).map(|(r, i)| r * r + i * i).collect();
+        let (gain, signal) = (0..m)
+            .map(|k| {
+                // the averaged power around bin k, symmetric (bin m − k is its conjugate)
+                let f = k.min(m - k);
+                let (lo, hi) = (f.saturating_sub(bins), (f + bins).min(m / 2));
+                let mean = power[lo..=hi].iter().sum::<f64>() / (hi - lo + 1) as f64;
+                let noise = m as f64 * noise(f as f64 / m as f64);
+                ((1.0 - noise / mean.max(1e-300)).max(0.0), (mean - noise).max(0.0) / (m * m) as f64)
+            })
+            .unzip();
+        WienerGains { n, gain, signal }
+    }
+
+    /// The mean square of the signal weighted by `weight(f)`, `f` in cycles per sample (0–0.5): with
+    /// weight |1 − H(f)|², what a filter H takes out of it. Counted where the signal stands at least
+    /// as high as the noise (a gain of at least ½): below, P̄ − N is the noise estimate's error, not
+    /// signal (counted everywhere, a 60 Hz filter took 2.3 mm/s out of a pure 1.5 Hz stroke).
+    pub fn signal_mean_square(&self, weight: impl Fn(f64) -> f64) -> f64 {
+        let m = self.signal.len();
+        self.signal
+            .iter()
+            .zip(&self.gain)
+            .enumerate()
+            .filter(|(_, (_, g))| **g >= 0.5)
+            .map(|(k, (s, _))| s * weight(k.min(m - k) as f64 / m as f64))
+            .sum()
+    }
+
+    /// The smoother applied to `y` (of the fitted signal's length).
+    pub fn apply(&self, y: &[f64]) -> Vec<f64> {
+        self.filter(y, |g| g)
+    }
+
+    /// `y` filtered by the square roots of the gains: white noise of the noise spectrum N becomes
+    /// noise of the smoothed signal's error spectrum. The gain G = 1 − N/P is S/(S + N) for a
+    /// signal of spectrum S = P − N, and the smoothed signal's error (G·noise − (1 − G)·signal)
+    /// has the spectrum G²N + (1 − G)²S = G·N: what the record cannot tell, noise left in where
+    /// the signal dominates and signal taken out with the noise near the crossover.
+    pub fn error_of(&self, y: &[f64]) -> Vec<f64> {
+        self.filter(y, f64::sqrt)
+    }
+
+    /// What the smoother takes out of `y` (the gains' complements applied).
+    pub fn removed_of(&self, y: &[f64]) -> Vec<f64> {
+        self.filter(y, |g| 1.0 - g)
+    }
+
+    fn filter(&self, y: &[f64], of_gain: impl Fn(f64) -> f64) -> Vec<f64> {
+        debug_assert_eq!(y.len(), self.n);
+        let (mut re, mut im) = even_extension(y);
+        let m = re.len();
+        fft(&mut re, &mut im);
+        for ((r, i), g) in re.iter_mut().zip(im.iter_mut()).zip(&self.gain) {
+            let g = of_gain(*g);
+            *r *= g;
+            *i *= g;
+        }
+        // the inverse transform: the forward one of the conjugate, conjugated and scaled
+        for v in im.iter_mut() {
+            *v = -*v;
+        }
+        fft(&mut re, &mut im);
+        re[..self.n].iter().map(|r| r / m as f64).collect()
+    }
+}
+
+/// `x`, then `x` reversed, repeated to a power of two: the circular transform sees no jump at the
+/// ends. Returns (re, im).
+fn even_extension(x: &[f64]) -> (Vec<f64>, Vec<f64>) {
+    let n = x.len();
     let m = (2 * n).next_power_of_two();
-    let mut re: Vec<f64> = (0..m)
+    let re = (0..m)
         .map(|k| {
             let j = k % (2 * n);
             if j < n {
@@ -363,29 +457,7 @@ pub fn wiener_smooth(x: &[f64], sigma: f64) -> Vec<f64> {
             }
         })
         .collect();
-    let mut im = vec![0.0; m];
-    fft(&mut re, &mut im);
-    let power: Vec<f64> = re.iter().zip(&im).map(|(r, i)| r * r + i * i).collect();
-    let noise = m as f64 * sigma * sigma;
-    let gain: Vec<f64> = (0..m)
-        .map(|k| {
-            // the averaged power around bin k, symmetric (bin m − k is its conjugate)
-            let f = k.min(m - k);
-            let (lo, hi) = (f.saturating_sub(SMOOTH_BINS), (f + SMOOTH_BINS).min(m / 2));
-            let mean = power[lo..=hi].iter().sum::<f64>() / (hi - lo + 1) as f64;
-            (1.0 - noise / mean.max(1e-300)).max(0.0)
-        })
-        .collect();
-    for ((r, i), g) in re.iter_mut().zip(im.iter_mut()).zip(&gain) {
-        *r *= g;
-        *i *= g;
-    }
-    // the inverse transform: the forward one of the conjugate, conjugated and scaled
-    for v in im.iter_mut() {
-        *v = -*v;
-    }
-    fft(&mut re, &mut im);
-    re[..n].iter().map(|r| r / m as f64).collect()
+    (re, vec![0.0; m])
 }
 
 #[cfg(test)]
@@ -488,6 +560,26 @@ mod tests {
     fn chi2_quantiles() {
         assert!((chi2_95(20) - 31.41).abs() < 0.1);
         assert!((chi2_95(10) - 18.31).abs() < 0.1);
+    }
+
+    /// The smoothed signal's error is what [`WienerGains::error_of`] makes of white noise: on a
+    /// broadband motion (white noise through two 15 Hz low-passes, a damper's random drive) under
+    /// white noise, the RMS of the two agree within 15 %; the smoother's gains alone
+    /// ([`WienerGains::apply`]) leave out the signal taken out with the noise.
+    #[test]
+    fn the_error_path_has_the_smoothed_signals_error() {
+        let mut rng = crate::rng::Rng::new(21);
+        let (mut a, mut b) = (Lowpass::new(15.0, 0.0), Lowpass::new(15.0, 0.0));
+        let motion: Vec<f64> = (0..16000).map(|_| b.step(1e-3, a.step(1e-3, rng.normal()))).collect();
+        let sigma = 0.05 * std(&motion);
+        let noisy: Vec<f64> = motion.iter().map(|m| m + sigma * rng.normal()).collect();
+        let gains = WienerGains::new(&noisy, |_| sigma * sigma, WHITE_NOISE_BINS);
+        let error: Vec<f64> = gains.apply(&noisy).iter().zip(&motion).map(|(a, b)| a - b).collect();
+        let noise: Vec<f64> = (0..16000).map(|_| sigma * rng.normal()).collect();
+        let (path, applied) = (gains.error_of(&noise), gains.apply(&noise));
+        eprintln!("error {:.3e}, error path {:.3e}, gains alone {:.3e}", rms(&error), rms(&path), rms(&applied));
+        assert!((rms(&path) / rms(&error) - 1.0).abs() < 0.15);
+        assert!(rms(&applied) < rms(&path));
     }
 
     /// A motion of 80 sines up to 20 Hz under white noise of a fiftieth of its spread: the

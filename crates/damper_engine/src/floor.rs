@@ -14,14 +14,22 @@ pub struct Floor {
     /// The model's numerical error: RMS(F(rtol) − F(rtol·[`NUMERICS_CHECK_FACTOR`](crate::criteria::NUMERICS_CHECK_FACTOR)))
     /// / std(measured) on the validation part.
     pub nrmse_numerics: f64,
-    /// √(noise² + numerics²): what the verdict judges by.
+    /// √(noise² + numerics² + inputs unseen²): what the verdict judges by.
     pub nrmse: f64,
-    /// The measured velocity's white noise carried through the model into its force: RMS of the
-    /// baseline with white noise of the velocity's resolution δ added, less the baseline, over the
-    /// validation part / std(measured). Reported, not in [`nrmse`](Self::nrmse): a dyno's force
-    /// comes from the true motion, so there it belongs to the floor, but a rig's controller acts
-    /// on the measured velocity, so there part of it is in the force too.
+    /// The measured velocity's noise carried through the model into its force: RMS of the
+    /// baseline with the velocity's noise added ([`crate::sensitivity`], coloured where the
+    /// velocity is made from the displacement: [`crate::velocity_noise`]) less the baseline, over
+    /// the validation part / std(measured).
     pub nrmse_inputs: f64,
+    /// The part of [`nrmse_inputs`](Self::nrmse_inputs) the noise estimate cannot see, in
+    /// [`nrmse`](Self::nrmse): what is left of its mean square once its white part (by the same
+    /// second differences that estimate the sensor noise) is taken away. A white velocity noise
+    /// carried into the force is white too, and where the measured force carries it (a rig whose
+    /// damper senses the logged velocity) the noise estimate already has it; a velocity made from
+    /// a displacement and low-passed carries it below the filter's corner, where the second
+    /// differences do not look, and a dyno's force never carries it (the damper moved with the
+    /// true motion).
+    pub nrmse_inputs_unseen: f64,
     /// The noise estimate (N), three ways.
     pub noise: NoiseEstimate,
     /// The tolerance the model ran at, and the one of the check.
@@ -37,9 +45,8 @@ pub struct Floor {
 /// The force of the model at its tolerance and at the check's tighter one, over the measurement.
 pub struct Numerics<'a> {
     pub base: &'a [f64],
-    /// The baseline with white noise of the velocity's resolution added to its velocity (two
-    /// seeds, [`crate::sensitivity`]).
-    pub perturbed: [&'a [f64]; 2],
+    /// The baseline with the velocity's noise added to its velocity ([`crate::sensitivity`]).
+    pub perturbed: &'a [Vec<f64>],
     pub base_check: &'a [f64],
     pub rtol: f64,
     pub rtol_check: f64,
@@ -56,19 +63,15 @@ pub fn floor(measured: &[f64], numerics: &Numerics<'_>, split: usize, informativ
     let nrmse_noise = noise.sigma / val_std;
     let diff: Vec<f64> = numerics.base[split..].iter().zip(&numerics.base_check[split..]).map(|(a, b)| a - b).collect();
     let nrmse_numerics = rms(&kept(&diff, keep)) / val_std;
-    let carried: Vec<f64> = numerics
-        .perturbed
-        .iter()
-        .flat_map(|run| {
-            kept(&run[split..].iter().zip(&numerics.base[split..]).map(|(p, b)| p - b).collect::<Vec<_>>(), keep)
-        })
-        .collect();
-    let nrmse_inputs = rms(&carried) / val_std;
+    let (inputs, unseen) = carried(numerics, split..measured.len(), keep);
+    let nrmse_inputs = inputs / val_std;
+    let nrmse_inputs_unseen = unseen / val_std;
     Floor {
         nrmse_noise,
         nrmse_numerics,
-        nrmse: libm::hypot(nrmse_noise, nrmse_numerics),
+        nrmse: libm::hypot(libm::hypot(nrmse_noise, nrmse_numerics), nrmse_inputs_unseen),
         nrmse_inputs,
+        nrmse_inputs_unseen,
         noise,
         rtol: numerics.rtol,
         rtol_check: numerics.rtol_check,
@@ -76,4 +79,19 @@ pub fn floor(measured: &[f64], numerics: &Numerics<'_>, split: usize, informativ
         sensitive_threshold: informative.threshold,
         left_out_validation: informative.left_out(split),
     }
+}
+
+/// The velocity's noise carried into the force over `range` of the record (N, RMS over the samples
+/// `keep` keeps there, every perturbed run), and the part of it the noise estimate cannot see
+/// ([`Floor::nrmse_inputs_unseen`]).
+pub fn carried(numerics: &Numerics<'_>, range: std::ops::Range<usize>, keep: &[bool]) -> (f64, f64) {
+    let runs: Vec<Vec<f64>> = numerics
+        .perturbed
+        .iter()
+        .map(|run| run[range.clone()].iter().zip(&numerics.base[range.clone()]).map(|(p, b)| p - b).collect())
+        .collect();
+    let all: Vec<f64> = runs.iter().flat_map(|r| kept(r, keep)).collect();
+    let total = rms(&all);
+    let white = rms(&runs.iter().map(|r| noise_floor(r).sigma).collect::<Vec<_>>());
+    (total, (total * total - white * white).max(0.0).sqrt())
 }

@@ -704,7 +704,9 @@ pub fn generate(o: &GenerateOptions) -> Result<Generated, String> {
                     x_true[k] = x_true[k - 1] + v_true[k - 1] * (t[k] - t[k - 1]);
                 }
                 let x = measure(&x_true, nz.x_damper, &mut noise_rng);
-                let v = crate::dsp::differentiate(&t, &x);
+                // the velocity compare makes of the displacement (the rig controller's)
+                let motion = crate::motion::motion(&t, Some(crate::dsp::differentiate(&t, &x)), Some(&x), true)?;
+                let v = motion.v.unwrap_or_default();
                 ((Column::XDamper, x), v)
             } else {
                 let v = measure(&v_true, nz.v_damper, &mut noise_rng);

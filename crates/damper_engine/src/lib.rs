@@ -2,13 +2,16 @@
 //! or SVG; the `damper` command line (crates/damper_cli) presents the results.
 //!
 //! - [`measurement`], [`units`]: reading a measurement CSV (column mapping, units, errors with
-//!   file, line and column);
+//!   file, line and column); [`motion`]: the model's motion from the velocity and displacement
+//!   columns ([`velocity_noise`]: a velocity made from the displacement; [`stroke`]: the two fused);
 //! - [`model`]: the model driven by measured inputs ([`model::Model::run`], thread-safe), behind
 //!   the trait [`model::Backend`]: in-process or through a packaged FMU ([`fmu_model`]);
 //! - [`parameters`]: parameters by FMU name and the effect catalog's switches; [`description`]: a
 //!   damper described from its datasheet (TOML, values with units read by [`quantity`]);
 //! - [`dsp`]: error metrics, spectra, correlations, the load-cell filter, the noise estimate;
 //! - [`analysis`]: fit per signal and where the error lives; [`comparison`]: read, run, analyse;
+//! - [`floor`]: what no effect can explain (sensor noise, numerics, the velocity's noise carried
+//!   through the model), [`sensitivity`]: the samples that inform nothing;
 //! - [`diagnose`]: which catalog effect is missing, by the thresholds of [`criteria`], from the
 //!   [`candidate`] fits ([`lm`]: bounded Levenberg–Marquardt, parameter uncertainty), with [`ladder`]
 //!   (the effects added in turn) and [`before_after`] (the model with the named effects);
@@ -38,6 +41,7 @@ pub mod ladder;
 pub mod lm;
 pub mod measurement;
 pub mod model;
+pub mod motion;
 pub mod parameters;
 pub mod quantity;
 pub mod record_checks;
@@ -51,4 +55,5 @@ pub mod steady;
 pub mod stroke;
 pub mod summary;
 pub mod units;
+pub mod velocity_noise;
 pub mod verdict;

@@ -25,6 +25,7 @@
 
 use crate::dsp::differentiate;
 use crate::units::{unit, unit_list, Column};
+use crate::velocity_noise::VelocityNoise;
 use std::collections::BTreeMap;
 use std::path::Path;
 
@@ -109,6 +110,12 @@ pub struct Measurement {
     /// The stroke at the first sample (m) where the record measures the displacement: its first
     /// sample, or where the velocity fused with it starts ([`crate::stroke`]).
     pub x_start: Option<f64>,
+    /// The velocity's noise when it is made from the displacement (a logger's derivative, or this
+    /// reader's): coloured, and what the sensitivity test and the floor perturb the model with.
+    pub velocity_noise: Option<VelocityNoise>,
+    /// Where the logger's velocity made from the displacement was kept, the motion made again from
+    /// the displacement ([`crate::motion::motion`]; [`Measurement::with_velocity_made_again`]).
+    pub made_again: Option<Box<crate::motion::Motion>>,
 }
 
 impl Measurement {
@@ -125,6 +132,25 @@ impl Measurement {
             return Some(&self.time);
         }
         self.columns.get(&c).map(|v| v.as_slice())
+    }
+
+    /// The record driven by the velocity made again from its displacement, where the logger's was
+    /// kept: the diagnosis's choice, whose floor then carries the velocity's whole error.
+    pub fn with_velocity_made_again(mut self) -> Measurement {
+        if let Some(again) = self.made_again.take() {
+            if let Some(v) = again.v {
+                self.columns.insert(Column::VDamper, v);
+                self.x_start = again.x_start;
+                self.velocity_noise = again.velocity_noise;
+                self.notes.push(
+                    "the diagnosis drives the model with v_damper made again from x_damper: its error, corners \
+                     rounded off and noise alike, is carried into the floor"
+                        .into(),
+                );
+                self.notes.extend(again.notes);
+            }
+        }
+        self
     }
 
     pub fn has(&self, c: Column) -> bool {
@@ -271,7 +297,8 @@ impl Measurement {
         }
         if let (Some(v), Some(x)) = (chosen.get(&Column::VDamper), chosen.get(&Column::XDamper)) {
             notes.push(format!(
-                "v_damper (column {}) drives the model; x_damper (column {}) gives its starting stroke",
+                "v_damper (column {}) and x_damper (column {}) both given: the notes below say how they make the \
+                 model's motion and its starting stroke",
                 v.index, x.index
             ));
         }
@@ -430,39 +457,24 @@ impl Measurement {
             None => (time, lines),
         };
 
-        // a noisy velocity smoothed, then made to follow a measured displacement
-        if let Some(v) = data.get_mut(&Column::VDamper) {
-            let sigma = crate::stroke::white_noise(v);
-            if sigma > SMOOTHED_VELOCITY_NOISE {
-                *v = crate::dsp::wiener_smooth(v, sigma);
-                notes.push(format!(
-                    "v_damper carries {:.2} mm/s of white noise (more than {} mm/s): smoothed (zero-phase Wiener \
-                     filter), since the model's force would carry it through the valve law's slope, and a fit bends \
-                     its parameters to the noise (errors in variables)",
-                    sigma * 1e3,
-                    SMOOTHED_VELOCITY_NOISE * 1e3
-                ));
-            }
+        // the model's motion: a noisy velocity smoothed, then made to follow a measured displacement
+        let m = crate::motion::motion(
+            &time,
+            data.remove(&Column::VDamper),
+            data.get(&Column::XDamper).map(Vec::as_slice),
+            velocity_from_displacement,
+        )
+        .map_err(|e| {
+            let v_column =
+                chosen.get(&Column::VDamper).map_or("derived".to_string(), |c| format!("column {}", c.index));
+            let x_column = chosen.get(&Column::XDamper).map_or(0, |c| c.index);
+            format!("{name}: v_damper ({v_column}) and x_damper (column {x_column}): {e}")
+        })?;
+        notes.extend(m.notes);
+        if let Some(v) = m.v {
+            data.insert(Column::VDamper, v);
         }
-        let mut x_start = data.get(&Column::XDamper).map(|x| x[0]);
-        if let (Some(v), Some(x)) = (data.get(&Column::VDamper), data.get(&Column::XDamper)) {
-            let fused = crate::stroke::velocity_following_displacement(&time, v, x).map_err(|e| {
-                let v_column =
-                    chosen.get(&Column::VDamper).map_or("derived".to_string(), |c| format!("column {}", c.index));
-                format!("{name}: v_damper ({v_column}) and x_damper (column {}): {e}", chosen[&Column::XDamper].index)
-            })?;
-            if !velocity_from_displacement {
-                notes.push(format!(
-                    "v_damper fused with x_damper: below {:.1} Hz (where their noise spectra cross) the motion is the \
-                     displacement's, above it the velocity sensor's; the velocity's integral had drifted from x_damper \
-                     by up to {:.3} mm",
-                    fused.crossover_hz,
-                    fused.largest_correction * 1e3
-                ));
-            }
-            x_start = Some(fused.start);
-            data.insert(Column::VDamper, fused.v);
-        }
+        let (x_start, velocity_noise, made_again) = (m.x_start, m.velocity_noise, m.made_again);
         let mut sources: Vec<ColumnSource> = chosen.into_values().collect();
         sources.sort_by_key(|s| s.index);
         let excluded = vec![false; time.len()];
@@ -478,16 +490,11 @@ impl Measurement {
             comments,
             excluded,
             x_start,
+            velocity_noise,
+            made_again,
         })
     }
 }
-
-/// A velocity carrying more white noise than this (m/s) is smoothed before it drives the model:
-/// on independent passive-damper dyno records with a 1–2 mm/s transducer the calibrated valve
-/// parameters were biased by 2–10 % (4–13 of their standard uncertainties) by the noise carried
-/// through the law's slope, and by 0.02–3.5 % (at most 3.5) once smoothed; a lab's transducer or
-/// encoder resolves 0.01–0.1 mm/s, which is left as it is.
-pub const SMOOTHED_VELOCITY_NOISE: f64 = 3e-4;
 
 /// An interval longer than this many median intervals is a gap (dropped samples).
 pub const GAP_FACTOR: f64 = 1.5;

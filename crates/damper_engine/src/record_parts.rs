@@ -6,6 +6,7 @@
 //! floor ([`crate::diagnose`]), and the part that holds the error is named.
 
 use crate::dsp::{kept, noise_floor, rms};
+use crate::floor::{carried, Numerics};
 
 /// Blocks of equal length the record is cut into.
 pub const BLOCKS: usize = 5;
@@ -25,8 +26,9 @@ pub struct Part {
     pub t_end: f64,
     /// RMS of the baseline's residual over the part's kept samples (N).
     pub rms_residual: f64,
-    /// The part's floor (N): its white-noise level (from the residual's second differences) and
-    /// the model's numerical error over the part, in quadrature.
+    /// The part's floor (N): its white-noise level (from the residual's second differences), the
+    /// model's numerical error and the velocity's noise carried into the force that the noise
+    /// estimate cannot see ([`carried`]) over the part, in quadrature.
     pub rms_floor: f64,
 }
 
@@ -37,30 +39,25 @@ impl Part {
     }
 }
 
-/// The parts of a record sampled at `time`, with the baseline's force `base`, the same run at the
-/// check's tolerance `base_check`, the `measured` force, the validation part from `split` and the
-/// samples `keep` keeps.
-pub fn parts(
-    time: &[f64],
-    measured: &[f64],
-    base: &[f64],
-    base_check: &[f64],
-    split: usize,
-    keep: &[bool],
-) -> Vec<Part> {
+/// The parts of a record sampled at `time`, with the baseline's force, the same run at the check's
+/// tolerance and with the velocity's noise (`numerics`), the `measured` force, the validation part
+/// from `split` and the samples `keep` keeps.
+pub fn parts(time: &[f64], measured: &[f64], numerics: &Numerics<'_>, split: usize, keep: &[bool]) -> Vec<Part> {
     let n = measured.len();
+    let (base, base_check) = (numerics.base, numerics.base_check);
     let part = |name: String, range: std::ops::Range<usize>| {
         let residual: Vec<f64> = base[range.clone()].iter().zip(&measured[range.clone()]).map(|(m, y)| m - y).collect();
         let keep = &keep[range.clone()];
-        let numerics: Vec<f64> =
+        let numerical: Vec<f64> =
             base[range.clone()].iter().zip(&base_check[range.clone()]).map(|(a, b)| a - b).collect();
         let sigma = noise_floor(&residual).sigma;
+        let (_, unseen) = carried(numerics, range.clone(), keep);
         Part {
             name,
             t_start: time[range.start],
             t_end: time[range.end - 1],
             rms_residual: rms(&kept(&residual, keep)),
-            rms_floor: libm::hypot(sigma, rms(&kept(&numerics, keep))),
+            rms_floor: libm::hypot(libm::hypot(sigma, rms(&kept(&numerical, keep))), unseen),
         }
     };
     let mut out = vec![part("train".into(), 0..split), part("validation".into(), split..n)];
@@ -94,7 +91,9 @@ mod tests {
         let base: Vec<f64> =
             time.iter().zip(&truth).map(|(t, f)| f + if *t < 1.0 { 200.0 * libm::sin(3.0 * t) } else { 0.0 }).collect();
         let keep = vec![true; n];
-        let parts = parts(&time, &measured, &base, &base, 3500, &keep);
+        let perturbed = [base.clone(), base.clone()];
+        let numerics = Numerics { base: &base, perturbed: &perturbed, base_check: &base, rtol: 1e-4, rtol_check: 1e-5 };
+        let parts = parts(&time, &measured, &numerics, 3500, &keep);
         let far = far_above_floor(&parts).expect("a part far above the floor");
         assert_eq!(far.name, "block 1 of 5");
         let validation = parts.iter().find(|p| p.name == "validation").unwrap();

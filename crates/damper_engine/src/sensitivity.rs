@@ -63,15 +63,34 @@ impl Informative {
     }
 }
 
-/// The samples of a baseline force `base` kept, given the same run twice with velocity noise of
-/// `delta_v` added (`plus`, `minus`), and the load-cell noise `noise_sigma` (N).
-pub fn informative(base: &[f64], plus: &[f64], minus: &[f64], delta_v: f64, noise_sigma: f64) -> Informative {
-    let threshold = SENSITIVE_SIGMAS * noise_sigma;
-    let keep = base
+/// The samples of a baseline force `base` kept, given the same run with the velocity's noise
+/// added (`perturbed`, two or more runs) and with other velocities the record cannot tell from its
+/// own (`also`: the sign runs of a velocity made from the displacement), and the load-cell noise
+/// `noise_sigma` (N).
+///
+/// The threshold is [`SENSITIVE_SIGMAS`] times the load-cell noise and the typical shift together
+/// (√(σ² + s²), s the standard deviation of one run's shift, from the median of all runs' absolute
+/// shifts): a velocity made from a displacement carries its noise everywhere (tens of newtons on
+/// an LVDT's derivative), and only the samples that hang on the velocity far more than the rest
+/// tell nothing.
+pub fn informative(
+    base: &[f64],
+    perturbed: &[Vec<f64>],
+    also: &[Vec<f64>],
+    delta_v: f64,
+    noise_sigma: f64,
+) -> Informative {
+    let shift: Vec<f64> = base
         .iter()
-        .zip(plus.iter().zip(minus))
-        .map(|(b, (p, m))| (p - b).abs().max((m - b).abs()) <= threshold)
+        .enumerate()
+        .map(|(i, b)| perturbed.iter().chain(also).map(|run| (run[i] - b).abs()).fold(0.0, f64::max))
         .collect();
+    let mut all: Vec<f64> = perturbed.iter().flat_map(|run| run.iter().zip(base).map(|(p, b)| (p - b).abs())).collect();
+    // median |N(0, s²)| = 0.6745·s
+    let typical = median(&mut all) / 0.674_489_75;
+    let threshold =
+        SENSITIVE_SIGMAS * if typical.is_finite() { libm::hypot(noise_sigma, typical) } else { noise_sigma };
+    let keep = shift.iter().map(|s| *s <= threshold).collect();
     Informative { keep, delta_v, threshold }
 }
 
@@ -102,9 +121,8 @@ mod tests {
     #[test]
     fn a_sample_is_left_out_only_where_the_force_hangs_on_the_velocity() {
         let base = [0.0, 10.0, 20.0, 30.0];
-        let plus = [1.0, 10.0, 200.0, 30.0];
-        let minus = [-1.0, 50.0, 20.0, 30.0];
-        let i = informative(&base, &plus, &minus, 1e-4, 20.0);
+        let perturbed = [vec![1.0, 10.0, 200.0, 30.0], vec![-1.0, 50.0, 20.0, 30.0]];
+        let i = informative(&base, &perturbed, &[], 1e-4, 20.0);
         assert_eq!(i.keep, [true, true, false, true]);
         assert_eq!(i.left_out(0), 1);
         assert_eq!(i.left_out(3), 0);

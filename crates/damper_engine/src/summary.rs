@@ -467,17 +467,20 @@ pub struct Floor {
     pub rtol: f64,
     /// Relative tolerance of the numerical check (1).
     pub rtol_check: f64,
-    /// The velocity shift of the sensitivity test (m/s): the velocity's resolution estimated
-    /// from the record.
+    /// The velocity noise of the sensitivity test (m/s, RMS): the velocity's resolution estimated
+    /// from the record, or the coloured noise of a velocity made from the displacement.
     pub delta_v: f64,
     /// The force's shift under it that leaves a sample out of the fits and scores (N).
     pub sensitive_threshold: f64,
     /// Validation samples left out.
     pub left_out_validation: usize,
-    /// The velocity's white noise δ carried through the model into its force, as an NRMSE on the
-    /// validation part (1): reported beside the floor, not in it.
+    /// The velocity's noise carried through the model into its force, as an NRMSE on the
+    /// validation part (1).
     #[serde(deserialize_with = "nan_if_null")]
     pub nrmse_inputs: f64,
+    /// The part of it the noise estimate cannot see, in the floor (1).
+    #[serde(deserialize_with = "nan_if_null")]
+    pub nrmse_inputs_unseen: f64,
 }
 
 /// A rung of the ladder.
