@@ -6,7 +6,7 @@ use crate::candidate::{FitSetup, Progress, MAX_FIT_SECONDS};
 use crate::comparison::{self, CompareOptions, Comparison, ANALYSIS_RTOL};
 use crate::criteria::NUMERICS_CHECK_FACTOR;
 use crate::diagnose::{diagnose, Diagnosis};
-use crate::dsp::noise_sigma;
+use crate::dsp::{noise_sigma, rms};
 use crate::floor::Numerics;
 use crate::force_velocity;
 use crate::model::{force_simulator, thread_pool, Drive};
@@ -53,26 +53,32 @@ pub fn diagnose_measurement(
     let n = c.drive.v_damper.len();
     // the velocity's noise: coloured where it is made from the displacement, else white at its resolution
     let coloured = c.measurement.velocity_noise.as_ref();
-    let delta_v = coloured
-        .map_or_else(|| velocity_resolution(&c.drive.v_damper), |noise| noise.carried_rms(SENSITIVITY_SEEDS[0], n));
     // the velocity's noise paths: white, one per seed; a coloured path runs both ways (antithetic):
     // at a slow reversal one of the two moves the zero crossing earlier and the other later, so
-    // the semi-active clip's sign is always tried
-    let paths: Vec<Vec<f64>> = match coloured {
-        None => SENSITIVITY_SEEDS
-            .iter()
-            .map(|seed| {
-                let mut rng = Rng::new(*seed);
-                (0..n).map(|_| delta_v * rng.normal()).collect()
-            })
-            .collect(),
-        Some(noise) => SENSITIVITY_SEEDS
-            .iter()
-            .flat_map(|seed| {
-                let path = noise.path(*seed, n);
-                [path.iter().map(|e| -e).collect(), path]
-            })
-            .collect(),
+    // the semi-active clip's sign is always tried; δ is the first seed's RMS
+    let (paths, delta_v): (Vec<Vec<f64>>, f64) = match coloured {
+        None => {
+            let delta_v = velocity_resolution(&c.drive.v_damper);
+            let paths = SENSITIVITY_SEEDS
+                .iter()
+                .map(|seed| {
+                    let mut rng = Rng::new(*seed);
+                    (0..n).map(|_| delta_v * rng.normal()).collect()
+                })
+                .collect();
+            (paths, delta_v)
+        }
+        Some(noise) => {
+            let paths: Vec<Vec<f64>> = SENSITIVITY_SEEDS
+                .iter()
+                .flat_map(|seed| {
+                    let path = noise.path(*seed, n);
+                    [path.iter().map(|e| -e).collect(), path]
+                })
+                .collect();
+            let delta_v = rms(&paths[1]);
+            (paths, delta_v)
+        }
     };
     let signs: Vec<Vec<f64>> =
         if coloured.is_some() { sign_runs(&c.drive.v_damper, delta_v).into() } else { Vec::new() };

@@ -6,7 +6,7 @@
 //! 0.01 mm/s). Its level is found from the record itself:
 //!
 //! ```text
-//! v[i] ≈ c + Σ_{k=−K..K} g_k Δx[i+k]      least squares (Toeplitz normal equations), Δx[j] = x[j] − x[j−1]
+//! v[i] ≈ c + Σ_{k=−K..K} g_k Δx[i+k]      least squares (on first differences), Δx[j] = x[j] − x[j−1]
 //! d_j  = g_j − g_{j+1}                     the impulse response from x to v (1/s)
 //! σ_x  = white noise of x (stroke::white_noise)
 //! v is made from x  ⇔  RMS(v − fit) < DERIVED_SHARE · σ_x ‖d‖    (its noise is x's, carried by d)
@@ -67,8 +67,9 @@ impl VelocityNoise {
         if n != x.len() || n < 20 * (2 * taps + 1) {
             return None;
         }
-        let dx: Vec<f64> = std::iter::once(0.0).chain(x.windows(2).map(|w| w[1] - w[0])).collect();
-        let (g, misfit) = fit_response(v, &dx, taps)?;
+        let dx = differences(x);
+        let g = fit_response(v, &dx, taps)?;
+        let misfit = misfit_series(v, &dx, &g, taps);
         let mut response = vec![0.0; 2 * taps + 2];
         // x[i+j] enters as g_j (through Δx[i+j]) and −g_{j+1} (through Δx[i+j+1]), j = −K−1..K
         for (k, gk) in g.iter().enumerate() {
@@ -77,10 +78,10 @@ impl VelocityNoise {
         }
         let sigma_x = crate::stroke::white_noise(x);
         let carried = sigma_x * response.iter().map(|d| d * d).sum::<f64>().sqrt();
-        (sigma_x > 0.0 && carried.is_finite() && misfit < DERIVED_SHARE * carried).then_some(VelocityNoise {
+        (sigma_x > 0.0 && carried.is_finite() && rms(&misfit) < DERIVED_SHARE * carried).then_some(VelocityNoise {
             sigma_x,
             response,
-            white: crate::stroke::white_noise(&misfit_series(v, &dx, &g, taps)),
+            white: crate::stroke::white_noise(&misfit),
             smoother: None,
             local_scale: Vec::new(),
             dt,
@@ -185,15 +186,14 @@ impl VelocityNoise {
     }
 }
 
-/// The least-squares response g (taps −K..K) of `v` on `dx`, and the RMS misfit of `v`. The fit
+/// The least-squares response g (taps −K..K) of `v` on `dx`; `None` when it cannot be solved. The fit
 /// runs on the first differences of both (the same response relates them): a stroke's slow
 /// motion dominates `dx` by orders of magnitude over its noise, and the normal equations, solved
 /// by Cholesky, stay well conditioned.
-fn fit_response(v: &[f64], dx: &[f64], taps: usize) -> Option<(Vec<f64>, f64)> {
+fn fit_response(v: &[f64], dx: &[f64], taps: usize) -> Option<Vec<f64>> {
     let n = v.len();
     let width = 2 * taps + 1;
-    let dv: Vec<f64> = std::iter::once(0.0).chain(v.windows(2).map(|w| w[1] - w[0])).collect();
-    let ddx: Vec<f64> = std::iter::once(0.0).chain(dx.windows(2).map(|w| w[1] - w[0])).collect();
+    let (dv, ddx) = (differences(v), differences(dx));
     let rows = taps + 2..n - taps;
     // the exact normal equations: G[a][a+l] = Σ_rows ddx[i+a−K]·ddx[i+a−K+l], by a prefix sum per lag
     let mut gram = DMatrix::zeros(width, width);
@@ -211,9 +211,12 @@ fn fit_response(v: &[f64], dx: &[f64], taps: usize) -> Option<(Vec<f64>, f64)> {
     }
     let cross = DVector::from_fn(width, |a, _| rows.clone().map(|i| ddx[i + a - taps] * dv[i]).sum());
     let g = gram.cholesky()?.solve(&cross);
-    let g: Vec<f64> = g.iter().copied().collect();
-    let misfit = rms(&misfit_series(v, dx, &g, taps));
-    misfit.is_finite().then_some((g, misfit))
+    g.iter().all(|gk| gk.is_finite()).then(|| g.iter().copied().collect())
+}
+
+/// `x[j] − x[j−1]`, with 0 first (the same length as `x`).
+fn differences(x: &[f64]) -> Vec<f64> {
+    std::iter::once(0.0).chain(x.windows(2).map(|w| w[1] - w[0])).collect()
 }
 
 fn mean_square(x: &[f64]) -> f64 {

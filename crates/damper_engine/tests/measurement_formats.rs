@@ -2,6 +2,7 @@
 //! mark, another encoding, decimal commas, timestamps, jittered or dropped samples.
 
 use damper_engine::measurement::{Mapping, Measurement, DEFAULT_MAX_GAP};
+use damper_engine::rng::Rng;
 use damper_engine::units::Column;
 
 fn parse(text: &[u8], maps: &[&str]) -> Result<Measurement, String> {
@@ -242,16 +243,9 @@ fn max_gap_reaches_the_reader_through_compare_options() {
 /// A record of a 1.5 Hz stroke at 1 kHz whose displacement carries 5 µm of white noise, with a
 /// velocity column made by `velocity(x)`; the time, x, v, F_demand and F_damper columns.
 fn lvdt_record(mut velocity: impl FnMut(&[f64]) -> Vec<f64>) -> String {
-    let mut seed = 17u64;
-    let mut gauss = || {
-        let mut u = || {
-            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-            (seed >> 11) as f64 / (1u64 << 53) as f64
-        };
-        (-2.0 * libm::log(u().max(1e-300))).sqrt() * libm::cos(2.0 * std::f64::consts::PI * u())
-    };
+    let mut rng = Rng::new(17);
     let x: Vec<f64> = (0..6000)
-        .map(|k| 0.02 * libm::sin(2.0 * std::f64::consts::PI * 1.5 * k as f64 * 1e-3) + 5e-6 * gauss())
+        .map(|k| 0.02 * libm::sin(2.0 * std::f64::consts::PI * 1.5 * k as f64 * 1e-3) + 5e-6 * rng.normal())
         .collect();
     let v = velocity(&x);
     let rows: String = x
@@ -294,14 +288,12 @@ fn a_velocity_made_from_the_displacement_is_made_again_from_it() {
     assert!(again.velocity_noise.as_ref().is_some_and(|n| n.smoother.is_some()));
     assert_ne!(again.get(Column::VDamper).unwrap(), logged.as_slice());
 
-    let mut s = 5u64;
+    let mut rng = Rng::new(5);
     let transducer = |x: &[f64]| {
         (0..x.len())
             .map(|k| {
-                s = s.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-                let u = (s >> 11) as f64 / (1u64 << 53) as f64 - 0.5;
                 0.02 * 2.0 * std::f64::consts::PI * 1.5 * libm::cos(2.0 * std::f64::consts::PI * 1.5 * k as f64 * 1e-3)
-                    + 1e-4 * 12f64.sqrt() * u
+                    + 1e-4 * rng.normal()
             })
             .collect()
     };
