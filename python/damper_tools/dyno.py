@@ -40,8 +40,11 @@ Three dampers (`small`, `car`, `truck`): NOMINAL datasheet values (written as th
 crates/damper_engine/src/damper_template.toml) and, per seed, the TRUTH: the nominal values perturbed
 by manufacturing spreads for what a datasheet cannot know (SPREADS). Scenarios: calibration (three
 records at 20 degC), unchanged, gas (pre-charge changed), valve (a bleed adjuster changed), heated
-(the oil 30-50 K warmer), end_stop (the stroke beyond the bump rubbers). Every parameter is named as
-in the FMU's modelDescription.xml. The same arguments give the same bytes.
+(the oil 30-50 K warmer), end_stop (the stroke beyond the bump rubbers), settings (a calibration
+campaign over three settings of one bleed adjuster: a gas record and a peak-velocity record at the
+middle setting, a peak-velocity record closed, a random record open; each record's truth JSON
+names its setting and the adjuster's value). Every parameter is named as in the FMU's
+modelDescription.xml. The same arguments give the same bytes.
 """
 
 import argparse
@@ -71,7 +74,7 @@ ATOL = (1e-3, 1e-3, 1e-15)  # Pa, Pa, m3
 P_ABS_FLOOR = 0.02 * P_ATM  # Pa: the bulk modulus's absolute pressure is frozen below it (§3.2)
 ROUNDING = 0.1  # the blow-off's rounded ramp (§3.8)
 SIZES = ("small", "car", "truck")
-SCENARIOS = ("calibration", "unchanged", "gas", "valve", "heated", "end_stop")
+SCENARIOS = ("calibration", "unchanged", "gas", "valve", "heated", "end_stop", "settings")
 RATES = (500, 1000, 2000)  # Hz
 MARGIN = 0.005  # m: the programs stay this far inside x_end_stop (except end_stop)
 
@@ -722,7 +725,16 @@ def scenario_change(size: str, seed: int, scenario: str, base: dict[str, float])
                    "rise_K": float(rise), "mode": mode, "drift_K": float(rng.uniform(0.5, 3.0))}
     if scenario == "end_stop":
         return p, {"what": "stroke beyond x_end_stop"}
+    if scenario == "settings":
+        name = str(rng.choice(["A_bleed_reb", "A_bleed_comp"]))
+        factors = {"middle": 1.0, "closed": float(rng.uniform(0.4, 0.7)), "open": float(rng.uniform(1.4, 2.2))}
+        return p, {"parameter": name, "factors": factors, "values": {k: base[name] * f for k, f in factors.items()},
+                   "what": f"{'rebound' if name.endswith('reb') else 'compression'} bleed adjuster at three settings"}
     return p, {"what": "nothing changed"}
+
+
+# the settings scenario's records: (setting, program)
+SETTINGS_RECORDS = (("middle", "gas"), ("middle", "peak"), ("closed", "peak"), ("open", "random"))
 
 
 def _heating(change: dict, t_ref: float, duration: float) -> tuple[Callable[[float], float], str]:
@@ -751,10 +763,20 @@ def plans(size: str, seed: int, scenario: str, quick: bool = False) -> list[Plan
     base = truth_parameters(size, seed)
     params, change = scenario_change(size, seed, scenario, base)
     out = []
-    count = 3 if scenario == "calibration" else 1
+    count = {"calibration": 3, "settings": len(SETTINGS_RECORDS)}.get(scenario, 1)
     for k in range(count):
         rng = _record_rng(size, seed, scenario, k, 0)
-        if scenario == "calibration":  # (a) gas force, (b) peak velocities, (c) random
+        if scenario == "settings":
+            setting, program = SETTINGS_RECORDS[k]
+            params = {**base, change["parameter"]: change["values"][setting]}
+            if program == "gas":
+                motion = gas_program(rng, size, quick)
+            elif program == "peak":
+                motion = peak_velocity_program(rng, size, params, quick)
+            else:
+                motion = random_program(rng, size, params, quick)
+            change = {**change, "setting": setting}
+        elif scenario == "calibration":  # (a) gas force, (b) peak velocities, (c) random
             if k == 0:
                 motion = gas_program(rng, size, quick)
             elif k == 1:

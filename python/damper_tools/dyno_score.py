@@ -8,7 +8,9 @@ chains), calibrates on the calibration records from the datasheet (`damper calib
 then diagnoses each other record with the calibrated parameters (`damper diagnose --damper
 --params`): a record of the unchanged damper, and one each with the gas pre-charge changed, an
 adjuster (bleed area) changed, the oil heated by 30-50 K (with a temperature column) and the stroke
-reaching the bump rubbers, which the datasheet does not describe.
+reaching the bump rubbers, which the datasheet does not describe. Then it calibrates a campaign over
+three settings of one bleed adjuster in one calibration (`--per-setting`, the records grouped by
+`--setting` as a test log book names them): the adjuster's value per setting, the rest shared.
 
 Scoring (the truth files are read only here, never by `damper`):
 - calibration: each record's NRMSE after calibration against its noise floor; each fitted
@@ -17,7 +19,8 @@ Scoring (the truth files are read only here, never by `damper`):
 - unchanged: nothing named (verdict `none`);
 - a change: the verdict names the effect that carries it first (gas_charge, rebound_valve or
   compression_valve, oil_temperature, end_stops), and its size parameter: its relative error and
-  z against the truth (for the heated oil the viscosity coefficient, which the truth did not
+  z against the truth, in the uncertainty the diagnosis reports with the calibration's carried in
+  (`--calibration`) (for the heated oil the viscosity coefficient, which the truth did not
   change: the change's size is the measured temperature).
 
 Writes OUT/dyno_score.md (tables) and OUT/dyno_score.json (every case).
@@ -85,16 +88,20 @@ def run(args: list[str]) -> float:
     return time.perf_counter() - t0
 
 
-def calibrate(records: list[Path], sheet: Path, out: Path, threads: int) -> dict:
+def calibrate(records: list[Path], sheet: Path, out: Path, threads: int, extra: tuple[str, ...] = ()) -> dict:
+    """`damper calibrate` on `records` (with `extra` arguments), each parameter scored against the
+    truth of a record it applies to (a setting's own value against that setting's)."""
     seconds = run(["calibrate", *map(str, records), "--damper", str(sheet), "--out", str(out),
-                   "--threads", str(threads)])
+                   "--threads", str(threads), *extra])
     c = json.loads((out / "calibration.json").read_text())
-    truth = json.loads(records[0].with_suffix(".json").read_text())["truth_parameters"]
+    truths = {Path(r).name: json.loads(r.with_suffix(".json").read_text())["truth_parameters"] for r in records}
+    setting_truth = {r["setting"]: truths[Path(r["path"]).name] for r in c["records"]}
     params = []
     for p in c["parameters"]:
+        truth = setting_truth[p["setting"]] if p.get("setting") else truths[records[0].name]
         t, u = truth.get(p["name"]), p["std_uncertainty"]
-        params.append({"name": p["name"], "value": p["value"], "std_uncertainty": u, "truth": t,
-                       "status": p["status"], "relative_error": (p["value"] - t) / t if t else None,
+        params.append({"name": p["name"], "setting": p.get("setting"), "value": p["value"], "std_uncertainty": u,
+                       "truth": t, "status": p["status"], "relative_error": (p["value"] - t) / t if t else None,
                        "z": (p["value"] - t) / u if (u and t is not None) else None})
     fits = [{"record": Path(r["path"]).name, "after": r["nrmse_after"], "floor": r["noise_floor"]}
             for r in c["records"]]
@@ -113,7 +120,7 @@ def diagnose(size: str, seed: int, scenario: str, record: Path, sheet: Path, par
     truth_file = json.loads(record.with_suffix(".json").read_text())
     change = truth_file["change"]
     seconds = run(["diagnose", str(record), "--damper", str(sheet), "--params", str(params), "--out", str(out),
-                   "--threads", str(threads)])
+                   "--calibration", str(params.with_name("calibration.json")), "--threads", str(threads)])
     s = json.loads((out / "summary.json").read_text())
     case = Case(size, seed, scenario, record.name, change, verdict=s["verdict"], effects=s.get("effects") or [],
                 nrmse_baseline=s["nrmse_baseline"], nrmse_after=s.get("nrmse_after_ladder") or s["nrmse_baseline"],
@@ -129,22 +136,54 @@ def diagnose(size: str, seed: int, scenario: str, record: Path, sheet: Path, par
     return case
 
 
-def one_damper(size: str, seed: int, out: Path, threads: int) -> tuple[dict, list[Case]]:
+def settings_arguments(records: list[Path]) -> tuple[str, ...]:
+    """The calibration's --per-setting and --setting arguments for the settings scenario's records,
+    from what a test log book says: which adjuster was turned and the setting of each record."""
+    changes = [json.loads(r.with_suffix(".json").read_text())["change"] for r in records]
+    by_setting: dict[str, list[str]] = {}
+    for r, ch in zip(records, changes, strict=True):
+        by_setting.setdefault(ch["setting"], []).append(str(r))
+    return ("--per-setting", changes[0]["parameter"],
+            *(a for label, paths in by_setting.items() for a in ("--setting", f"{label}={','.join(paths)}")))
+
+
+def one_damper(size: str, seed: int, out: Path, threads: int) -> tuple[dict, list[Case], dict]:
     records = out / "records"
-    made = {sc: dyno.make_records(size, seed, sc, records) for sc in ("calibration", *SCENARIOS)}
+    made = {sc: dyno.make_records(size, seed, sc, records) for sc in ("calibration", "settings", *SCENARIOS)}
     sheet = records / f"{size}_{seed}_datasheet.toml"
     cal_dir = out / "calibrate" / f"{size}_{seed}"
     cal = calibrate(made["calibration"], sheet, cal_dir, threads)
     cases = [diagnose(size, seed, sc, made[sc][0], sheet, cal_dir / "parameters.ssv",
                       out / "diagnose" / f"{size}_{seed}_{sc}", threads) for sc in SCENARIOS]
-    return cal, cases
+    settings = calibrate(made["settings"], sheet, out / "calibrate" / f"{size}_{seed}_settings", threads,
+                         settings_arguments(made["settings"]))
+    return cal, cases, settings
 
 
 def fmt(x: float | None, spec: str) -> str:
     return "–" if x is None else format(x, spec)
 
 
-def report(calibrations: dict, cases: list[Case]) -> str:
+def settings_table(settings: dict) -> list[str]:
+    """The several-settings calibrations: each setting's adjuster value against the truth."""
+    lines = ["", "## Several settings of one adjuster in one calibration", "",
+             "| damper | adjuster | setting: fitted / truth (rel. error, z) | shared: |z| > 2 | |z| > 3 | "
+             "records: NRMSE after / floor | time |", "|---|---|---|---|---|---|---|"]
+    for key, cal in settings.items():
+        own = [p for p in cal["parameters"] if p["setting"]]
+        shared = [p for p in cal["parameters"] if not p["setting"] and p["status"] == "fitted" and p["z"] is not None]
+        cells = "; ".join(f"{p['setting']} {p['value']:.4g} / {p['truth']:.4g} "
+                          f"({100 * p['relative_error']:+.1f} %, {fmt(p['z'], '+.1f')})" for p in own)
+        ratios = ", ".join(f"{r['after'] / r['floor']:.2f}" for r in cal["records"])
+        lines.append(f"| {key} | {own[0]['name']} | {cells} | {sum(abs(p['z']) > 2 for p in shared)} of "
+                     f"{len(shared)} | {sum(abs(p['z']) > 3 for p in shared)} | {ratios} | {cal['seconds']:.1f} s |")
+    own = [p for cal in settings.values() for p in cal["parameters"] if p["setting"]]
+    lines += ["", f"Adjuster values: {sum(abs(p['relative_error']) <= 0.1 for p in own)} of {len(own)} within 10 %, "
+                  f"{sum(p['z'] is not None and abs(p['z']) <= 3 for p in own)} of {len(own)} within 3 reported σ."]
+    return lines
+
+
+def report(calibrations: dict, cases: list[Case], settings: dict | None = None) -> str:
     lines = ["# The real-damper loop on independent passive-damper records", "",
              "`.venv/bin/python -m damper_tools.dyno_score` (damper_tools.dyno's records; docs/real-dampers.md).", "",
              "## Calibration from the datasheet", "",
@@ -178,6 +217,8 @@ def report(calibrations: dict, cases: list[Case]) -> str:
         lines.append(line)
     changed = [c for c in cases if c.scenario != "unchanged"]
     lines.append(f"- **all changes**: {sum(c.named for c in changed)} of {len(changed)} named")
+    if settings:
+        lines += settings_table(settings)
     return "\n".join(lines) + "\n"
 
 
@@ -190,19 +231,20 @@ def main(argv: list[str] | None = None) -> None:
     a = ap.parse_args(argv)
     a.out.mkdir(parents=True, exist_ok=True)
     calibrations: dict = {}
+    settings: dict = {}
     cases: list[Case] = []
     for seed in a.seeds:
         for size in a.sizes:
-            cal, these = one_damper(size, seed, a.out, a.threads)
+            cal, these, settings[f"{size} {seed}"] = one_damper(size, seed, a.out, a.threads)
             calibrations[f"{size} {seed}"] = cal
             cases += these
             print(f"{size} {seed}: " + ", ".join(f"{c.scenario} {'ok' if c.named else 'MISSED'}" for c in these),
                   flush=True)
-    (a.out / "dyno_score.md").write_text(report(calibrations, cases), encoding="utf-8")
+    (a.out / "dyno_score.md").write_text(report(calibrations, cases, settings), encoding="utf-8")
     (a.out / "dyno_score.json").write_text(json.dumps(
-        {"calibrations": calibrations, "cases": [asdict(c) | {"named": c.named} for c in cases]}, indent=1),
-        encoding="utf-8")
-    print(report(calibrations, cases))
+        {"calibrations": calibrations, "settings": settings,
+         "cases": [asdict(c) | {"named": c.named} for c in cases]}, indent=1), encoding="utf-8")
+    print(report(calibrations, cases, settings))
 
 
 if __name__ == "__main__":

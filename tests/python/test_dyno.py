@@ -225,6 +225,12 @@ def test_the_scenarios_change_what_they_say_and_nothing_else():
             elif scenario == "valve":
                 assert changed == {plan.change["parameter"]} <= {"A_bleed_reb", "A_bleed_comp"}
                 assert 0.5 <= plan.change["factor"] <= 0.8 or 1.3 <= plan.change["factor"] <= 2.0
+            elif scenario == "settings":
+                # each record is one setting of one bleed adjuster: that parameter and nothing else
+                name, setting = plan.change["parameter"], plan.change["setting"]
+                assert changed <= {name} <= {"A_bleed_reb", "A_bleed_comp"}
+                assert plan.params[name] == pytest.approx(base[name] * plan.change["factors"][setting], rel=1e-12)
+                assert (setting == "middle") == (not changed)
             else:
                 assert not changed
             t_start, t_end = plan.temperature(0.0), plan.temperature(plan.motion.duration)

@@ -201,6 +201,15 @@ struct DiagnoseArgs {
     /// Leave this effect out of the candidates; repeatable
     #[arg(long, value_name = "EFFECT", value_parser = effect_arg, help_heading = "Diagnosis")]
     skip: Vec<String>,
+    /// The calibration.json of the --params set: the fitted sizes' uncertainties inherit its
+    ///
+    /// A named effect's parameters are fitted on top of calibrated values; their uncertainty moves
+    /// the fit as the record's noise does, and the reported standard errors then include it.
+    #[arg(long, value_name = "FILE.json", help_heading = "Diagnosis")]
+    calibration: Option<PathBuf>,
+    /// With --calibration of several settings: the setting of the --params set
+    #[arg(long, value_name = "LABEL", requires = "calibration", help_heading = "Diagnosis")]
+    calibration_setting: Option<String>,
 }
 
 // The options of compare, which diagnose shares.
@@ -335,6 +344,17 @@ struct CalibrateArgs {
     /// Also fit the controller's gains Kp_F, Ki_F, Kp_x, Ki_x, Kd_x
     #[arg(long, help_heading = "Calibration")]
     fit_controller: bool,
+    /// Fit this Real parameter once per setting of the damper (what an adjuster moves); repeatable
+    ///
+    /// The records of several settings are calibrated together: this parameter gets a value per
+    /// setting, every other one value for all. Writes DIR/parameters_<setting>.ssv per setting.
+    #[arg(long, value_name = "NAME", value_parser = per_setting_arg, help_heading = "Calibration")]
+    per_setting: Vec<String>,
+    /// The records taken at one setting, e.g. --setting "6 clicks=sweep6.csv,step6.csv"; repeatable
+    ///
+    /// A record named in no --setting is a setting of its own, labelled by its file name.
+    #[arg(long, value_name = "LABEL=RECORD.csv,…", value_parser = setting_arg, help_heading = "Calibration")]
+    setting: Vec<(String, Vec<PathBuf>)>,
     /// Largest relative standard uncertainty of a parameter called identified
     #[arg(long, value_name = "FRACTION", default_value_t = damper_engine::calibrate::MAX_RELATIVE_UNCERTAINTY, value_parser = positive_arg, allow_negative_numbers = true, help_heading = "Calibration")]
     max_relative_uncertainty: f64,
@@ -351,6 +371,8 @@ impl CalibrateArgs {
         o.fit = self.fit;
         o.fit_controller = self.fit_controller;
         o.max_relative_uncertainty = self.max_relative_uncertainty;
+        o.per_setting = self.per_setting;
+        o.settings = self.setting;
         o.threads = threads;
         self.model.apply(&mut o.compare);
         self.measurement_args.apply(&mut o.compare);
@@ -520,6 +542,22 @@ fn fit_arg(text: &str) -> Result<String, String> {
     Ok(text.to_string())
 }
 
+fn per_setting_arg(text: &str) -> Result<String, String> {
+    let mut o = CalibrateOptions::new(Vec::new());
+    o.per_setting = vec![text.to_string()];
+    o.per_setting_names().map_err(|e| unprefixed(e, "--per-setting", text))?;
+    Ok(text.to_string())
+}
+
+fn setting_arg(text: &str) -> Result<(String, Vec<PathBuf>), String> {
+    let (label, files) = text.split_once('=').ok_or("LABEL=RECORD.csv[,RECORD.csv…]")?;
+    let files: Vec<PathBuf> = files.split(',').map(str::trim).filter(|f| !f.is_empty()).map(PathBuf::from).collect();
+    if label.trim().is_empty() || files.is_empty() {
+        return Err("LABEL=RECORD.csv[,RECORD.csv…]: a label and at least one record".into());
+    }
+    Ok((label.trim().to_string(), files))
+}
+
 fn positive_arg(text: &str) -> Result<f64, String> {
     match text.parse::<f64>() {
         Ok(x) if x > 0.0 && x.is_finite() => Ok(x),
@@ -680,6 +718,7 @@ fn run_diagnose(a: DiagnoseArgs, g: &Global) -> Result<(), String> {
     let t0 = Instant::now();
     let (mut o, out) = a.compare.options();
     o.skip = a.skip;
+    o.calibration = a.calibration.map(|path| (path, a.calibration_setting));
     let threads = g.threads.unwrap_or_else(damper_engine::model::default_threads);
     let bar = fit_bar(g.quiet);
     let fits = AtomicUsize::new(0);

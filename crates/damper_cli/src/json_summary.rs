@@ -240,7 +240,7 @@ fn candidate(c: &Candidate) -> summary::Candidate {
         nrmse_validation: c.nrmse_validation,
         reduction: c.reduction,
         explained: c.explained,
-        params: summary::fitted(&c.params),
+        params: summary::fitted_with(&c.params, &c.inherited),
         plausible: c.plausible,
         flags: c.flags.clone(),
         signature: c.signature.into(),

@@ -6,10 +6,12 @@
 //! ```text
 //! minimise  Σ_records Σ_k (F_model,k(θ) − F_measured,k)²     (N²)
 //! θ         each parameter on a log scale in [start/3, 3·start] ∩ the model's range
-//! pinned    relative standard uncertainty ≤ 25 %, |correlation| ≤ 0.95 with every other fitted
-//!           parameter, JᵀJ not singular; otherwise the worst offender is held at its start value
+//! pinned    relative standard uncertainty ≤ 25 %, |correlation| ≤ 0.99 with every other fitted
+//!           parameter, JᵀJ not singular; otherwise the worst offender is held at its given value
 //!           and the fit is redone without it, until every fitted parameter is pinned
 //! ```
+//! Records taken at several settings of an adjustable damper are calibrated together
+//! ([`crate::settings`]): the parameters the adjuster moves once per setting, the rest once.
 //! The model runs at `rtol` = 3e-5 (unless `--set rtol=…`): at the default 3e-4 the numerical error
 //! is of the order of the sensor noise (0.86 σ RMS on `cargo bench`'s input), and it would also blur
 //! the finite differences.
@@ -18,7 +20,8 @@ use crate::comparison::{build_model, CompareOptions, ANALYSIS_RTOL};
 use crate::dsp::{noise_sigma, nrmse, std};
 use crate::lm::{self, Bound, Solution};
 use crate::model::{thread_pool, Backend, Drive, Model};
-use crate::parameters::{changed_parameters, get_real, lookup, set_real, Param, Value};
+use crate::parameters::{changed_parameters, get_real, lookup, Param, Value};
+use crate::settings::{apply, Entry, Settings};
 use crate::units::Column;
 use semi_active_damper::physics::params::Parameters;
 use std::path::PathBuf;
@@ -101,6 +104,11 @@ pub struct CalibrateOptions {
     pub max_correlation: f64,
     /// Threads for the Jacobian's columns (the result does not depend on it).
     pub threads: usize,
+    /// Parameters fitted once per setting (`--per-setting`): what an adjuster moves.
+    pub per_setting: Vec<String>,
+    /// The records of each named setting (`--setting LABEL=A.csv,B.csv`); a record named in none
+    /// is a setting of its own.
+    pub settings: Vec<(String, Vec<PathBuf>)>,
 }
 
 impl CalibrateOptions {
@@ -113,7 +121,24 @@ impl CalibrateOptions {
             max_relative_uncertainty: MAX_RELATIVE_UNCERTAINTY,
             max_correlation: MAX_CORRELATION,
             threads: crate::model::default_threads(),
+            per_setting: Vec::new(),
+            settings: Vec::new(),
         }
+    }
+
+    /// The parameters fitted once per setting, checked: Real parameters, each once.
+    pub fn per_setting_names(&self) -> Result<Vec<&'static str>, String> {
+        let mut names: Vec<&'static str> = Vec::new();
+        for n in &self.per_setting {
+            let name = match lookup(n).map_err(|e| format!("--per-setting {n}: {e}"))? {
+                Param::Real(v) => v.name(),
+                _ => return Err(format!("--per-setting {n}: only Real parameters can be fitted")),
+            };
+            if !names.contains(&name) {
+                names.push(name);
+            }
+        }
+        Ok(names)
     }
 
     /// The names to fit, checked: Real parameters of the model, each once ([`DEFAULT_FIT`] unless
@@ -175,8 +200,8 @@ pub struct SteadyStage {
     /// RMS force residual of the steady law before and after (N).
     pub rms_before: f64,
     pub rms_after: f64,
-    /// (name, the description's value, the steady stage's), each fitted.
-    pub fitted: Vec<(&'static str, f64, f64)>,
+    /// (name as reported, the description's value, the steady stage's), each fitted.
+    pub fitted: Vec<(String, f64, f64)>,
 }
 
 /// Whether a parameter was fitted.
@@ -191,20 +216,30 @@ pub enum Status {
 #[derive(Clone, Debug)]
 pub struct Calibrated {
     pub name: &'static str,
+    /// The setting whose own value this is (`--per-setting`); None: shared by every record.
+    pub setting: Option<String>,
     /// Its unit in the model ("1": dimensionless).
     pub unit: &'static str,
     pub start: f64,
     pub value: f64,
     /// Standard uncertainty (unit of the parameter); None when held.
     pub std_error: Option<f64>,
-    /// Its strongest correlation with another fitted parameter.
-    pub correlation: Option<(&'static str, f64)>,
+    /// Its strongest correlation with another fitted parameter (as reported).
+    pub correlation: Option<(String, f64)>,
     /// The search box.
     pub scale: Bound,
     pub status: Status,
 }
 
 impl Calibrated {
+    /// The name as reported: `A_bleed_reb[6 clicks]` for a setting's own value.
+    pub fn display_name(&self) -> String {
+        match &self.setting {
+            Some(label) => format!("{}[{label}]", self.name),
+            None => self.name.to_string(),
+        }
+    }
+
     /// Standard uncertainty over |value|.
     pub fn relative(&self) -> Option<f64> {
         self.std_error.map(|s| s / self.value.abs().max(1e-300))
@@ -220,6 +255,8 @@ impl Calibrated {
 #[derive(Clone, Debug)]
 pub struct RecordFit {
     pub path: String,
+    /// The label of the setting it was taken at.
+    pub setting: String,
     pub samples: usize,
     pub nrmse_before: f64,
     pub nrmse_after: f64,
@@ -230,14 +267,15 @@ pub struct RecordFit {
 /// One fit of the rounds.
 #[derive(Clone, Debug)]
 pub struct Round {
-    pub fitted: Vec<&'static str>,
+    /// The parameters fitted, as reported.
+    pub fitted: Vec<String>,
     pub iterations: usize,
     pub model_runs: usize,
     pub converged: bool,
     /// RMS force residual (N).
     pub rms_residual: f64,
     /// The parameter held after this round and why, if any.
-    pub held: Option<(&'static str, String)>,
+    pub held: Option<(String, String)>,
 }
 
 /// A finished calibration.
@@ -255,10 +293,26 @@ pub struct Calibration {
     pub threads: usize,
     /// The steady stage, where it ran (a passive damper with quasi-steady samples).
     pub steady: Option<SteadyStage>,
+    /// The settings the records were taken at (one unless `--setting`, `--per-setting`).
+    pub settings: Vec<String>,
+    /// The covariance of the fitted parameters (the last fit's), for what a diagnosis with these
+    /// values inherits from their uncertainty ([`crate::propagation`]).
+    pub covariance: Option<Covariance>,
+}
+
+/// The covariance of a calibration's fitted parameters (colour-inflated, [`crate::lm`]).
+#[derive(Clone, Debug)]
+pub struct Covariance {
+    /// Indices into [`Calibration::parameters`] of the rows and columns.
+    pub parameters: Vec<usize>,
+    /// Row by row, in the parameters' units.
+    pub matrix: Vec<Vec<f64>>,
 }
 
 struct Record {
     path: String,
+    /// Index of its setting ([`Settings::labels`]).
+    setting: usize,
     measured: Vec<f64>,
     /// Per sample: scored (not left out by the record's checks, e.g. a clipped force).
     kept: Vec<bool>,
@@ -267,13 +321,14 @@ struct Record {
     backend: Arc<dyn Backend>,
 }
 
-fn read_records(o: &CalibrateOptions) -> Result<Vec<Record>, String> {
+fn read_records(o: &CalibrateOptions, settings: &Settings) -> Result<Vec<Record>, String> {
     if o.records.is_empty() {
         return Err("no calibration record given".into());
     }
     o.records
         .iter()
-        .map(|path| {
+        .zip(&settings.of_record)
+        .map(|(path, &setting)| {
             let c =
                 CompareOptions { measurement: path.clone(), rtol_at_most: Some(ANALYSIS_RTOL), ..o.compare.clone() };
             let m = crate::comparison::read_checked(&c, path)?;
@@ -283,9 +338,31 @@ fn read_records(o: &CalibrateOptions) -> Result<Vec<Record>, String> {
             let drive = Drive::from_measurement(&m);
             let setup = build_model(&c, &drive)?;
             let kept = m.excluded.iter().map(|e| !e).collect();
-            Ok(Record { path: m.path.clone(), measured, kept, drive, model: setup.model, backend: setup.backend })
+            Ok(Record {
+                path: m.path.clone(),
+                setting,
+                measured,
+                kept,
+                drive,
+                model: setup.model,
+                backend: setup.backend,
+            })
         })
         .collect()
+}
+
+/// The fit's entries: the shared parameters once, those of `--per-setting` once per setting
+/// (each a setting's own only when there are several settings).
+fn fit_entries(o: &CalibrateOptions, settings: &Settings, p: &Parameters) -> Result<Vec<Entry>, String> {
+    let per_setting = o.per_setting_names()?;
+    if !per_setting.is_empty() && settings.labels.len() < 2 {
+        return Err(format!(
+            "--per-setting {}: the records are all of one setting; give records of several (--setting LABEL=FILE,…)",
+            per_setting.join(",")
+        ));
+    }
+    let shared: Vec<&'static str> = o.names_for(Some(p))?.into_iter().filter(|n| !per_setting.contains(n)).collect();
+    Ok(settings.entries(&shared, &per_setting))
 }
 
 /// The search box of a parameter around its start value.
@@ -316,15 +393,14 @@ fn search_box(name: &str, start: f64, p: &Parameters) -> Result<Bound, String> {
     }
 }
 
-/// Runs every record with the parameters `names` = `x` on top of its own model.
-fn forces(records: &[Record], names: &[&'static str], x: &[f64]) -> Result<Vec<Vec<f64>>, String> {
+/// Runs every record with the entries `entries` = `x` that apply to its setting on top of its own
+/// model.
+fn forces(records: &[Record], entries: &[Entry], x: &[f64]) -> Result<Vec<Vec<f64>>, String> {
     records
         .iter()
         .map(|r| {
             let mut model = r.model;
-            for (n, &v) in names.iter().zip(x) {
-                set_real(&mut model.params, n, v)?;
-            }
+            apply(&mut model.params, entries, x, r.setting)?;
             model.params.validate()?;
             Ok(r.backend
                 .run_first(&model, &r.drive, r.drive.len(), false)
@@ -335,10 +411,10 @@ fn forces(records: &[Record], names: &[&'static str], x: &[f64]) -> Result<Vec<V
 }
 
 /// Why the fit cannot pin a parameter (the worst one), if any: (index, reason).
-fn worst(s: &Solution, names: &[&'static str], o: &CalibrateOptions) -> Option<(usize, String)> {
+fn worst(s: &Solution, names: &[String], o: &CalibrateOptions) -> Option<(usize, String)> {
     if s.covariance.is_none() {
         let i = *s.singular.first().unwrap_or(&0);
-        let with: Vec<&str> = s.singular.iter().skip(1).map(|&k| names[k]).collect();
+        let with: Vec<&str> = s.singular.iter().skip(1).map(|&k| names[k].as_str()).collect();
         return Some((
             i,
             if with.is_empty() {
@@ -372,34 +448,50 @@ fn worst(s: &Solution, names: &[&'static str], o: &CalibrateOptions) -> Option<(
 /// Calibrates: fits, holds what the records cannot pin, refits; `progress` is told of each round.
 pub fn calibrate(o: &CalibrateOptions, progress: &(dyn Fn(&Round) + Sync)) -> Result<Calibration, String> {
     let t0 = Instant::now();
-    let mut records = read_records(o)?;
-    let names = o.names_for(Some(&records[0].model.params))?;
+    let settings = Settings::group(&o.records, &o.settings)?;
+    let mut records = read_records(o, &settings)?;
+    let entries = fit_entries(o, &settings, &records[0].model.params)?;
+    let names: Vec<String> = entries.iter().map(|e| settings.display(e)).collect();
     let pool = thread_pool(o.threads)?;
-    let steady = steady_stage(&mut records, &names, &pool)?;
+    let values = |records: &[Record]| -> Result<Vec<f64>, String> {
+        entries
+            .iter()
+            .map(|e| {
+                let r = records.iter().find(|r| e.applies_to(r.setting)).expect("every setting has a record");
+                get_real(&r.model.params, e.name)
+            })
+            .collect()
+    };
+    // a parameter the records cannot pin is held at the value the user gave (the description,
+    // --params, --set), not where the steady stage left it: the steady law alone may move it far
+    // (a blow-off never reached, a bleed traded for a blow-off) within its wide box
+    let given_values = values(&records)?;
+    let steady = steady_stage(&mut records, &entries, &settings, &pool)?;
+    // every record's model starts where the steady stage left its setting
+    let starts = values(&records)?;
     let base = records[0].model.params;
-    let starts: Vec<f64> = names.iter().map(|n| get_real(&base, n)).collect::<Result<_, _>>()?;
     let scales: Vec<Bound> =
-        names.iter().zip(&starts).map(|(n, &s)| search_box(n, s, &base)).collect::<Result<_, _>>()?;
+        entries.iter().zip(&starts).map(|(e, &s)| search_box(e.name, s, &base)).collect::<Result<_, _>>()?;
     let measured: Vec<f64> = records.iter().flat_map(|r| r.measured.iter().copied()).collect();
     let kept: Vec<bool> = records.iter().flat_map(|r| r.kept.iter().copied()).collect();
     let before = forces(&records, &[], &[])?;
 
     let mut x = starts.clone();
-    let mut held: Vec<Option<String>> = vec![None; names.len()];
+    // the values of held entries (the others are overwritten by each fit)
+    let mut x_held = starts.clone();
+    let mut held: Vec<Option<String>> = vec![None; entries.len()];
     let mut rounds: Vec<Round> = Vec::new();
     let mut last: Option<(Vec<usize>, Solution)> = None;
     let mut model_runs = 1;
     while held.iter().any(Option::is_none) {
-        let active: Vec<usize> = (0..names.len()).filter(|&i| held[i].is_none()).collect();
-        let active_names: Vec<&'static str> = active.iter().map(|&i| names[i]).collect();
-        let fixed: Vec<(&'static str, f64)> =
-            (0..names.len()).filter(|i| held[*i].is_some()).map(|i| (names[i], starts[i])).collect();
+        let active: Vec<usize> = (0..entries.len()).filter(|&i| held[i].is_none()).collect();
+        let active_names: Vec<String> = active.iter().map(|&i| names[i].clone()).collect();
         let residuals = |y: &[f64]| -> Result<Vec<f64>, String> {
-            let mut all_names: Vec<&'static str> = fixed.iter().map(|f| f.0).collect();
-            let mut all_x: Vec<f64> = fixed.iter().map(|f| f.1).collect();
-            all_names.extend(&active_names);
-            all_x.extend(y);
-            let f = forces(&records, &all_names, &all_x)?;
+            let mut all_x = x_held.clone();
+            for (k, &i) in active.iter().enumerate() {
+                all_x[i] = y[k];
+            }
+            let f = forces(&records, &entries, &all_x)?;
             Ok(f.iter().flatten().zip(&measured).zip(&kept).filter(|(_, k)| **k).map(|((m, y), _)| m - y).collect())
         };
         let x0: Vec<f64> = active.iter().map(|&i| x[i]).collect();
@@ -411,7 +503,7 @@ pub fn calibrate(o: &CalibrateOptions, progress: &(dyn Fn(&Round) + Sync)) -> Re
         }
         let bad = worst(&s, &active_names, o);
         let mut round = Round {
-            fitted: active_names.clone(),
+            fitted: active_names,
             iterations: s.iterations,
             model_runs: s.model_runs,
             converged: s.converged,
@@ -421,9 +513,10 @@ pub fn calibrate(o: &CalibrateOptions, progress: &(dyn Fn(&Round) + Sync)) -> Re
         match bad {
             Some((k, why)) => {
                 let i = active[k];
-                x[i] = starts[i];
+                x[i] = given_values[i];
+                x_held[i] = given_values[i];
                 held[i] = Some(why.clone());
-                round.held = Some((names[i], why));
+                round.held = Some((names[i].clone(), why));
                 progress(&round);
                 rounds.push(round);
             }
@@ -435,23 +528,24 @@ pub fn calibrate(o: &CalibrateOptions, progress: &(dyn Fn(&Round) + Sync)) -> Re
             }
         }
     }
-    let parameters = names
+    let parameters = entries
         .iter()
         .enumerate()
-        .map(|(i, &name)| {
-            let unit = match lookup(name) {
+        .map(|(i, e)| {
+            let unit = match lookup(e.name) {
                 Ok(Param::Real(v)) => v.unit(),
                 _ => "1",
             };
             let (std_error, correlation) = match &last {
                 Some((active, s)) if held[i].is_none() => {
                     let k = active.iter().position(|&a| a == i).expect("active");
-                    (s.std_error(k), s.strongest_correlation(k).map(|(j, c)| (names[active[j]], c)))
+                    (s.std_error(k), s.strongest_correlation(k).map(|(j, c)| (names[active[j]].clone(), c)))
                 }
                 _ => (None, None),
             };
             Calibrated {
-                name,
+                name: e.name,
+                setting: e.setting.map(|s| settings.labels[s].clone()),
                 unit,
                 start: starts[i],
                 value: x[i],
@@ -462,7 +556,14 @@ pub fn calibrate(o: &CalibrateOptions, progress: &(dyn Fn(&Round) + Sync)) -> Re
             }
         })
         .collect();
-    let after = forces(&records, &names, &x)?;
+    let covariance = last.as_ref().and_then(|(active, s)| {
+        let c = s.covariance.as_ref()?;
+        Some(Covariance {
+            parameters: active.clone(),
+            matrix: (0..active.len()).map(|i| (0..active.len()).map(|j| c[(i, j)]).collect()).collect(),
+        })
+    });
+    let after = forces(&records, &entries, &x)?;
     model_runs += 1;
     let record_fits = records
         .iter()
@@ -471,6 +572,7 @@ pub fn calibrate(o: &CalibrateOptions, progress: &(dyn Fn(&Round) + Sync)) -> Re
             let residual: Vec<f64> = a.iter().zip(&r.measured).map(|(m, y)| m - y).collect();
             RecordFit {
                 path: r.path.clone(),
+                setting: settings.labels[r.setting].clone(),
                 samples: r.measured.len(),
                 nrmse_before: nrmse(&r.measured, b),
                 nrmse_after: nrmse(&r.measured, a),
@@ -479,8 +581,10 @@ pub fn calibrate(o: &CalibrateOptions, progress: &(dyn Fn(&Round) + Sync)) -> Re
         })
         .collect();
     let skip = ["control_mode", "tare_load_cell", "rtol"];
-    let given =
-        changed_parameters(&base).into_iter().filter(|(n, _)| !names.contains(n) && !skip.contains(n)).collect();
+    let given = changed_parameters(&base)
+        .into_iter()
+        .filter(|(n, _)| !entries.iter().any(|e| e.name == *n) && !skip.contains(n))
+        .collect();
     Ok(Calibration {
         parameters,
         records: record_fits,
@@ -491,42 +595,44 @@ pub fn calibrate(o: &CalibrateOptions, progress: &(dyn Fn(&Round) + Sync)) -> Re
         seconds: t0.elapsed().as_secs_f64(),
         threads: o.threads,
         steady,
+        settings: settings.labels,
+        covariance,
     })
 }
 
-/// The steady stage of a passive damper's calibration: the force–velocity law of the parameters
-/// to fit that shape it ([`STEADY_FIT`]) fitted on the quasi-steady samples of every record, from
-/// several starts ([`crate::steady::fit_steady`]); the records' models then start the dynamic
-/// fit there. None for another damper or too few quasi-steady samples (the dynamic fit then
-/// starts from the description).
+/// The steady stage of a passive damper's calibration: the force–velocity law of the entries to
+/// fit that shape it ([`STEADY_FIT`]) fitted on the quasi-steady samples of every record (each at
+/// its setting), from several starts ([`crate::steady::fit_steady`]); the records' models then
+/// start the dynamic fit there. None for another damper or too few quasi-steady samples (the
+/// dynamic fit then starts from the description).
 fn steady_stage(
     records: &mut [Record],
-    names: &[&'static str],
+    entries: &[Entry],
+    settings: &Settings,
     pool: &rayon::ThreadPool,
 ) -> Result<Option<SteadyStage>, String> {
     let base = records[0].model.params;
     if !crate::steady::is_passive(&base) {
         return Ok(None);
     }
-    let fitted: Vec<&'static str> = names.iter().copied().filter(|n| STEADY_FIT.contains(n)).collect();
+    let fitted: Vec<Entry> = entries.iter().copied().filter(|e| STEADY_FIT.contains(&e.name)).collect();
     let points: Vec<_> = records
         .iter()
-        .flat_map(|r| crate::steady::steady_points(&r.drive, r.model.params.x_damper_start, &r.measured))
+        .flat_map(|r| crate::steady::steady_points(&r.drive, r.model.params.x_damper_start, &r.measured, r.setting))
         .collect();
     if fitted.is_empty() || points.len() < 4 * fitted.len() {
         return Ok(None);
     }
     let fit = crate::steady::fit_steady(&base, &fitted, &points, pool)?;
+    let values: Vec<f64> = fit.fitted.iter().map(|f| f.2).collect();
     for r in records.iter_mut() {
-        for (name, _, value) in &fit.fitted {
-            set_real(&mut r.model.params, name, *value)?;
-        }
+        apply(&mut r.model.params, &fitted, &values, r.setting)?;
     }
     Ok(Some(SteadyStage {
         points: fit.points,
         starts: fit.starts,
         rms_before: fit.rms_before,
         rms_after: fit.rms_after,
-        fitted: fit.fitted,
+        fitted: fit.fitted.iter().map(|(e, from, to)| (settings.display(e), *from, *to)).collect(),
     }))
 }

@@ -14,12 +14,17 @@ pub struct CalibrationFile {
     pub generator: String,
     /// The calibration records.
     pub records: Vec<RecordEntry>,
+    /// The settings the records were taken at (`--setting`; one per record unless grouped).
+    pub settings: Vec<String>,
     /// Every parameter of the fit, in the order fitted.
     pub parameters: Vec<ParameterEntry>,
     /// Parameters of `--params` and `--set` that were not fitted (also in parameters.ssv).
     pub given: Vec<GivenEntry>,
     /// The fits in turn: each holds the worst parameter it could not pin, the last holds none.
     pub rounds: Vec<RoundEntry>,
+    /// The covariance of the fitted parameters; null when the last fit has none.
+    #[serde(default)]
+    pub covariance: Option<CovarianceEntry>,
     /// Largest relative standard uncertainty of a parameter called identified (1).
     pub max_relative_uncertainty: f64,
     /// Largest |correlation| with another fitted parameter (1).
@@ -36,6 +41,8 @@ pub struct CalibrationFile {
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct RecordEntry {
     pub path: String,
+    /// The label of its setting.
+    pub setting: String,
     pub samples: usize,
     /// F_damper NRMSE over the whole record with the start values (1).
     pub nrmse_before: f64,
@@ -49,6 +56,8 @@ pub struct RecordEntry {
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct ParameterEntry {
     pub name: String,
+    /// The setting whose own value this is (`--per-setting`); null: shared by every record.
+    pub setting: Option<String>,
     /// The model's unit ("1": dimensionless).
     pub unit: String,
     pub start: f64,
@@ -67,6 +76,23 @@ pub struct ParameterEntry {
     /// The search box [lo, hi] and its scale.
     pub search: [f64; 2],
     pub log_scale: bool,
+}
+
+/// The covariance of the fitted parameters: `damper diagnose --calibration` carries it into the
+/// uncertainty of what it fits.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct CovarianceEntry {
+    /// The rows' and columns' parameters (FMU name, and setting for a setting's own value).
+    pub parameters: Vec<CovarianceParameter>,
+    /// Row by row, in the parameters' units.
+    pub matrix: Vec<Vec<f64>>,
+}
+
+/// A row of [`CovarianceEntry`].
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct CovarianceParameter {
+    pub name: String,
+    pub setting: Option<String>,
 }
 
 /// A parameter given, not fitted.
@@ -117,23 +143,26 @@ pub fn file(c: &Calibration, max_relative_uncertainty: f64, max_correlation: f64
             .iter()
             .map(|r| RecordEntry {
                 path: r.path.clone(),
+                setting: r.setting.clone(),
                 samples: r.samples,
                 nrmse_before: r.nrmse_before,
                 nrmse_after: r.nrmse_after,
                 noise_floor: r.noise_floor,
             })
             .collect(),
+        settings: c.settings.clone(),
         parameters: c
             .parameters
             .iter()
             .map(|p| ParameterEntry {
                 name: p.name.into(),
+                setting: p.setting.clone(),
                 unit: p.unit.into(),
                 start: p.start,
                 value: p.value,
                 std_uncertainty: p.std_error,
                 relative_uncertainty: p.relative(),
-                strongest_correlation: p.correlation.map(|(n, r)| (n.to_string(), r)),
+                strongest_correlation: p.correlation.clone(),
                 status: if p.status == Status::Fitted { "fitted" } else { "held" }.into(),
                 note: note(p),
                 search: [p.scale.lo, p.scale.hi],
@@ -145,14 +174,25 @@ pub fn file(c: &Calibration, max_relative_uncertainty: f64, max_correlation: f64
             .rounds
             .iter()
             .map(|r| RoundEntry {
-                fitted: r.fitted.iter().map(|n| n.to_string()).collect(),
+                fitted: r.fitted.clone(),
                 iterations: r.iterations,
                 model_runs: r.model_runs,
                 converged: r.converged,
                 rms_residual: r.rms_residual,
-                held: r.held.as_ref().map(|(n, why)| (n.to_string(), why.clone())),
+                held: r.held.clone(),
             })
             .collect(),
+        covariance: c.covariance.as_ref().map(|cov| CovarianceEntry {
+            parameters: cov
+                .parameters
+                .iter()
+                .map(|&i| CovarianceParameter {
+                    name: c.parameters[i].name.to_string(),
+                    setting: c.parameters[i].setting.clone(),
+                })
+                .collect(),
+            matrix: cov.matrix.clone(),
+        }),
         max_relative_uncertainty,
         max_correlation,
         rtol: c.rtol,
@@ -162,12 +202,23 @@ pub fn file(c: &Calibration, max_relative_uncertainty: f64, max_correlation: f64
     }
 }
 
-/// The parameter set of `parameters.ssv`: the calibrated parameters (fitted or held), then the
-/// given ones.
-pub fn parameter_set(c: &Calibration) -> Vec<Written> {
+/// The settings that need a parameter set of their own: those with values of their own
+/// (`--per-setting`); empty when one set serves every record.
+pub fn own_settings(c: &Calibration) -> Vec<&str> {
+    c.settings
+        .iter()
+        .map(String::as_str)
+        .filter(|s| c.parameters.iter().any(|p| p.setting.as_deref() == Some(s)))
+        .collect()
+}
+
+/// The parameter set of `parameters.ssv` (or of one setting's, `setting`): the calibrated
+/// parameters (fitted or held) shared by every record and the setting's own, then the given ones.
+pub fn parameter_set(c: &Calibration, setting: Option<&str>) -> Vec<Written> {
     let mut out: Vec<Written> = c
         .parameters
         .iter()
+        .filter(|p| p.setting.is_none() || p.setting.as_deref() == setting)
         .map(|p| Written {
             name: p.name.into(),
             value: Value::Real(p.value),
@@ -175,7 +226,7 @@ pub fn parameter_set(c: &Calibration) -> Vec<Written> {
             uncertainty: p.std_error,
             status: match &p.status {
                 Status::Fitted => "calibrated".into(),
-                Status::Held(why) => format!("held at its start value ({why})"),
+                Status::Held(why) => format!("held at its given value ({why})"),
             },
             start: Some(p.start),
         })

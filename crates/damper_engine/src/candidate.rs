@@ -62,6 +62,9 @@ pub struct Candidate {
     /// "switched on" or "refitted".
     pub action: &'static str,
     pub params: Vec<(&'static str, f64, Option<f64>)>,
+    /// Of each parameter's standard uncertainty (the third of `params`), the part inherited from
+    /// the calibration ([`crate::propagation`]); empty unless the diagnosis was given one.
+    pub inherited: Vec<Option<f64>>,
     pub nrmse_train: f64,
     pub nrmse_validation: f64,
     /// Relative cut of the validation NRMSE against the baseline.
@@ -392,6 +395,7 @@ impl JointFit {
             effect: spec.key,
             action,
             params: self.params,
+            inherited: Vec::new(),
             nrmse_train: self.nrmse_train,
             nrmse_validation: self.nrmse_validation,
             reduction: 1.0 - self.nrmse_validation / b,

@@ -54,6 +54,9 @@ pub struct CompareOptions {
     /// Drive the model with a velocity made again from the displacement where the logger's was
     /// made from it ([`Measurement::with_velocity_made_again`]): the diagnosis's choice.
     pub velocity_made_again: bool,
+    /// The calibration whose parameter set the model runs with (`--calibration`), and the setting
+    /// of its parameter set: a diagnosis carries its uncertainty into what it fits.
+    pub calibration: Option<(PathBuf, Option<String>)>,
 }
 
 /// The tolerance `diagnose` and `calibrate` run the model at, unless the user sets one: the FMU's
@@ -82,6 +85,7 @@ impl CompareOptions {
             flips: Vec::new(),
             trust_time_column: false,
             velocity_made_again: false,
+            calibration: None,
         }
     }
 }

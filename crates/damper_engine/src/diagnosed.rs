@@ -10,11 +10,14 @@ use crate::dsp::{noise_sigma, rms};
 use crate::floor::Numerics;
 use crate::force_velocity;
 use crate::model::{force_simulator, thread_pool, Drive};
+use crate::parameters::{set_effect, set_real};
+use crate::propagation::{inherited, CalibrationCovariance};
 use crate::residual_signature::{self, Quantity};
 use crate::rng::Rng;
 use crate::sensitivity::{informative, velocity_resolution, SENSITIVITY_SEEDS};
 use crate::units::Column;
 use rayon::prelude::*;
+use semi_active_damper::physics::params::Parameters;
 
 /// A finished diagnosis with its comparison.
 pub struct Diagnosed {
@@ -120,6 +123,9 @@ pub fn diagnose_measurement(
     let numerics =
         Numerics { base, perturbed: &perturbed, base_check: &base_check?, rtol: baseline.rtol, rtol_check: check.rtol };
     let mut d = diagnose(&c.measurement.time, &fit, &candidates, &baseline, &numerics)?;
+    if let Some((path, setting)) = &opts.calibration {
+        inherit(&mut d, &fit, &baseline, &CalibrationCovariance::read(path, setting.as_deref())?)?;
+    }
     drop(simulate);
     let after = match d.effects.as_slice() {
         [] => None,
@@ -136,6 +142,33 @@ pub fn diagnose_measurement(
         d.explanation = format!("{}. What is left: {follows}.", d.explanation.trim_end_matches('.'));
     }
     Ok(Diagnosed { comparison: c, diagnosis: d, after })
+}
+
+/// Widens the uncertainties of the named effects' fits by what they inherit from the calibration
+/// whose values the baseline holds ([`crate::propagation`]).
+fn inherit(
+    d: &mut Diagnosis,
+    fit: &FitSetup<'_>,
+    baseline: &Parameters,
+    calibration: &CalibrationCovariance,
+) -> Result<(), String> {
+    for c in d.candidates.iter_mut().filter(|c| d.effects.contains(&c.effect)) {
+        let mut model = *baseline;
+        set_effect(&mut model, c.effect, true)?;
+        for (name, value, _) in &c.params {
+            set_real(&mut model, name, *value)?;
+        }
+        let keep = &fit.informative.keep;
+        let inherited =
+            inherited(fit.simulate, &model, fit.measured, keep, fit.train, &c.params, calibration, fit.pool)?;
+        for ((_, _, sigma), added) in c.params.iter_mut().zip(&inherited) {
+            if let (Some(s), Some(a)) = (sigma.as_mut(), added) {
+                *s = libm::hypot(*s, *a);
+            }
+        }
+        c.inherited = inherited;
+    }
+    Ok(())
 }
 
 /// Two velocity shifts that try the sign of the motion both ways where the velocity is within its

@@ -15,11 +15,13 @@
 //! - [`diagnose`]: which catalog effect is missing, by the thresholds of [`criteria`], from the
 //!   [`candidate`] fits ([`lm`]: bounded Levenberg–Marquardt, parameter uncertainty), with [`ladder`]
 //!   (the effects added in turn) and [`before_after`] (the model with the named effects);
+//!   [`propagation`]: the uncertainty a named effect's size inherits from the calibration;
 //!   [`diagnosed`] runs it all on a measurement;
 //! - [`summary`]: the typed `summary.json` and the JSON writing shared with the truth file;
 //! - [`calibrate`]: nominal parameters fitted on calibration records ([`lm`]: bounded
 //!   Levenberg–Marquardt with covariance), written as an SSP parameter set ([`ssv`]) and
-//!   `calibration.json` ([`calibration_file`]);
+//!   `calibration.json` ([`calibration_file`]); [`settings`]: several settings of an adjustable
+//!   damper in one calibration;
 //! - [`generate`]: measurement-like data with hidden effects ([`rng`]), and their truth.
 pub mod analysis;
 pub mod before_after;
@@ -43,6 +45,7 @@ pub mod measurement;
 pub mod model;
 pub mod motion;
 pub mod parameters;
+pub mod propagation;
 pub mod quantity;
 pub mod record_checks;
 pub mod record_parts;
@@ -50,6 +53,7 @@ pub mod record_traps;
 pub mod residual_signature;
 pub mod rng;
 pub mod sensitivity;
+pub mod settings;
 pub mod ssv;
 pub mod steady;
 pub mod stroke;

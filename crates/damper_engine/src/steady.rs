@@ -15,7 +15,8 @@
 
 use crate::lm::{self, Bound};
 use crate::model::Drive;
-use crate::parameters::{get_real, set_real};
+use crate::parameters::get_real;
+use crate::settings::{apply, Entry};
 use semi_active_damper::effects::PlantSignals;
 use semi_active_damper::physics::fluid::{orifice_flow, viscosity_ratio};
 use semi_active_damper::physics::hydraulics::check_valve_area;
@@ -23,14 +24,15 @@ use semi_active_damper::physics::params::{Derived, Parameters};
 use semi_active_damper::physics::passive_valve::PassiveValve;
 use semi_active_damper::physics::plant::Plant;
 
-/// A sample the steady law explains: velocity (m/s), stroke (m), oil temperature (K) and the
-/// measured force (N).
+/// A sample the steady law explains: velocity (m/s), stroke (m), oil temperature (K), the
+/// measured force (N) and the setting of the damper it was taken at ([`crate::settings`]).
 #[derive(Clone, Copy, Debug)]
 pub struct SteadyPoint {
     pub v: f64,
     pub x: f64,
     pub t_oil: f64,
     pub force: f64,
+    pub setting: usize,
 }
 
 /// The oil column's time constant the quasi-steady test allows for (s): the passive dampers'
@@ -113,9 +115,9 @@ pub fn steady_force(p: &Parameters, d: &Derived, pt: &SteadyPoint) -> Option<f64
     }
 }
 
-/// The quasi-steady samples of a record: the stroke integrated from `x_start` (m) along the
-/// drive's velocity, the acceleration from central differences.
-pub fn steady_points(drive: &Drive, x_start: f64, measured: &[f64]) -> Vec<SteadyPoint> {
+/// The quasi-steady samples of a record taken at `setting`: the stroke integrated from `x_start`
+/// (m) along the drive's velocity, the acceleration from central differences.
+pub fn steady_points(drive: &Drive, x_start: f64, measured: &[f64], setting: usize) -> Vec<SteadyPoint> {
     let (t, v) = (&drive.time, &drive.v_damper);
     let a = crate::dsp::smooth_rate(t, v, 2);
     let stroke = crate::dsp::integrate(t, v, x_start);
@@ -123,7 +125,7 @@ pub fn steady_points(drive: &Drive, x_start: f64, measured: &[f64]) -> Vec<Stead
     for (k, &x) in stroke.iter().enumerate() {
         let t_oil = drive.t_oil.as_ref().map_or(semi_active_damper::damper::T_OIL_START, |t| t[k]);
         if v[k].abs() >= MIN_STEADY_VELOCITY && a[k].abs() * SETTLING <= STEADY_SHARE * v[k].abs() {
-            out.push(SteadyPoint { v: v[k], x, t_oil, force: measured[k] });
+            out.push(SteadyPoint { v: v[k], x, t_oil, force: measured[k], setting });
         }
     }
     out
@@ -132,10 +134,8 @@ pub fn steady_points(drive: &Drive, x_start: f64, measured: &[f64]) -> Vec<Stead
 /// The result of [`fit_steady`].
 #[derive(Clone, Debug)]
 pub struct SteadyFit {
-    /// The parameters with the fitted values.
-    pub params: Parameters,
-    /// (name, start, fitted) of each parameter fitted.
-    pub fitted: Vec<(&'static str, f64, f64)>,
+    /// (entry, start, fitted) of each parameter fitted.
+    pub fitted: Vec<(Entry, f64, f64)>,
     /// RMS force residual of the steady law over the points (N), before and after.
     pub rms_before: f64,
     pub rms_after: f64,
@@ -144,18 +144,23 @@ pub struct SteadyFit {
     pub starts: usize,
 }
 
-/// Residuals of the steady law with `names` = `x` on top of `p`.
-fn residuals(p: &Parameters, names: &[&'static str], x: &[f64], points: &[SteadyPoint]) -> Result<Vec<f64>, String> {
-    let mut q = *p;
-    for (n, &v) in names.iter().zip(x) {
-        set_real(&mut q, n, v)?;
-    }
-    q.validate()?;
-    let d = q.derive();
+/// Residuals of the steady law with `entries` = `x` on top of `p`, each point at its setting.
+fn residuals(p: &Parameters, entries: &[Entry], x: &[f64], points: &[SteadyPoint]) -> Result<Vec<f64>, String> {
+    let settings = points.iter().map(|pt| pt.setting + 1).max().unwrap_or(1);
+    let per_setting: Vec<(Parameters, Derived)> = (0..settings)
+        .map(|s| {
+            let mut q = *p;
+            apply(&mut q, entries, x, s)?;
+            q.validate()?;
+            let d = q.derive();
+            Ok((q, d))
+        })
+        .collect::<Result<_, String>>()?;
     points
         .iter()
         .map(|pt| {
-            steady_force(&q, &d, pt)
+            let (q, d) = &per_setting[pt.setting];
+            steady_force(q, d, pt)
                 .map(|f| f - pt.force)
                 .ok_or_else(|| format!("no pressure drop passes the flow at v = {} m/s", pt.v))
         })
@@ -166,29 +171,32 @@ fn residuals(p: &Parameters, names: &[&'static str], x: &[f64], points: &[Steady
 /// information, to a law of a dozen parameters.
 pub const MAX_POINTS: usize = 1500;
 
-/// Fits `names` of `p` to the steady points, from several starts (each blow-off preload at a
+/// Fits `entries` of `p` to the steady points, from several starts (each blow-off preload at a
 /// third, once and three times its start, the others at theirs); the best wins. Each parameter is
 /// searched over [start/30, 30·start] within the model's range: a datasheet's value may be far
 /// from a real valve's.
 pub fn fit_steady(
     p: &Parameters,
-    names: &[&'static str],
+    entries: &[Entry],
     points: &[SteadyPoint],
     pool: &rayon::ThreadPool,
 ) -> Result<SteadyFit, String> {
-    if points.len() < 4 * names.len() {
-        return Err(format!("{} quasi-steady samples: too few to fit {} parameters", points.len(), names.len()));
+    if points.len() < 4 * entries.len() {
+        return Err(format!("{} quasi-steady samples: too few to fit {} parameters", points.len(), entries.len()));
     }
     let stride = points.len().div_ceil(MAX_POINTS);
     let points: Vec<SteadyPoint> = points.iter().step_by(stride).copied().collect();
     let points = points.as_slice();
-    let starts: Vec<f64> = names.iter().map(|n| get_real(p, n)).collect::<Result<_, _>>()?;
-    let bounds: Vec<Bound> = names.iter().zip(&starts).map(|(n, &s)| wide_box(n, s)).collect::<Result<_, _>>()?;
+    let starts: Vec<f64> = entries.iter().map(|e| get_real(p, e.name)).collect::<Result<_, _>>()?;
+    let bounds: Vec<Bound> =
+        entries.iter().zip(&starts).map(|(e, &s)| wide_box(e.name, s)).collect::<Result<_, _>>()?;
     let rms = |r: &[f64]| (r.iter().map(|x| x * x).sum::<f64>() / r.len() as f64).sqrt();
-    let rms_before = rms(&residuals(p, names, &starts, points)?);
-    let f = |x: &[f64]| residuals(p, names, x, points);
+    let rms_before = rms(&residuals(p, entries, &starts, points)?);
+    let f = |x: &[f64]| residuals(p, entries, x, points);
     let mut best: Option<lm::Solution> = None;
-    let varied: Vec<usize> = (0..names.len()).filter(|&i| names[i].starts_with("p_open")).collect();
+    // the blow-off preloads are shared: a setting's own would multiply the starts
+    let varied: Vec<usize> =
+        (0..entries.len()).filter(|&i| entries[i].name.starts_with("p_open") && entries[i].setting.is_none()).collect();
     let combos = 3usize.pow(varied.len() as u32);
     for combo in 0..combos {
         let mut x0 = starts.clone();
@@ -205,13 +213,8 @@ pub fn fit_steady(
         }
     }
     let best = best.ok_or("the steady fit failed from every start")?;
-    let mut params = *p;
-    for (n, &v) in names.iter().zip(&best.x) {
-        set_real(&mut params, n, v)?;
-    }
     Ok(SteadyFit {
-        params,
-        fitted: names.iter().zip(&starts).zip(&best.x).map(|((&n, &s), &x)| (n, s, x)).collect(),
+        fitted: entries.iter().zip(&starts).zip(&best.x).map(|((&e, &s), &x)| (e, s, x)).collect(),
         rms_before,
         rms_after: (best.cost / points.len() as f64).sqrt(),
         points: points.len(),
@@ -267,7 +270,7 @@ mod tests {
             };
             let run = crate::model::Model::new(p).run(&drive).unwrap();
             let x = run.x_damper[n - 1];
-            let pt = SteadyPoint { v, x, t_oil: semi_active_damper::damper::T_OIL_START, force: 0.0 };
+            let pt = SteadyPoint { v, x, t_oil: semi_active_damper::damper::T_OIL_START, force: 0.0, setting: 0 };
             let steady = steady_force(&p, &d, &pt).unwrap();
             let dynamic = run.f_damper[n - 1];
             assert!(
@@ -278,17 +281,20 @@ mod tests {
     }
 
     /// From a datasheet's values three times off, the steady fit finds the valves of a damper
-    /// whose steady points it is given.
+    /// whose steady points it is given, taken at two settings of its rebound adjuster: the
+    /// rebound bleed of each setting, the rest shared.
     #[test]
     fn the_steady_fit_reaches_valves_far_from_the_start() {
         let truth = template();
-        let d = truth.derive();
+        let opened = Parameters { a_bleed_reb: 1.7 * truth.a_bleed_reb, ..truth };
         let mut points = Vec::new();
-        for k in 0..200 {
-            let v = if k % 2 == 0 { 1.0 } else { -1.0 } * (0.003 + 0.6 * (k as f64 / 200.0));
+        for k in 0..300 {
+            let v = if k % 2 == 0 { 1.0 } else { -1.0 } * (0.003 + 0.6 * (k as f64 / 300.0));
             let x = 0.02 * ((k % 7) as f64 / 3.0 - 1.0);
-            let mut pt = SteadyPoint { v, x, t_oil: semi_active_damper::damper::T_OIL_START, force: 0.0 };
-            pt.force = steady_force(&truth, &d, &pt).unwrap();
+            let setting = k / 2 % 2;
+            let mut pt = SteadyPoint { v, x, t_oil: semi_active_damper::damper::T_OIL_START, force: 0.0, setting };
+            let p = [&truth, &opened][setting];
+            pt.force = steady_force(p, &p.derive(), &pt).unwrap();
             points.push(pt);
         }
         let mut start = truth;
@@ -296,13 +302,15 @@ mod tests {
         start.p_open_reb /= 3.0;
         start.a_bleed_comp /= 3.0;
         start.p_open_comp *= 2.5;
-        let names = ["A_bleed_reb", "p_open_reb", "A_bleed_comp", "p_open_comp"];
+        let shared = |name| Entry { name, setting: None };
+        let own = |setting| Entry { name: "A_bleed_reb", setting: Some(setting) };
+        let entries = [own(0), own(1), shared("p_open_reb"), shared("A_bleed_comp"), shared("p_open_comp")];
         // (the bleeds from three times off, the preloads from the starts tried)
         let pool = crate::model::thread_pool(1).unwrap();
-        let fit = fit_steady(&start, &names, &points, &pool).unwrap();
-        for (name, _, x) in &fit.fitted {
-            let t = get_real(&truth, name).unwrap();
-            assert!((x - t).abs() <= 1e-3 * t, "{name}: {x} against {t}");
+        let fit = fit_steady(&start, &entries, &points, &pool).unwrap();
+        for (e, _, x) in &fit.fitted {
+            let t = get_real([&truth, &opened][e.setting.unwrap_or(0)], e.name).unwrap();
+            assert!((x - t).abs() <= 1e-3 * t, "{e:?}: {x} against {t}");
         }
         assert!(fit.rms_after < 1e-2 && fit.rms_before > 30.0, "{fit:?}");
     }

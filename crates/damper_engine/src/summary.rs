@@ -358,13 +358,29 @@ pub struct Events {
 pub struct Fitted {
     #[serde(deserialize_with = "nan_if_null")]
     pub value: f64,
-    /// One standard error (Gauss–Newton); null: not determined.
+    /// One standard error (Gauss–Newton, with the calibration's part where given); null: not
+    /// determined.
     pub std_error: Option<f64>,
+    /// The part of `std_error` inherited from the calibration (`--calibration`); null: none given.
+    #[serde(default)]
+    pub std_error_calibration: Option<f64>,
 }
 
 /// The parameters fitted with an effect, by name.
 pub fn fitted(params: &[(&str, f64, Option<f64>)]) -> IndexMap<String, Fitted> {
-    params.iter().map(|(n, v, e)| (n.to_string(), Fitted { value: *v, std_error: *e })).collect()
+    fitted_with(params, &[])
+}
+
+/// [`fitted`] with the part of each uncertainty inherited from the calibration (empty: none).
+pub fn fitted_with(params: &[(&str, f64, Option<f64>)], inherited: &[Option<f64>]) -> IndexMap<String, Fitted> {
+    params
+        .iter()
+        .enumerate()
+        .map(|(i, (n, v, e))| {
+            let std_error_calibration = inherited.get(i).copied().flatten();
+            (n.to_string(), Fitted { value: *v, std_error: *e, std_error_calibration })
+        })
+        .collect()
 }
 
 /// A candidate effect, fitted on top of the baseline.

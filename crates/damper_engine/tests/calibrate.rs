@@ -66,7 +66,8 @@ fn calibrated() -> &'static (PathBuf, Calibration) {
         o.compare.load_cell_lowpass_hz = Some(400.0);
         o.threads = 2;
         let c = calibrate(&o, &|_| {}).expect("calibrate");
-        std::fs::write(dir.join("parameters.ssv"), ssv::to_string("test", "calibrated", &parameter_set(&c))).unwrap();
+        std::fs::write(dir.join("parameters.ssv"), ssv::to_string("test", "calibrated", &parameter_set(&c, None)))
+            .unwrap();
         (dir, c)
     })
 }
