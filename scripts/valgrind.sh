@@ -11,5 +11,5 @@ cd "$(dirname "$0")/.."
 command -v valgrind > /dev/null || { echo "valgrind is missing: apt-get install valgrind" >&2; exit 1; }
 export CARGO_TARGET_X86_64_UNKNOWN_LINUX_GNU_RUNNER="valgrind --quiet --error-exitcode=99 --leak-check=full --errors-for-leak-kinds=definite --show-leak-kinds=definite"
 export CALL_SEQUENCES="${1:-300}" CALL_SEQUENCES_HANG_SECONDS=120
-echo "+ valgrind: CALL_SEQUENCES=$CALL_SEQUENCES cargo test --release --test call_sequences"
-cargo test --release --test call_sequences -- --nocapture
+echo "+ valgrind: CALL_SEQUENCES=$CALL_SEQUENCES cargo test --release --test integration call_sequences::"
+cargo test --release --test integration call_sequences:: -- --nocapture

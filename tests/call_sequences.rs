@@ -7,7 +7,7 @@
 //! The test command runs a fixed set of seeds; a long run is
 //!
 //! ```text
-//! CALL_SEQUENCES=100000 cargo test --release --test call_sequences -- --nocapture
+//! CALL_SEQUENCES=100000 cargo test --release --test integration call_sequences:: -- --nocapture
 //! ```
 //!
 //! (`CALL_SEQUENCES_SEED` picks another first seed; see docs/robustness.md).
@@ -18,7 +18,7 @@
 // dlopen and the FMUs' C API through raw pointers: the crate denies unsafe code (Cargo.toml),
 // this file needs it.
 #![allow(unsafe_code)]
-mod fmi_fuzz;
+use crate::fmi_fuzz;
 
 use fmi_fuzz::library::fmus;
 use fmi_fuzz::report::Report;

@@ -298,7 +298,7 @@ fn the_effect_tables_of_the_docs_are_the_catalog() {
         }
         assert!(
             block == rendered,
-            "{file}'s effect table differs from src/effects/: run `UPDATE_DOCS=1 cargo test --release --test effects` \
+            "{file}'s effect table differs from src/effects/: run `UPDATE_DOCS=1 cargo test --release --test integration effects::` \
              to write it, or replace its block with:\n\n{rendered}\n"
         );
     }

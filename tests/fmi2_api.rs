@@ -6,7 +6,7 @@
 // Calls the FMU's C API as an importer does, through raw pointers: the crate denies unsafe code
 // (Cargo.toml), this file needs it.
 #![allow(unsafe_code)]
-mod common;
+use crate::common;
 
 use common::*;
 use fmi2_slave::api::fmi2::*;

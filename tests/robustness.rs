@@ -8,8 +8,8 @@
 // The FMUs' C API through raw pointers: the crate denies unsafe code (Cargo.toml), this file
 // needs it.
 #![allow(unsafe_code)]
-mod common;
-mod fmi_fuzz;
+use crate::common;
+use crate::fmi_fuzz;
 
 use common::*;
 use fmi2_slave::api::fmi2::*;

@@ -1,6 +1,6 @@
 //! docs/cli.md is the `damper` help, so that the reference cannot drift from the program: this
 //! test renders it from the binary and fails when the file differs. After changing an option,
-//! refresh it with `UPDATE_DOCS=1 cargo test --release -p damper_cli --test cli_docs`.
+//! refresh it with `UPDATE_DOCS=1 cargo test --release -p damper_cli --test integration cli_docs::`.
 
 use std::path::Path;
 use std::process::Command;
@@ -43,6 +43,6 @@ fn docs_cli_md_is_the_program_s_help() {
     assert!(
         actual == expected,
         "docs/cli.md differs from the program's help; refresh it with \
-         UPDATE_DOCS=1 cargo test --release -p damper_cli --test cli_docs"
+         UPDATE_DOCS=1 cargo test --release -p damper_cli --test integration cli_docs::"
     );
 }

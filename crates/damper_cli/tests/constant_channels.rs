@@ -2,7 +2,7 @@
 //! writing 1e6 Pa as `1000000` and `1000000.0000000003`): the report's plots must still finish.
 //! The axis ticks of such a range once stepped by less than the values' resolution, forever.
 
-mod common;
+use crate::common;
 
 use common::{checked_summary, generate, scratch, validator};
 use std::process::{Command, Stdio};

@@ -1,6 +1,6 @@
 //! Bad measurement files: every case stops with a message naming the file, the line and the column.
 
-mod common;
+use crate::common;
 
 use damper_engine::comparison::{compare, CompareOptions};
 use damper_engine::measurement::{Mapping, Measurement, DEFAULT_MAX_GAP};

@@ -1,6 +1,6 @@
 //! `--fmu`: the model run through the packaged FMU (rust-fmi's importer) gives the same comparison
 //! and the same diagnosis as the in-process model, bit for bit; an FMU of another build is refused.
-mod common;
+use crate::common;
 
 use damper_cli::json_summary::diagnosed as summary;
 use damper_engine::comparison::CompareOptions;

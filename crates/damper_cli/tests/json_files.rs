@@ -2,7 +2,7 @@
 //! valid against docs/summary.schema.json and read back into the typed structs unchanged, and the
 //! truth file of `damper generate`.
 
-mod common;
+use crate::common;
 
 use common::{checked_summary, schema_errors, scratch, validator};
 use damper_engine::generate::{Truth, TruthInputs};

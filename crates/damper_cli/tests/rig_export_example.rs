@@ -1,7 +1,7 @@
 //! `data/measurements/rig_export_example.csv`, a rig logger's export of model data (see its
 //! README), read with the command line documented there; and sample rates other than 1 kHz.
 
-mod common;
+use crate::common;
 
 use damper_engine::measurement::Mapping;
 use damper_engine::units::Column;

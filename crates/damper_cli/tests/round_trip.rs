@@ -1,7 +1,7 @@
 //! generate → compare round trips: nothing hidden (the residual is the sensor noise), and a hidden
 //! effect (the error grows and shows its signature). Each case runs 5 s of data at 1 kHz.
 
-mod common;
+use crate::common;
 
 use common::{compare, generate, regime, scratch};
 use damper_engine::generate::InputStyle;

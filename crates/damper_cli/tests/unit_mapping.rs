@@ -1,7 +1,7 @@
 //! Column names and units that differ from ours: the same measurement in cm/s, kN, ms, mm, mA,
 //! bar and MPa, in another column order with an extra column, gives the same comparison as in SI.
 
-mod common;
+use crate::common;
 
 use damper_engine::measurement::Mapping;
 use damper_engine::units::Column;

@@ -2,7 +2,7 @@
 //! the moved parameters are recovered within 3 reported standard uncertainties; with the
 //! calibrated parameter set a hidden effect that the nominal model misattributes is named; the
 //! .ssv written round-trips and a bad one is an error with its line and field.
-mod common;
+use crate::common;
 
 use damper_engine::calibrate::{calibrate, CalibrateOptions, Calibration, Status};
 use damper_engine::calibration_file::parameter_set;

@@ -1,7 +1,7 @@
 //! Records that cannot be compared with the model get a clear error naming the file and what is
 //! wrong: a dead load cell, a damper that does not move, velocities beyond the model's range, a
 //! time column in another unit than its header says. Calibration refuses them as comparison does.
-mod common;
+use crate::common;
 
 use damper_engine::calibrate::{calibrate, CalibrateOptions};
 use damper_engine::comparison::{compare, CompareOptions};

@@ -5,7 +5,7 @@
 //! 20 % of the truth;
 //! data with nothing hidden get "none"; an effect outside the catalog (a slow drift of the load
 //! cell, as from temperature) gets "unexplained".
-mod common;
+use crate::common;
 
 use damper_engine::comparison::CompareOptions;
 use damper_engine::diagnosed::{diagnose_measurement, Diagnosed};

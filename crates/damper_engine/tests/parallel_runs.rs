@@ -1,5 +1,5 @@
 //! Models run in parallel, and the force simulator a fit uses, give the sequential run's numbers.
-mod common;
+use crate::common;
 
 use common::{generate, scratch};
 use damper_engine::measurement::{Measurement, DEFAULT_MAX_GAP};

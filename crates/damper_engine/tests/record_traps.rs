@@ -4,7 +4,7 @@
 //! with rests, made with the model, is the good record each one spoils.
 
 #[allow(dead_code, reason = "the shared helpers: this file uses scratch() only")]
-mod common;
+use crate::common;
 
 use damper_engine::comparison::{compare, CompareOptions};
 use damper_engine::description::{Description, TEMPLATE};
