@@ -23,6 +23,9 @@ import subprocess
 import sys
 from pathlib import Path
 
+# Run as a script, Python puts scripts/ first on sys.path, so the sibling is found.
+import cargo_seed
+
 ROOT = Path(__file__).resolve().parent.parent
 WORK = ROOT / "target" / "compare"
 QUICK_LINE = re.compile(r"rtol \S+: (\d+)x real time, forces ([0-9a-f]{16})")
@@ -42,6 +45,9 @@ def build(revision: str | None) -> Path:
             subprocess.run(["git", "worktree", "add", "--detach", str(source), commit], cwd=ROOT, check=True)
         # the same benchmark on both sides: only the damper differs (and older revisions lack `quick`)
         shutil.copy(ROOT / "benches" / "realtime.rs", source / "benches" / "realtime.rs")
+        # the revision compiles only its own crates: the dependencies come from the working tree's
+        # build, made first (main) with the same command
+        cargo_seed.seed_target_dir(ROOT / "target", target)
     built = subprocess.run(
         ["cargo", "bench", "--bench", "realtime", "--no-run", "--target-dir", str(target)],
         cwd=source,
@@ -73,7 +79,9 @@ def main() -> None:
     parser.add_argument("--rounds", type=int, default=8, help="processes per build (default 8)")
     parser.add_argument("--rtol", type=float, default=3e-4, help="tolerance (default 3e-4, the FMU's)")
     args = parser.parse_args()
-    builds = {args.a: build(args.a), args.b or "working tree": build(args.b)}
+    # the working tree first, so that a revision's build starts from its compiled dependencies
+    second = build(args.b)
+    builds = {args.a: build(args.a), args.b or "working tree": second}
     factors: dict[str, list[int]] = {label: [] for label in builds}
     hashes: dict[str, str] = {}
     for _ in range(args.rounds):

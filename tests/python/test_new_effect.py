@@ -8,7 +8,7 @@ stops once with the GUID to set, as the how-to says; then the catalog-wide check
 a record that hides the groove is diagnosed `effect` with the default options.
 
 The copy builds into target/new-effect/ (kept between runs, so a second run is incremental), which
-starts from hard links to the main build's compiled dependencies.
+starts from the main build's compiled dependencies (scripts/cargo_seed.py).
 """
 
 from __future__ import annotations
@@ -18,9 +18,13 @@ import os
 import re
 import shutil
 import subprocess
+import sys
 from pathlib import Path
 
 import pytest
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "scripts"))
+import cargo_seed  # noqa: E402  (scripts/ is not a package)
 
 REPO = Path(__file__).resolve().parents[2]
 
@@ -102,20 +106,6 @@ SKIP = shutil.ignore_patterns("target", ".venv", "out", "work", ".git", "__pycac
 TARGET = REPO / "target" / "new-effect"
 
 
-def seed_target() -> None:
-    """Hard links to what target/release already compiled: the dependencies' fingerprints do not
-    depend on the target directory, so the copy compiles only the workspace's own crates (whose
-    paths differ) instead of every dependency a second time, minutes on a fresh machine. The
-    compiled artifacts (deps/, 1 GB) are linked, the small bookkeeping that a build may rewrite in
-    place (build scripts' output, fingerprints) copied."""
-    release = REPO / "target" / "release"
-    if TARGET.exists() or not release.is_dir():
-        return
-    for part, copy in (("deps", os.link), ("build", shutil.copy2), (".fingerprint", shutil.copy2)):
-        if (release / part).is_dir():
-            shutil.copytree(release / part, TARGET / "release" / part, copy_function=copy, symlinks=True)
-
-
 def cargo(args: list[str], cwd: Path, **extra: str) -> subprocess.CompletedProcess[str]:
     env = dict(os.environ, CARGO_TARGET_DIR=str(TARGET), **extra)
     return subprocess.run(["cargo", *args], cwd=cwd, env=env, capture_output=True, text=True, timeout=3000)
@@ -126,7 +116,8 @@ def extended(tmp_path_factory: pytest.TempPathFactory) -> Path:
     """The project's copy with the toy effect added: one file and the XML."""
     if shutil.which("cargo") is None:
         pytest.skip("needs cargo")
-    seed_target()
+    # the copy compiles only its own crates: the dependencies come from target/release
+    cargo_seed.seed_target_dir(REPO / "target", TARGET)
     copy = tmp_path_factory.mktemp("new_effect") / "project"
     shutil.copytree(REPO, copy, ignore=SKIP)
     (copy / "src" / "effects" / "bypass_groove.rs").write_text(EFFECT)
