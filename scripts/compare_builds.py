@@ -80,8 +80,8 @@ def main() -> None:
     parser.add_argument("--rtol", type=float, default=3e-4, help="tolerance (default 3e-4, the FMU's)")
     args = parser.parse_args()
     # the working tree first, so that a revision's build starts from its compiled dependencies
-    second = build(args.b)
-    builds = {args.a: build(args.a), args.b or "working tree": second}
+    built_b = build(args.b)
+    builds = {args.a: build(args.a), args.b or "working tree": built_b}
     factors: dict[str, list[int]] = {label: [] for label in builds}
     hashes: dict[str, str] = {}
     for _ in range(args.rounds):

@@ -76,12 +76,24 @@ def fmus(fmu, truck_fmu):
     return {"truck_fmu": truck_fmu, "damper_fmu": fmu}
 
 
-def windows_build_missing():
-    """Why scripts/package_fmu.py cannot build the win64 binaries here (None when it can)."""
-    spec = importlib.util.spec_from_file_location("package_fmu", REPO / "scripts" / "package_fmu.py")
+def script(name):
+    """The module of scripts/NAME.py (scripts/ is not a package)."""
+    spec = importlib.util.spec_from_file_location(name, REPO / "scripts" / f"{name}.py")
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
-    return module.windows_missing()
+    return module
+
+
+def windows_build_missing():
+    """Why scripts/package_fmu.py cannot build the win64 binaries here (None when it can)."""
+    return script("package_fmu").windows_missing()
+
+
+@pytest.fixture(scope="session")
+def seed_target_dir():
+    """scripts/cargo_seed.py's seed_target_dir: a second cargo target directory started from
+    target/release's compiled dependencies."""
+    return script("cargo_seed").seed_target_dir
 
 
 @pytest.fixture(scope="session")

@@ -18,13 +18,10 @@ import os
 import re
 import shutil
 import subprocess
-import sys
+from collections.abc import Callable
 from pathlib import Path
 
 import pytest
-
-sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "scripts"))
-import cargo_seed  # noqa: E402  (scripts/ is not a package)
 
 REPO = Path(__file__).resolve().parents[2]
 
@@ -112,12 +109,12 @@ def cargo(args: list[str], cwd: Path, **extra: str) -> subprocess.CompletedProce
 
 
 @pytest.fixture(scope="module")
-def extended(tmp_path_factory: pytest.TempPathFactory) -> Path:
+def extended(tmp_path_factory: pytest.TempPathFactory, seed_target_dir: Callable[[Path, Path], None]) -> Path:
     """The project's copy with the toy effect added: one file and the XML."""
     if shutil.which("cargo") is None:
         pytest.skip("needs cargo")
     # the copy compiles only its own crates: the dependencies come from target/release
-    cargo_seed.seed_target_dir(REPO / "target", TARGET)
+    seed_target_dir(REPO / "target", TARGET)
     copy = tmp_path_factory.mktemp("new_effect") / "project"
     shutil.copytree(REPO, copy, ignore=SKIP)
     (copy / "src" / "effects" / "bypass_groove.rs").write_text(EFFECT)
@@ -145,8 +142,8 @@ def test_the_catalog_wide_checks_pass_unedited(extended: Path) -> None:
     docs = cargo(tests, extended, UPDATE_DOCS="1")
     assert docs.returncode == 0, docs.stdout[-3000:] + docs.stderr[-3000:]
     assert "bypass_groove" in (extended / "docs" / "effects.md").read_text()
-    for run in (cargo(["test", "--release", "-p", "semi_active_damper", "--test", "integration", "physics::"], extended),
-                cargo(["test", "--release", "-p", "semi_active_damper", "--lib"], extended)):
+    # the catalog's checks again (the docs now current), the physics and the library's unit tests
+    for run in (cargo([*tests, "--", "physics::"], extended), cargo(["test", "--release", "-p", "semi_active_damper", "--lib"], extended)):
         assert run.returncode == 0, run.stdout[-3000:] + run.stderr[-3000:]
 
 
