@@ -79,19 +79,20 @@ class Case:
         return (self.fitted - self.truth) / self.std_error
 
 
-def run(args: list[str]) -> float:
-    """Runs `damper` with `args`; returns the seconds it took."""
+def run(damper: Path, args: list[str]) -> float:
+    """Runs the `damper` program with `args`; returns the seconds it took."""
     t0 = time.perf_counter()
-    done = subprocess.run([str(DAMPER), *args, "-q"], capture_output=True, text=True)
+    done = subprocess.run([str(damper), *args, "-q"], capture_output=True, text=True)
     if done.returncode != 0:
         raise RuntimeError(f"damper {' '.join(args)}: {done.stderr}")
     return time.perf_counter() - t0
 
 
-def calibrate(records: list[Path], sheet: Path, out: Path, threads: int, extra: tuple[str, ...] = ()) -> dict:
+def calibrate(damper: Path, records: list[Path], sheet: Path, out: Path, threads: int,
+              extra: tuple[str, ...] = ()) -> dict:
     """`damper calibrate` on `records` (with `extra` arguments), each parameter scored against the
     truth of a record it applies to (a setting's own value against that setting's)."""
-    seconds = run(["calibrate", *map(str, records), "--damper", str(sheet), "--out", str(out),
+    seconds = run(damper, ["calibrate", *map(str, records), "--damper", str(sheet), "--out", str(out),
                    "--threads", str(threads), *extra])
     c = json.loads((out / "calibration.json").read_text())
     truths = {Path(r).name: json.loads(r.with_suffix(".json").read_text())["truth_parameters"] for r in records}
@@ -115,11 +116,11 @@ def expected(scenario: str, change: dict) -> tuple[str | None, str | None]:
     return EXPECTED.get(scenario, (None, None))
 
 
-def diagnose(size: str, seed: int, scenario: str, record: Path, sheet: Path, params: Path, out: Path,
-             threads: int) -> Case:
+def diagnose(damper: Path, size: str, seed: int, scenario: str, record: Path, sheet: Path, params: Path,
+             out: Path, threads: int) -> Case:
     truth_file = json.loads(record.with_suffix(".json").read_text())
     change = truth_file["change"]
-    seconds = run(["diagnose", str(record), "--damper", str(sheet), "--params", str(params), "--out", str(out),
+    seconds = run(damper, ["diagnose", str(record), "--damper", str(sheet), "--params", str(params), "--out", str(out),
                    "--calibration", str(params.with_name("calibration.json")), "--threads", str(threads)])
     s = json.loads((out / "summary.json").read_text())
     case = Case(size, seed, scenario, record.name, change, verdict=s["verdict"], effects=s.get("effects") or [],
@@ -147,15 +148,15 @@ def settings_arguments(records: list[Path]) -> tuple[str, ...]:
             *(a for label, paths in by_setting.items() for a in ("--setting", f"{label}={','.join(paths)}")))
 
 
-def one_damper(size: str, seed: int, out: Path, threads: int) -> tuple[dict, list[Case], dict]:
+def one_damper(damper: Path, size: str, seed: int, out: Path, threads: int) -> tuple[dict, list[Case], dict]:
     records = out / "records"
     made = {sc: dyno.make_records(size, seed, sc, records) for sc in ("calibration", "settings", *SCENARIOS)}
     sheet = records / f"{size}_{seed}_datasheet.toml"
     cal_dir = out / "calibrate" / f"{size}_{seed}"
-    cal = calibrate(made["calibration"], sheet, cal_dir, threads)
-    cases = [diagnose(size, seed, sc, made[sc][0], sheet, cal_dir / "parameters.ssv",
+    cal = calibrate(damper, made["calibration"], sheet, cal_dir, threads)
+    cases = [diagnose(damper, size, seed, sc, made[sc][0], sheet, cal_dir / "parameters.ssv",
                       out / "diagnose" / f"{size}_{seed}_{sc}", threads) for sc in SCENARIOS]
-    settings = calibrate(made["settings"], sheet, out / "calibrate" / f"{size}_{seed}_settings", threads,
+    settings = calibrate(damper, made["settings"], sheet, out / "calibrate" / f"{size}_{seed}_settings", threads,
                          settings_arguments(made["settings"]))
     return cal, cases, settings
 
@@ -228,6 +229,7 @@ def main(argv: list[str] | None = None) -> None:
     ap.add_argument("--seeds", nargs="+", type=int, default=[1, 2, 3])
     ap.add_argument("--threads", type=int, default=2)
     ap.add_argument("--out", type=Path, default=REPO / "out" / "dyno_score")
+    ap.add_argument("--damper", type=Path, default=DAMPER, help="the damper program (default: the release build)")
     a = ap.parse_args(argv)
     a.out.mkdir(parents=True, exist_ok=True)
     calibrations: dict = {}
@@ -235,7 +237,7 @@ def main(argv: list[str] | None = None) -> None:
     cases: list[Case] = []
     for seed in a.seeds:
         for size in a.sizes:
-            cal, these, settings[f"{size} {seed}"] = one_damper(size, seed, a.out, a.threads)
+            cal, these, settings[f"{size} {seed}"] = one_damper(a.damper, size, seed, a.out, a.threads)
             calibrations[f"{size} {seed}"] = cal
             cases += these
             print(f"{size} {seed}: " + ", ".join(f"{c.scenario} {'ok' if c.named else 'MISSED'}" for c in these),
