@@ -68,8 +68,8 @@ pub fn html_section(r: &Diagnosed) -> String {
          the first explains at least {:.0} % of the validation error above the floor (b² − c²)/(b² − f²) with plausible parameters, clearly more than the best \
          plausible runner-up (or the ladder's effects reach the floor together); <i>partial</i> when they explain a clear share but leave more; \
          <i>does_not_fit</i> when even the best leaves an NRMSE of {DOES_NOT_FIT_NRMSE} or more (calibrate first); <i>none</i> at the floor; else <i>unexplained</i>. \
-         A refit within {MOVED_SIGMAS} standard uncertainties of the model's value is not an effect. Parameter errors: Gauss–Newton from the curvature of the sum of squares (optimistic for \
-         coloured residuals).</p>{}",
+         A refit within {MOVED_SIGMAS} standard uncertainties of the model's value is not an effect. Parameter errors: the sandwich of the curvature of the sum of squares around the residuals' long-run \
+         covariance, plus the spread the measured velocity's noise carries into the parameters.</p>{}",
         d.verdict,
         if d.effects.is_empty() { String::new() } else { format!(": {}", d.effects.join(" + ")) },
         esc(&d.explanation),

@@ -6,15 +6,14 @@ use crate::candidate::{FitSetup, Progress, MAX_FIT_SECONDS};
 use crate::comparison::{self, CompareOptions, Comparison, ANALYSIS_RTOL};
 use crate::criteria::NUMERICS_CHECK_FACTOR;
 use crate::diagnose::{diagnose, Diagnosis};
-use crate::dsp::{noise_sigma, rms};
+use crate::dsp::noise_sigma;
 use crate::floor::Numerics;
 use crate::force_velocity;
 use crate::model::{force_simulator, thread_pool, Drive};
 use crate::parameters::{set_effect, set_real};
 use crate::propagation::{inherited, CalibrationCovariance};
 use crate::residual_signature::{self, Quantity};
-use crate::rng::Rng;
-use crate::sensitivity::{informative, velocity_resolution, SENSITIVITY_SEEDS};
+use crate::sensitivity::{informative, velocity_noise_paths};
 use crate::units::Column;
 use rayon::prelude::*;
 use semi_active_damper::physics::params::Parameters;
@@ -53,36 +52,8 @@ pub fn diagnose_measurement(
     let largest_stroke = c.prediction.x_damper[..train].iter().fold(0.0f64, |a, x| a.max(x.abs()));
     let mut check = baseline;
     check.rtol = baseline.rtol * NUMERICS_CHECK_FACTOR;
-    let n = c.drive.v_damper.len();
-    // the velocity's noise: coloured where it is made from the displacement, else white at its resolution
     let coloured = c.measurement.velocity_noise.as_ref();
-    // the velocity's noise paths: white, one per seed; a coloured path runs both ways (antithetic):
-    // at a slow reversal one of the two moves the zero crossing earlier and the other later, so
-    // the semi-active clip's sign is always tried; δ is the first seed's RMS
-    let (paths, delta_v): (Vec<Vec<f64>>, f64) = match coloured {
-        None => {
-            let delta_v = velocity_resolution(&c.drive.v_damper);
-            let paths = SENSITIVITY_SEEDS
-                .iter()
-                .map(|seed| {
-                    let mut rng = Rng::new(*seed);
-                    (0..n).map(|_| delta_v * rng.normal()).collect()
-                })
-                .collect();
-            (paths, delta_v)
-        }
-        Some(noise) => {
-            let paths: Vec<Vec<f64>> = SENSITIVITY_SEEDS
-                .iter()
-                .flat_map(|seed| {
-                    let path = noise.path(*seed, n);
-                    [path.iter().map(|e| -e).collect(), path]
-                })
-                .collect();
-            let delta_v = rms(&paths[1]);
-            (paths, delta_v)
-        }
-    };
+    let (paths, delta_v) = velocity_noise_paths(coloured, &c.drive.v_damper);
     let signs: Vec<Vec<f64>> =
         if coloured.is_some() { sign_runs(&c.drive.v_damper, delta_v).into() } else { Vec::new() };
     let shifted = |noise: &Vec<f64>| {
@@ -110,7 +81,10 @@ pub fn diagnose_measurement(
     for (keep, excluded) in informative.keep.iter_mut().zip(&c.measurement.excluded) {
         *keep &= !excluded;
     }
+    let input_error: Vec<Vec<f64>> =
+        perturbed.iter().map(|p| p.iter().zip(base).map(|(p, b)| p - b).collect()).collect();
     let fit = FitSetup {
+        input_error: &input_error,
         simulate: &simulate,
         measured: &measured,
         informative: &informative,

@@ -10,12 +10,15 @@
 //! Jacobian   forward differences, one column per parameter, the columns run in parallel on the
 //!            caller's thread pool (each a pure function of its inputs: the result does not depend
 //!            on the thread count)
-//! covariance cov(θ̂) = c·σ²·(J_θᵀ J_θ)⁻¹,  σ² = S(θ̂)/(m − n),  J_θ = ∂r/∂θ on the physical scale
+//! covariance cov(θ̂) = (J_θᵀJ_θ)⁻¹ Ω (J_θᵀJ_θ)⁻¹ · m/(m − n),  Ω = Σ_b s_b s_bᵀ,
+//!            s_b = Σ_{i in batch b} J_θ,i r_i,  J_θ = ∂r/∂θ on the physical scale
 //! ```
-//! c ≥ 1 inflates the covariance for the residuals' correlation ([`colour_factor`]), so that
-//! residuals coloured by the model's remaining error do not make it optimistic (equal variance is
-//! still assumed). `JᵀJ` is called singular when its eigenvalues, after scaling it to unit diagonal,
-//! span more than [`MAX_CONDITION`]; the parameters that carry the smallest eigenvector are named.
+//! Ω is the long-run covariance of the scores by batch means ([`score_block`] residuals a batch):
+//! residuals coloured by the model's remaining error do not make the covariance optimistic, and
+//! each parameter is inflated by how much that error lines up with its own signature
+//! ([`covariance`]). With white residuals it is σ²(JᵀJ)⁻¹. `JᵀJ` is called singular when its
+//! eigenvalues, after scaling it to unit diagonal, span more than [`MAX_CONDITION`]; the parameters
+//! that carry the smallest eigenvector are named.
 
 use nalgebra::{DMatrix, DVector};
 use rayon::prelude::*;
@@ -57,9 +60,10 @@ pub struct Solution {
     pub residuals: usize,
     /// σ² = S/(m − n), the residual variance.
     pub sigma2: f64,
-    /// How much the residuals' correlation inflates the covariance (1: white), [`colour_factor`].
-    pub colour: f64,
-    /// c·σ²·(JᵀJ)⁻¹ on the physical scale, c = `colour`; None when JᵀJ is singular.
+    /// Residuals per batch of the scores' long-run covariance ([`score_block`]; 1: white).
+    pub block: usize,
+    /// (JᵀJ)⁻¹·Ω·(JᵀJ)⁻¹ on the physical scale, Ω the long-run covariance of the scores Jᵢrᵢ
+    /// by batch means ([`covariance`]); None when JᵀJ is singular.
     pub covariance: Option<DMatrix<f64>>,
     /// The correlation matrix of `covariance`.
     pub correlation: Option<DMatrix<f64>>,
@@ -98,13 +102,16 @@ fn sum_sq(r: &[f64]) -> f64 {
 
 /// Minimises Σ r(θ)² over the box of `scales` from `x0` (clamped into the box), with the
 /// Jacobian's columns on `pool`. An error of `f` at the start or in a Jacobian column is returned;
-/// at a trial step it counts as a rejected step.
+/// at a trial step it counts as a rejected step. `inputs`: draws of the residuals' change that the
+/// noise of the measured inputs makes (each as long as the residuals; may be empty), whose spread
+/// the fitted parameters inherit ([`covariance`]).
 pub fn solve(
     f: &Residuals<'_>,
     x0: &[f64],
     scales: &[Bound],
     pool: &rayon::ThreadPool,
     opts: Options,
+    inputs: &[Vec<f64>],
 ) -> Result<Solution, String> {
     let n = x0.len();
     if scales.len() != n || n == 0 {
@@ -193,8 +200,11 @@ pub fn solve(
     // the physical scale: ∂r/∂θ = ∂r/∂u · du/dθ
     let jp = DMatrix::from_fn(m, n, |row, col| j[(row, col)] / scales[col].slope(x[col]));
     let sigma2 = cost / (m - n) as f64;
-    let colour = colour_factor(&r);
-    let (covariance, singular, condition) = covariance(&(jp.transpose() * &jp), sigma2 * colour);
+    let block = score_block(&r, n);
+    if inputs.iter().any(|d| d.len() != m) {
+        return Err(format!("an input noise draw is not as long as the {m} residuals"));
+    }
+    let (covariance, singular, condition) = covariance(&jp, &r, block, m as f64 / (m - n) as f64, inputs);
     let correlation = covariance
         .as_ref()
         .map(|c| DMatrix::from_fn(n, n, |i, k| c[(i, k)] / (c[(i, i)] * c[(k, k)]).sqrt().max(1e-300)));
@@ -203,7 +213,7 @@ pub fn solve(
         cost,
         residuals: m,
         sigma2,
-        colour,
+        block,
         covariance,
         correlation,
         singular,
@@ -247,35 +257,59 @@ fn jacobian(
     Ok(DMatrix::from_fn(r.len(), n, |i, k| columns[k][i]))
 }
 
-/// The variance inflation of correlated residuals: 1 + 2 Σ ρ_k over the lags k = 1… while the
-/// autocorrelation ρ_k stays positive (at most [`MAX_COLOUR_LAGS`]); 1 for white residuals. The
-/// residuals of a fit carry the model's remaining error, which is smooth in time: N of them hold
-/// the information of N/(1 + 2 Σ ρ_k) independent ones, and a covariance from N is too small by
-/// that factor (a mean of an AR(1) series of coefficient φ has it exactly: (1 + φ)/(1 − φ)).
-pub fn colour_factor(r: &[f64]) -> f64 {
+/// The residuals' correlation length: the first lag k ≥ 1 at which their autocorrelation ρ_k is
+/// no longer positive (at most [`MAX_COLOUR_LAGS`]); 0 for white residuals.
+pub fn correlation_length(r: &[f64]) -> usize {
     let n = r.len();
     let mean = r.iter().sum::<f64>() / n.max(1) as f64;
     let var = r.iter().map(|x| (x - mean) * (x - mean)).sum::<f64>();
     if n < 3 || var <= 0.0 {
-        return 1.0;
+        return 0;
     }
-    let mut sum = 0.0;
-    for k in 1..MAX_COLOUR_LAGS.min(n - 1) {
-        let rho = r[k..].iter().zip(r).map(|(a, b)| (a - mean) * (b - mean)).sum::<f64>() / var;
-        if rho <= 0.0 {
-            break;
-        }
-        sum += rho;
-    }
-    1.0 + 2.0 * sum
+    (1..MAX_COLOUR_LAGS.min(n - 1))
+        .find(|&k| r[k..].iter().zip(r).map(|(a, b)| (a - mean) * (b - mean)).sum::<f64>() <= 0.0)
+        .map_or(MAX_COLOUR_LAGS.min(n - 1), |k| k - 1)
 }
 
-/// Most lags summed by [`colour_factor`].
+/// Most lags [`correlation_length`] looks at.
 pub const MAX_COLOUR_LAGS: usize = 500;
 
-/// σ²·A⁻¹ via the unit-diagonal scaling of A; None with the parameters of the null space when A
-/// is singular.
-fn covariance(a: &DMatrix<f64>, sigma2: f64) -> (Option<DMatrix<f64>>, Vec<usize>, f64) {
+/// Least batches of the scores' long-run covariance per fitted parameter: fewer, and Ω (of rank at
+/// most the number of batches) is too rough to invert along every direction.
+pub const MIN_BATCHES_PER_PARAMETER: usize = 4;
+
+/// Residuals per batch of the long-run covariance of `n` parameters' scores: twice the residuals'
+/// [`correlation_length`], so that neighbouring batches are nearly independent, but no longer than
+/// leaves [`MIN_BATCHES_PER_PARAMETER`]·n batches.
+pub fn score_block(r: &[f64], n: usize) -> usize {
+    let most = (r.len() / (MIN_BATCHES_PER_PARAMETER * n.max(1))).max(1);
+    (2 * correlation_length(r)).clamp(1, most)
+}
+
+/// The covariance of the fitted parameters, (JᵀJ)⁻¹·Ω·(JᵀJ)⁻¹·`dof`, Ω = Σ_b s_b s_bᵀ with s_b the
+/// sum of the scores Jᵢrᵢ over batch b of `block` consecutive residuals (the "sandwich" with a
+/// batch-means long-run covariance; `dof` = m/(m − n)), plus the spread the noise of the measured
+/// inputs carries into the parameters, (JᵀJ)⁻¹·(1/P)Σ_p (Jᵀd_p)(Jᵀd_p)ᵀ·(JᵀJ)⁻¹ over the P draws d_p
+/// of `inputs`. The residuals of a fit carry the model's
+/// remaining error, smooth in time, and it inflates each parameter's uncertainty by how much that
+/// error lines up with the parameter's own signature: a scalar inflation by the residuals' colour
+/// (1 + 2Σρ_k) overstates parameters the slow error does not touch and understates those along a
+/// ridge of two laws that trade against each other, where it does. With white residuals and
+/// batches of one it is σ²(JᵀJ)⁻¹. (JᵀJ)⁻¹ via its unit-diagonal scaling; None, with the
+/// parameters of the null space, when JᵀJ is singular ([`MAX_CONDITION`]).
+///
+/// The inputs' term is needed besides Ω: an error of the model's input that bends the force the
+/// same way wherever the motion does (a smoothed velocity rounds every corner) is absorbed by the
+/// fit and leaves no trace in the residuals; on records whose velocity was made from a displacement,
+/// clean ones had a mount compliance or compressibility "moved" by 3–4 of Ω's uncertainties.
+pub fn covariance(
+    jp: &DMatrix<f64>,
+    r: &[f64],
+    block: usize,
+    dof: f64,
+    inputs: &[Vec<f64>],
+) -> (Option<DMatrix<f64>>, Vec<usize>, f64) {
+    let a = jp.transpose() * jp;
     let n = a.nrows();
     let d: Vec<f64> = (0..n).map(|i| a[(i, i)].max(0.0).sqrt()).collect();
     if let Some(i) = d.iter().position(|&v| v == 0.0) {
@@ -297,10 +331,20 @@ fn covariance(a: &DMatrix<f64>, sigma2: f64) -> (Option<DMatrix<f64>>, Vec<usize
         carriers.sort_by(|&x, &y| vector[y].abs().total_cmp(&vector[x].abs()));
         return (None, carriers, condition);
     }
-    match scaled.try_inverse() {
-        Some(inv) => (Some(DMatrix::from_fn(n, n, |i, k| sigma2 * inv[(i, k)] / (d[i] * d[k]))), Vec::new(), condition),
-        None => (None, (0..n).collect(), condition),
+    let Some(inv) = scaled.try_inverse() else { return (None, (0..n).collect(), condition) };
+    let a_inv = DMatrix::from_fn(n, n, |i, k| inv[(i, k)] / (d[i] * d[k]));
+    let mut omega = DMatrix::<f64>::zeros(n, n);
+    for start in (0..r.len()).step_by(block.max(1)) {
+        let end = (start + block).min(r.len());
+        let s = DVector::from_fn(n, |k, _| (start..end).map(|i| jp[(i, k)] * r[i]).sum::<f64>());
+        omega += &s * s.transpose();
     }
+    omega *= dof;
+    for d in inputs {
+        let s = DVector::from_fn(n, |k, _| d.iter().enumerate().map(|(i, e)| jp[(i, k)] * e).sum::<f64>());
+        omega += &s * s.transpose() / inputs.len() as f64;
+    }
+    (Some(&a_inv * omega * &a_inv), Vec::new(), condition)
 }
 
 #[cfg(test)]
@@ -312,19 +356,40 @@ mod tests {
     use super::*;
 
     #[test]
-    fn the_colour_factor_of_white_and_of_ar1_residuals() {
+    fn the_correlation_length_of_white_and_of_ar1_residuals() {
         let mut rng = crate::rng::Rng::new(5);
         let white: Vec<f64> = (0..50_000).map(|_| rng.normal()).collect();
-        assert!((colour_factor(&white) - 1.0).abs() < 0.05, "{}", colour_factor(&white));
-        // AR(1), φ = 0.8: (1 + φ)/(1 − φ) = 9
+        assert!(correlation_length(&white) <= 1, "{}", correlation_length(&white));
+        // AR(1), φ = 0.95: ρ_k = 0.95^k, sampled with ±1/√N ≈ 0.0045 noise, stays positive to
+        // k ≈ ln(0.0045)/ln(0.95) ≈ 105 and beyond
         let mut x = 0.0;
         let ar: Vec<f64> = (0..50_000)
             .map(|_| {
-                x = 0.8 * x + rng.normal();
+                x = 0.95 * x + rng.normal();
                 x
             })
             .collect();
-        assert!((colour_factor(&ar) / 9.0 - 1.0).abs() < 0.15, "{}", colour_factor(&ar));
+        assert!(correlation_length(&ar) > 60, "{}", correlation_length(&ar));
+    }
+
+    #[test]
+    fn the_mean_of_ar1_residuals_has_the_long_run_variance() {
+        // y = μ + AR(1) noise of φ = 0.8, σ_e = 1: the mean's variance is σ_e²/(1 − φ)²/N, 25/N;
+        // σ²(JᵀJ)⁻¹ would say Var(y)/N = (1/(1 − φ²))/N = 2.8/N
+        let mut rng = crate::rng::Rng::new(11);
+        let n = 40_000;
+        let mut e = 0.0;
+        let y: Vec<f64> = (0..n)
+            .map(|_| {
+                e = 0.8 * e + rng.normal();
+                2.0 + e
+            })
+            .collect();
+        let f = |x: &[f64]| -> Result<Vec<f64>, String> { Ok(y.iter().map(|y| x[0] - y).collect()) };
+        let s =
+            solve(&f, &[0.0], &[Bound { lo: -10.0, hi: 10.0, log: false }], &pool(1), Options::default(), &[]).unwrap();
+        let variance = s.std_error(0).unwrap().powi(2) * n as f64;
+        assert!((variance / 25.0 - 1.0).abs() < 0.3, "{variance} against 25, batches of {}", s.block);
     }
 
     fn pool(threads: usize) -> rayon::ThreadPool {
@@ -353,7 +418,7 @@ mod tests {
             Bound { lo: 0.01, hi: 10.0, log: true },
             Bound { lo: -5.0, hi: 5.0, log: false },
         ];
-        let one = solve(&f, &[1.0, 2.0, 0.0], &scales, &pool(1), Options::default()).unwrap();
+        let one = solve(&f, &[1.0, 2.0, 0.0], &scales, &pool(1), Options::default(), &[]).unwrap();
         assert!(
             (one.x[0] - 3.0).abs() < 0.01 && (one.x[1] - 0.7).abs() < 0.01 && (one.x[2] - 0.5).abs() < 0.01,
             "{one:?}"
@@ -361,7 +426,7 @@ mod tests {
         assert!(one.converged && one.std_error(0).unwrap() < 0.01, "{one:?}");
         let (j, c) = one.strongest_correlation(1).unwrap();
         assert!(j != 1 && c.abs() <= 1.0);
-        let two = solve(&f, &[1.0, 2.0, 0.0], &scales, &pool(2), Options::default()).unwrap();
+        let two = solve(&f, &[1.0, 2.0, 0.0], &scales, &pool(2), Options::default(), &[]).unwrap();
         assert_eq!(one.x, two.x);
         assert_eq!(one.model_runs, two.model_runs);
     }
@@ -373,7 +438,7 @@ mod tests {
         let f = |x: &[f64]| -> Result<Vec<f64>, String> {
             Ok(t.iter().zip(&y).map(|(t, y)| x[0] * (-0.7 * t).exp() + 0.5 - y).collect())
         };
-        let s = solve(&f, &[1.0], &[Bound { lo: 0.1, hi: 2.0, log: true }], &pool(1), Options::default()).unwrap();
+        let s = solve(&f, &[1.0], &[Bound { lo: 0.1, hi: 2.0, log: true }], &pool(1), Options::default(), &[]).unwrap();
         assert!(
             (s.x[0] - 2.0).abs() < 1e-9 && Bound { lo: 0.1, hi: 2.0, log: true }.near_bound(s.x[0], AT_BOUND),
             "{s:?}"
@@ -383,14 +448,15 @@ mod tests {
             Ok(t.iter().zip(&y).map(|(t, y)| x[0] * (-0.7 * t).exp() + 0.5 - y + 0.0 * x[1]).collect())
         };
         let scales = [Bound { lo: 0.1, hi: 10.0, log: true }, Bound { lo: 0.1, hi: 10.0, log: false }];
-        let s = solve(&g, &[1.0, 1.0], &scales, &pool(2), Options::default()).unwrap();
+        let s = solve(&g, &[1.0, 1.0], &scales, &pool(2), Options::default(), &[]).unwrap();
         assert!(s.covariance.is_none() && s.singular == vec![1], "{s:?}");
         assert!((s.x[0] - 3.0).abs() < 0.01);
     }
 
     #[test]
-    fn covariance_of_a_straight_line_by_hand() {
-        // y = p0 + p1·t: cov = σ² (XᵀX)⁻¹ exactly (linear model, exact differences)
+    fn an_input_error_along_a_parameter_adds_its_spread() {
+        // y = 1 + 0.5·t and an input error that draws the slope by ±0.02 (d = ±0.02·t, the kind
+        // a fit absorbs without a residual): the slope's variance gains 0.02², the intercept's none
         let t: Vec<f64> = (0..50).map(|i| i as f64).collect();
         let y: Vec<f64> =
             t.iter().enumerate().map(|(i, t)| 1.0 + 0.5 * t + if i % 2 == 0 { 0.1 } else { -0.1 }).collect();
@@ -398,14 +464,40 @@ mod tests {
             Ok(t.iter().zip(&y).map(|(t, y)| x[0] + x[1] * t - y).collect())
         };
         let scales = [Bound { lo: -10.0, hi: 10.0, log: false }; 2];
-        let s = solve(&f, &[0.0, 0.0], &scales, &pool(1), Options::default()).unwrap();
+        let without = solve(&f, &[0.0, 0.0], &scales, &pool(1), Options::default(), &[]).unwrap();
+        let draws: Vec<Vec<f64>> = [0.02, -0.02].iter().map(|d| t.iter().map(|t| d * t).collect()).collect();
+        let with = solve(&f, &[0.0, 0.0], &scales, &pool(1), Options::default(), &draws).unwrap();
+        let var = |s: &Solution, i: usize| s.std_error(i).unwrap().powi(2);
+        assert!((var(&with, 1) - var(&without, 1) - 0.02f64.powi(2)).abs() < 1e-9, "{with:?}");
+        assert!((var(&with, 0) - var(&without, 0)).abs() < 1e-9, "{with:?}");
+    }
+
+    #[test]
+    fn covariance_of_a_straight_line_by_hand() {
+        // y = p0 + p1·t, residuals alternating in sign (batches of one): the sandwich
+        // (XᵀX)⁻¹(Σ xᵢxᵢᵀrᵢ²)(XᵀX)⁻¹·m/(m − n), within 1 % of σ²(XᵀX)⁻¹ as the residuals are of
+        // nearly equal size (linear model, exact differences)
+        let t: Vec<f64> = (0..50).map(|i| i as f64).collect();
+        let y: Vec<f64> =
+            t.iter().enumerate().map(|(i, t)| 1.0 + 0.5 * t + if i % 2 == 0 { 0.1 } else { -0.1 }).collect();
+        let f = |x: &[f64]| -> Result<Vec<f64>, String> {
+            Ok(t.iter().zip(&y).map(|(t, y)| x[0] + x[1] * t - y).collect())
+        };
+        let scales = [Bound { lo: -10.0, hi: 10.0, log: false }; 2];
+        let s = solve(&f, &[0.0, 0.0], &scales, &pool(1), Options::default(), &[]).unwrap();
+        assert_eq!(s.block, 1);
         let x = DMatrix::from_fn(50, 2, |i, k| if k == 0 { 1.0 } else { t[i] });
-        let hand = (x.transpose() * &x).try_inverse().unwrap() * s.sigma2;
+        let r = f(&s.x).unwrap();
+        let inv = (x.transpose() * &x).try_inverse().unwrap();
+        let meat = DMatrix::from_fn(2, 2, |j, k| (0..50).map(|i| x[(i, j)] * x[(i, k)] * r[i] * r[i]).sum::<f64>());
+        let hand = &inv * meat * &inv * (50.0 / 48.0);
+        let classical = &inv * s.sigma2;
         let c = s.covariance.as_ref().unwrap();
         for i in 0..2 {
             for k in 0..2 {
                 assert!((c[(i, k)] - hand[(i, k)]).abs() < 1e-6 * hand[(i, i)].abs(), "{c} vs {hand}");
             }
+            assert!((c[(i, i)] / classical[(i, i)] - 1.0).abs() < 0.01, "{c} vs {classical}");
         }
     }
 }

@@ -15,7 +15,9 @@
 //! less and stay in (a seal friction's jump is spread over its `v_friction`, millimetres per
 //! second). Noise, not an offset: an offset would drift the stroke over a long record.
 
-use crate::dsp::median;
+use crate::dsp::{median, rms};
+use crate::rng::Rng;
+use crate::velocity_noise::VelocityNoise;
 
 /// A sample is left out when a velocity shift of ±δ moves the model's force by more than this
 /// many load-cell noise sigmas.
@@ -92,6 +94,40 @@ pub fn informative(
         SENSITIVE_SIGMAS * if typical.is_finite() { libm::hypot(noise_sigma, typical) } else { noise_sigma };
     let keep = shift.iter().map(|s| *s <= threshold).collect();
     Informative { keep, delta_v, threshold }
+}
+
+/// The velocity's noise paths the model is run with, each as long as `v`, and their level δ (m/s,
+/// the first path's RMS): coloured, made from the displacement's noise where the velocity was
+/// (`coloured`), else white at the record's resolution ([`velocity_resolution`]), one per
+/// [`SENSITIVITY_SEEDS`]. A coloured path runs both ways (antithetic): at a slow reversal one of the
+/// two moves the zero crossing earlier and the other later, so the semi-active clip's sign is
+/// always tried.
+pub fn velocity_noise_paths(coloured: Option<&VelocityNoise>, v: &[f64]) -> (Vec<Vec<f64>>, f64) {
+    let n = v.len();
+    match coloured {
+        None => {
+            let delta_v = velocity_resolution(v);
+            let paths = SENSITIVITY_SEEDS
+                .iter()
+                .map(|seed| {
+                    let mut rng = Rng::new(*seed);
+                    (0..n).map(|_| delta_v * rng.normal()).collect()
+                })
+                .collect();
+            (paths, delta_v)
+        }
+        Some(noise) => {
+            let paths: Vec<Vec<f64>> = SENSITIVITY_SEEDS
+                .iter()
+                .flat_map(|seed| {
+                    let path = noise.path(*seed, n);
+                    [path.iter().map(|e| -e).collect(), path]
+                })
+                .collect();
+            let delta_v = rms(&paths[1]);
+            (paths, delta_v)
+        }
+    }
 }
 
 #[cfg(test)]

@@ -206,7 +206,7 @@ pub fn fit_steady(
             c /= 3;
         }
         let opts = lm::Options { max_iterations: 25, step: 1e-3, tolerance: 1e-6 };
-        if let Ok(s) = lm::solve(&f, &x0, &bounds, pool, opts) {
+        if let Ok(s) = lm::solve(&f, &x0, &bounds, pool, opts, &[]) {
             if best.as_ref().is_none_or(|b| s.cost < b.cost) {
                 best = Some(s);
             }
