@@ -21,7 +21,6 @@ use crate::dsp::{noise_sigma, nrmse, std};
 use crate::lm::{self, Bound, Solution};
 use crate::model::{thread_pool, Backend, Drive, Model};
 use crate::parameters::{changed_parameters, get_real, lookup, Param, Value};
-use crate::sensitivity::velocity_noise_paths;
 use crate::settings::{apply, Entry, Settings};
 use crate::units::Column;
 use semi_active_damper::physics::params::Parameters;
@@ -320,8 +319,6 @@ struct Record {
     drive: Drive,
     model: Model,
     backend: Arc<dyn Backend>,
-    /// The velocity's noise paths ([`velocity_noise_paths`]).
-    noise_paths: Vec<Vec<f64>>,
 }
 
 fn read_records(o: &CalibrateOptions, settings: &Settings) -> Result<Vec<Record>, String> {
@@ -341,7 +338,6 @@ fn read_records(o: &CalibrateOptions, settings: &Settings) -> Result<Vec<Record>
             let drive = Drive::from_measurement(&m);
             let setup = build_model(&c, &drive)?;
             let kept = m.excluded.iter().map(|e| !e).collect();
-            let (noise_paths, _) = velocity_noise_paths(m.velocity_noise.as_ref(), &drive.v_damper);
             Ok(Record {
                 path: m.path.clone(),
                 setting,
@@ -350,7 +346,6 @@ fn read_records(o: &CalibrateOptions, settings: &Settings) -> Result<Vec<Record>
                 drive,
                 model: setup.model,
                 backend: setup.backend,
-                noise_paths,
             })
         })
         .collect()
@@ -413,46 +408,6 @@ fn forces(records: &[Record], entries: &[Entry], x: &[f64]) -> Result<Vec<Vec<f6
                 .f_damper)
         })
         .collect()
-}
-
-/// Draws of the residuals' change that the velocity's noise makes (each record's model at its start
-/// with the record's noise paths added to its velocity, less `base`, the samples kept, the records
-/// in turn), whose spread the calibrated parameters inherit ([`lm::covariance`]): a velocity
-/// smoothed or filtered rounds the motion alike at every corner, and the fit absorbs what that does
-/// to the force without a trace in its residuals. Path k of each record makes draw k (a record
-/// with fewer paths repeats its own).
-fn input_error(records: &[Record], base: &[Vec<f64>], pool: &rayon::ThreadPool) -> Result<Vec<Vec<f64>>, String> {
-    use rayon::prelude::*;
-    let draws = records.iter().map(|r| r.noise_paths.len()).max().unwrap_or(0);
-    let runs: Vec<Vec<Vec<f64>>> = pool.install(|| {
-        records
-            .par_iter()
-            .map(|r| {
-                r.noise_paths
-                    .iter()
-                    .map(|path| {
-                        let v_damper = r.drive.v_damper.iter().zip(path).map(|(v, e)| v + e).collect();
-                        let drive = Drive { v_damper, ..r.drive.clone() };
-                        let run = r.backend.run_first(&r.model, &drive, drive.len(), false);
-                        Ok(run.map_err(|e| format!("{}: {e}", r.path))?.f_damper)
-                    })
-                    .collect::<Result<Vec<_>, String>>()
-            })
-            .collect::<Result<Vec<_>, String>>()
-    })?;
-    Ok((0..draws)
-        .map(|k| {
-            records
-                .iter()
-                .zip(&runs)
-                .zip(base)
-                .flat_map(|((r, own), base)| {
-                    let run = &own[k % own.len()];
-                    run.iter().zip(base).zip(&r.kept).filter(|(_, kept)| **kept).map(|((p, b), _)| p - b)
-                })
-                .collect()
-        })
-        .collect())
 }
 
 /// Why the fit cannot pin a parameter (the worst one), if any: (index, reason).
@@ -520,7 +475,6 @@ pub fn calibrate(o: &CalibrateOptions, progress: &(dyn Fn(&Round) + Sync)) -> Re
     let measured: Vec<f64> = records.iter().flat_map(|r| r.measured.iter().copied()).collect();
     let kept: Vec<bool> = records.iter().flat_map(|r| r.kept.iter().copied()).collect();
     let before = forces(&records, &[], &[])?;
-    let inputs = input_error(&records, &before, &pool)?;
 
     let mut x = starts.clone();
     // the values of held entries (the others are overwritten by each fit)
@@ -542,7 +496,7 @@ pub fn calibrate(o: &CalibrateOptions, progress: &(dyn Fn(&Round) + Sync)) -> Re
         };
         let x0: Vec<f64> = active.iter().map(|&i| x[i]).collect();
         let sc: Vec<Bound> = active.iter().map(|&i| scales[i]).collect();
-        let s = lm::solve(&residuals, &x0, &sc, &pool, lm::Options::default(), &inputs)?;
+        let s = lm::solve(&residuals, &x0, &sc, &pool, lm::Options::default(), &[])?;
         model_runs += s.model_runs;
         for (k, &i) in active.iter().enumerate() {
             x[i] = s.x[k];
