@@ -97,9 +97,9 @@ pub struct FitSetup<'a> {
     /// The largest |stroke| of the model over those samples (m), where a fit of a position
     /// starts ([`Start::OfLargestStroke`]).
     pub largest_stroke: f64,
-    /// Draws of the model's force change that the noise of the measured velocity makes (each over
-    /// the whole record; may be empty): the fitted parameters' uncertainty carries their spread
-    /// ([`crate::lm`]).
+    /// Draws of the model's force change that the noise of the measured velocity makes, each over
+    /// the samples a fit's residuals hold (the informative ones of the first [`train`](Self::train));
+    /// may be empty: the fitted parameters' uncertainty carries their spread ([`crate::lm`]).
     pub input_error: &'a [Vec<f64>],
     pub pool: &'a rayon::ThreadPool,
     pub progress: &'a Progress<'a>,
@@ -207,9 +207,9 @@ pub struct Data<'a> {
 /// the model's values) on the training part of `measured`, then runs the whole record. A
 /// quantised parameter (a delay in controller samples) is searched over its whole grid; the
 /// others by bounded Levenberg–Marquardt ([`crate::lm`]), whose covariance at the optimum (the
-/// sandwich for coloured residuals, with the inputs' noise carried in) gives their uncertainties. It replaced a Nelder–Mead simplex of 25
-/// runs per parameter plus a Hessian for the uncertainties: the same optimum in about a third of
-/// the model runs (docs/performance.md).
+/// sandwich for coloured residuals, with the inputs' noise carried in) gives their uncertainties.
+/// It replaced a Nelder–Mead simplex of 25 runs per parameter plus a Hessian for the
+/// uncertainties: the same optimum in about a third of the model runs (docs/performance.md).
 pub fn fit_effects(
     simulate: &Simulator<'_>,
     baseline: &Parameters,
@@ -233,11 +233,6 @@ pub fn fit_effects(
         let m = simulate(&with(x)?, train_len)?;
         Ok(m.iter().zip(train).zip(keep).filter(|(_, k)| **k).map(|((m, y), _)| m - y).collect())
     };
-    // the input noise's draws over the samples the residuals hold
-    let inputs: Vec<Vec<f64>> = input_error
-        .iter()
-        .map(|d| d[..train_len].iter().zip(keep).filter(|(_, k)| **k).map(|(e, _)| *e).collect())
-        .collect();
     let switched_on = keys.iter().map(|k| effect_on(baseline, k).map(|on| !on)).collect::<Result<Vec<_>, _>>()?;
     let x0: Vec<f64> = fitted
         .iter()
@@ -253,7 +248,7 @@ pub fn fit_effects(
     let mut flags = Vec::new();
     let grid = fitted.iter().position(|f| f.grid.is_some());
     let (x, errors, evaluations) = match grid {
-        None => match lm::solve(&residuals, &x0, &bounds, pool, FIT_OPTIONS, &inputs) {
+        None => match lm::solve(&residuals, &x0, &bounds, pool, FIT_OPTIONS, input_error) {
             Ok(solution) => {
                 let errors = (0..fitted.len()).map(|i| solution.std_error(i)).collect();
                 (solution.x, errors, solution.model_runs)
@@ -287,7 +282,7 @@ pub fn fit_effects(
                     let rest = |x: &[f64]| residuals(&full_x(k, x));
                     let start: Vec<f64> = others.iter().map(|&i| x0[i]).collect();
                     let scales: Vec<Bound> = others.iter().map(|&i| bounds[i]).collect();
-                    lm::solve(&rest, &start, &scales, pool, FIT_OPTIONS, &inputs).map(|s| {
+                    lm::solve(&rest, &start, &scales, pool, FIT_OPTIONS, input_error).map(|s| {
                         let mut errors = vec![None; fitted.len()];
                         for (j, &i) in others.iter().enumerate() {
                             errors[i] = s.std_error(j);

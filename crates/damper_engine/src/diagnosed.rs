@@ -81,8 +81,10 @@ pub fn diagnose_measurement(
     for (keep, excluded) in informative.keep.iter_mut().zip(&c.measurement.excluded) {
         *keep &= !excluded;
     }
+    // the velocity noise's change of the force, over the samples a fit's residuals hold
+    let fitted = |i: &usize| informative.keep[*i];
     let input_error: Vec<Vec<f64>> =
-        perturbed.iter().map(|p| p.iter().zip(base).map(|(p, b)| p - b).collect()).collect();
+        perturbed.iter().map(|p| (0..train).filter(fitted).map(|i| p[i] - base[i]).collect()).collect();
     let fit = FitSetup {
         input_error: &input_error,
         simulate: &simulate,

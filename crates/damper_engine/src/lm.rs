@@ -141,6 +141,9 @@ pub fn solve(
     if m <= n {
         return Err(format!("{m} residuals for {n} parameters"));
     }
+    if inputs.iter().any(|d| d.len() != m) {
+        return Err(format!("an input noise draw is not as long as the {m} residuals"));
+    }
     let mut cost = sum_sq(&r);
     let mut lambda = 1e-3;
     let (mut iterations, mut converged) = (0, false);
@@ -201,9 +204,6 @@ pub fn solve(
     let jp = DMatrix::from_fn(m, n, |row, col| j[(row, col)] / scales[col].slope(x[col]));
     let sigma2 = cost / (m - n) as f64;
     let block = score_block(&r, n);
-    if inputs.iter().any(|d| d.len() != m) {
-        return Err(format!("an input noise draw is not as long as the {m} residuals"));
-    }
     let (covariance, singular, condition) = covariance(&jp, &r, block, m as f64 / (m - n) as f64, inputs);
     let correlation = covariance
         .as_ref()
@@ -290,11 +290,11 @@ pub fn score_block(r: &[f64], n: usize) -> usize {
 /// sum of the scores Jᵢrᵢ over batch b of `block` consecutive residuals (the "sandwich" with a
 /// batch-means long-run covariance; `dof` = m/(m − n)), plus the spread the noise of the measured
 /// inputs carries into the parameters, (JᵀJ)⁻¹·(1/P)Σ_p (Jᵀd_p)(Jᵀd_p)ᵀ·(JᵀJ)⁻¹ over the P draws d_p
-/// of `inputs`. The residuals of a fit carry the model's
-/// remaining error, smooth in time, and it inflates each parameter's uncertainty by how much that
-/// error lines up with the parameter's own signature: a scalar inflation by the residuals' colour
-/// (1 + 2Σρ_k) overstates parameters the slow error does not touch and understates those along a
-/// ridge of two laws that trade against each other, where it does. With white residuals and
+/// of `inputs`. The residuals of a fit carry the model's remaining error, smooth in time, and Ω
+/// inflates each parameter's uncertainty by how much that error lines up with the parameter's own
+/// signature: a scalar inflation by the residuals' colour (1 + 2Σρ_k) overstates parameters the
+/// slow error does not touch and understates those along a ridge of two laws that trade against
+/// each other, where it does. With white residuals and
 /// batches of one it is σ²(JᵀJ)⁻¹. (JᵀJ)⁻¹ via its unit-diagonal scaling; None, with the
 /// parameters of the null space, when JᵀJ is singular ([`MAX_CONDITION`]).
 ///
@@ -453,17 +453,24 @@ mod tests {
         assert!((s.x[0] - 3.0).abs() < 0.01);
     }
 
+    /// t = 0…49, y = 1 + 0.5·t ± 0.1 alternating: the times, the residuals p0 + p1·t − y and the
+    /// parameters' boxes.
+    fn straight_line() -> (Vec<f64>, Box<Residuals<'static>>, [Bound; 2]) {
+        let t: Vec<f64> = (0..50).map(|i| i as f64).collect();
+        let y: Vec<f64> =
+            t.iter().enumerate().map(|(i, t)| 1.0 + 0.5 * t + if i % 2 == 0 { 0.1 } else { -0.1 }).collect();
+        let times = t.clone();
+        let f = move |x: &[f64]| -> Result<Vec<f64>, String> {
+            Ok(times.iter().zip(&y).map(|(t, y)| x[0] + x[1] * t - y).collect())
+        };
+        (t, Box::new(f), [Bound { lo: -10.0, hi: 10.0, log: false }; 2])
+    }
+
     #[test]
     fn an_input_error_along_a_parameter_adds_its_spread() {
         // y = 1 + 0.5·t and an input error that draws the slope by ±0.02 (d = ±0.02·t, the kind
         // a fit absorbs without a residual): the slope's variance gains 0.02², the intercept's none
-        let t: Vec<f64> = (0..50).map(|i| i as f64).collect();
-        let y: Vec<f64> =
-            t.iter().enumerate().map(|(i, t)| 1.0 + 0.5 * t + if i % 2 == 0 { 0.1 } else { -0.1 }).collect();
-        let f = |x: &[f64]| -> Result<Vec<f64>, String> {
-            Ok(t.iter().zip(&y).map(|(t, y)| x[0] + x[1] * t - y).collect())
-        };
-        let scales = [Bound { lo: -10.0, hi: 10.0, log: false }; 2];
+        let (t, f, scales) = straight_line();
         let without = solve(&f, &[0.0, 0.0], &scales, &pool(1), Options::default(), &[]).unwrap();
         let draws: Vec<Vec<f64>> = [0.02, -0.02].iter().map(|d| t.iter().map(|t| d * t).collect()).collect();
         let with = solve(&f, &[0.0, 0.0], &scales, &pool(1), Options::default(), &draws).unwrap();
@@ -477,13 +484,7 @@ mod tests {
         // y = p0 + p1·t, residuals alternating in sign (batches of one): the sandwich
         // (XᵀX)⁻¹(Σ xᵢxᵢᵀrᵢ²)(XᵀX)⁻¹·m/(m − n), within 1 % of σ²(XᵀX)⁻¹ as the residuals are of
         // nearly equal size (linear model, exact differences)
-        let t: Vec<f64> = (0..50).map(|i| i as f64).collect();
-        let y: Vec<f64> =
-            t.iter().enumerate().map(|(i, t)| 1.0 + 0.5 * t + if i % 2 == 0 { 0.1 } else { -0.1 }).collect();
-        let f = |x: &[f64]| -> Result<Vec<f64>, String> {
-            Ok(t.iter().zip(&y).map(|(t, y)| x[0] + x[1] * t - y).collect())
-        };
-        let scales = [Bound { lo: -10.0, hi: 10.0, log: false }; 2];
+        let (t, f, scales) = straight_line();
         let s = solve(&f, &[0.0, 0.0], &scales, &pool(1), Options::default(), &[]).unwrap();
         assert_eq!(s.block, 1);
         let x = DMatrix::from_fn(50, 2, |i, k| if k == 0 { 1.0 } else { t[i] });
