@@ -183,10 +183,13 @@ fn stated_rate(m: &Measurement) -> Result<(), String> {
 
 /// The force at rest drifting over the record beyond what the stroke explains: the rests' mean
 /// forces fitted by b·t plus one level per stroke (rests within [`SAME_STROKE`] of each other
-/// share it: any force that hangs on the stroke, the gas spring or an end stop, is the level's);
-/// where no stroke is rested at twice, a + b·t + c·x (the gas spring linear over the rests'
-/// strokes, where they spread over a millimetre). Reported when the drift b·T is above
-/// [`DRIFT_SIGMAS`] of the force's noise.
+/// share it: any force that hangs on the stroke, the gas spring or an end stop, is the level's),
+/// and a slope on the stroke within each level whose rests spread over more than
+/// [`LEVEL_SPREAD`] (in an end stop the force hangs on the stroke by kilonewtons per millimetre,
+/// and rests a few hundredths of a millimetre apart differ by hundreds of newtons); where no
+/// stroke is rested at twice, a + b·t + c·x (the gas spring linear over the rests' strokes, where
+/// they spread over a millimetre). Reported when the drift b·T is above [`DRIFT_SIGMAS`] of the
+/// force's noise and b stands out of the rests' scatter about the fit ([`drift_stands_out`]).
 fn drifting_zero(m: &Measurement) -> Option<String> {
     let (y, v) = (m.get(Column::FDamper)?, m.get(Column::VDamper)?);
     let t = &m.time;
@@ -214,11 +217,21 @@ fn drifting_zero(m: &Measurement) -> Option<String> {
     let levels = stroke_levels(&rests);
     let repeated = (0..levels.len()).any(|i| levels[i + 1..].contains(&levels[i]));
     let a = if repeated {
-        // b·t and one level per stroke: column 0 time, then one indicator per level
+        // b·t and one level per stroke: column 0 time, then one indicator per level, then a
+        // stroke slope for each level whose rests spread
         let n_levels = levels.iter().max().map_or(0, |g| g + 1);
-        nalgebra::DMatrix::from_fn(rests.len(), 1 + n_levels, |i, j| match j {
+        let sloped = spread_levels(&rests, &levels, n_levels);
+        nalgebra::DMatrix::from_fn(rests.len(), 1 + n_levels + sloped.len(), |i, j| match j {
             0 => rests[i].0 - tm,
-            _ => f64::from(u8::from(levels[i] == j - 1)),
+            j if j <= n_levels => f64::from(u8::from(levels[i] == j - 1)),
+            j => {
+                let (level, centre) = sloped[j - 1 - n_levels];
+                if levels[i] == level {
+                    rests[i].1 - centre
+                } else {
+                    0.0
+                }
+            }
         })
     } else {
         let xm = mean(&rests.iter().map(|r| r.1).collect::<Vec<_>>());
@@ -230,11 +243,11 @@ fn drifting_zero(m: &Measurement) -> Option<String> {
         })
     };
     let f = nalgebra::DVector::from_iterator(rests.len(), rests.iter().map(|r| r.2));
-    let solution = a.svd(true, true).solve(&f, 1e-12).ok()?;
+    let solution = a.clone().svd(true, true).solve(&f, 1e-12).ok()?;
     let drift = solution[0] * (t[t.len() - 1] - t[0]);
     // a rest's mean over 50 samples or more has a noise of σ/7 at most: 5σ is far beyond it
     let sigma = crate::dsp::noise_sigma(y);
-    if drift.abs() > DRIFT_SIGMAS * sigma {
+    if drift.abs() > DRIFT_SIGMAS * sigma && drift_stands_out(&a, &f, &solution) {
         let why = if m.has(Column::TOil) {
             "the oil heating (see T_oil), or the load cell's zero"
         } else {
@@ -253,6 +266,39 @@ fn drifting_zero(m: &Measurement) -> Option<String> {
 
 /// Rests within this distance of each other's stroke (m) are at the same stroke.
 const SAME_STROKE: f64 = 1e-3;
+/// A level whose rests' mean strokes spread over more than this (m) gets a slope on the stroke:
+/// two displacement quanta of a dyno's LVDT.
+pub const LEVEL_SPREAD: f64 = 1e-5;
+/// A fitted drift stands out of the rests' scatter beyond this many of its standard errors.
+pub const DRIFT_T: f64 = 3.0;
+
+/// The levels (of `n_levels`) with three rests or more whose mean strokes spread over more than
+/// [`LEVEL_SPREAD`], each with its rests' mean stroke (m).
+fn spread_levels(rests: &[(f64, f64, f64)], levels: &[usize], n_levels: usize) -> Vec<(usize, f64)> {
+    (0..n_levels)
+        .filter_map(|level| {
+            let x: Vec<f64> = rests.iter().zip(levels).filter(|(_, l)| **l == level).map(|(r, _)| r.1).collect();
+            let spread =
+                x.iter().fold(f64::NEG_INFINITY, |a, v| a.max(*v)) - x.iter().fold(f64::INFINITY, |a, v| a.min(*v));
+            (x.len() >= 3 && spread > LEVEL_SPREAD).then(|| (level, mean(&x)))
+        })
+        .collect()
+}
+
+/// Whether the drift b (the first column's coefficient of the least-squares `solution` of
+/// a·θ = f) stands out of the rests' scatter about the fit: |b| > [`DRIFT_T`]·SE(b), SE(b)² =
+/// s²·[(aᵀa)⁺]₀₀, s² the residual variance over n − p degrees of freedom. With none left the
+/// noise threshold alone judges. A drift along the stroke's own change (a rig's end position
+/// creeping in an end stop) cannot be told from it and is not reported.
+fn drift_stands_out(a: &nalgebra::DMatrix<f64>, f: &nalgebra::DVector<f64>, solution: &nalgebra::DVector<f64>) -> bool {
+    let dof = a.nrows().saturating_sub(a.ncols());
+    let Ok(inverse) = (a.transpose() * a).pseudo_inverse(1e-12) else { return true };
+    if dof == 0 {
+        return true;
+    }
+    let s2 = (f - a * solution).norm_squared() / dof as f64;
+    solution[0].abs() > DRIFT_T * (s2 * inverse[(0, 0)]).max(0.0).sqrt()
+}
 
 /// Each rest's stroke level: rests sorted by stroke, a new level where the gap to the previous
 /// one exceeds [`SAME_STROKE`].

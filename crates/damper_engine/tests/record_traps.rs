@@ -128,3 +128,50 @@ fn a_drifting_zero_is_reported() {
     let said = c.warnings.join("\n");
     assert!(said.contains("the force at rest drifts by +1") && said.contains("N/s"), "{said}");
 }
+
+/// A record of the template damper at rest in its end stop (free stroke 45 mm) and at mid-stroke in
+/// turn: six half-sine moves out to `ends[k]` (m) and back, 0.5 s each, each followed by a 0.3 s
+/// rest, 1 kHz, 3 N of noise, plus `drift` N/s. (time, velocity, force).
+fn end_stop_record(ends: &[f64], drift: f64) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
+    let mut p = Parameters::default();
+    Description::parse("template", TEMPLATE).unwrap().apply(&mut p).unwrap();
+    let (dt, period) = (1e-3, 0.5);
+    let half_sine = |to: f64| -> Vec<f64> {
+        let peak = std::f64::consts::PI * to / (2.0 * period);
+        (0..500).map(|k| peak * libm::sin(std::f64::consts::PI * (k as f64 + 0.5) * dt / period)).collect()
+    };
+    let mut v = vec![0.0; 300];
+    for &end in ends {
+        v.extend(half_sine(end));
+        v.extend(std::iter::repeat_n(0.0, 300));
+        v.extend(half_sine(-end));
+        v.extend(std::iter::repeat_n(0.0, 300));
+    }
+    let time: Vec<f64> = (0..v.len()).map(|k| k as f64 * dt).collect();
+    let drive =
+        Drive { time: time.clone(), v_damper: v.clone(), demand: Demand::Held, t_oil: None, x_damper_start: None };
+    let force = Model::new(p).run(&drive).unwrap().f_damper;
+    let mut rng = damper_engine::rng::Rng::new(7);
+    let noisy = force.iter().zip(&time).map(|(f, t)| (f + drift * t + 3.0 * rng.normal()).round()).collect();
+    (time, v, noisy)
+}
+
+/// Rests in an end stop, the rig's end position creeping out by 8 µm a cycle: the force at those
+/// rests rises by about 25 N a cycle with the stroke (3 kN/mm at 3 mm into the stop), which is
+/// no drift of the load cell's zero; with the end positions out of step with time, a drift of
+/// 20 N/s is still told from the stroke and reported.
+#[test]
+fn rests_in_an_end_stop_are_no_drift() {
+    let dir = common::scratch("traps_end_stop");
+    let creeping: Vec<f64> = (0..6).map(|k| 0.048 + 8e-6 * k as f64).collect();
+    let (t, v, f) = end_stop_record(&creeping, 0.0);
+    let path = write(&dir, "creeping.csv", "# Sample rate: 1000 Hz\n", &t, &v, &f);
+    let c = compare(&options(&dir, &path)).unwrap();
+    assert!(!c.warnings.iter().any(|w| w.contains("drifts")), "{:?}", c.warnings);
+    let shuffled: Vec<f64> = [0.0, 24.0, 8.0, 40.0, 16.0, 32.0].iter().map(|d| 0.048 + d * 1e-6).collect();
+    let (t, v, f) = end_stop_record(&shuffled, 20.0);
+    let path = write(&dir, "drifting.csv", "# Sample rate: 1000 Hz\n", &t, &v, &f);
+    let c = compare(&options(&dir, &path)).unwrap();
+    let said = c.warnings.join("\n");
+    assert!(said.contains("the force at rest drifts by +") && said.contains("N/s"), "{said}");
+}
