@@ -4,7 +4,9 @@
 //! data can pin.
 //!
 //! ```text
-//! minimise  Σ_records Σ_k (F_model,k(θ) − F_measured,k)²     (N²)
+//! minimise  Σ_records Σ_k (F_model,k(θ) − F_measured,k)²     (N²), k over the samples kept: not
+//!           left out by the record's checks, nor hanging on the velocity below what the record
+//!           resolves (crate::sensitivity)
 //! θ         each parameter on a log scale in [start/3, 3·start] ∩ the model's range
 //! pinned    relative standard uncertainty ≤ 25 %, |correlation| ≤ 0.99 with every other fitted
 //!           parameter, JᵀJ not singular; otherwise the worst offender is held at its given value
@@ -21,6 +23,7 @@ use crate::dsp::{noise_sigma, nrmse, std};
 use crate::lm::{self, Bound, Solution};
 use crate::model::{thread_pool, Backend, Drive, Model};
 use crate::parameters::{changed_parameters, get_real, lookup, Param, Value};
+use crate::sensitivity::ShiftedRuns;
 use crate::settings::{apply, Entry, Settings};
 use crate::units::Column;
 use semi_active_damper::physics::params::Parameters;
@@ -319,6 +322,8 @@ struct Record {
     drive: Drive,
     model: Model,
     backend: Arc<dyn Backend>,
+    /// The noise of a velocity made from the displacement, if it was.
+    velocity_noise: Option<crate::velocity_noise::VelocityNoise>,
 }
 
 fn read_records(o: &CalibrateOptions, settings: &Settings) -> Result<Vec<Record>, String> {
@@ -346,6 +351,7 @@ fn read_records(o: &CalibrateOptions, settings: &Settings) -> Result<Vec<Record>
                 drive,
                 model: setup.model,
                 backend: setup.backend,
+                velocity_noise: m.velocity_noise,
             })
         })
         .collect()
@@ -408,6 +414,49 @@ fn forces(records: &[Record], entries: &[Entry], x: &[f64]) -> Result<Vec<Vec<f6
                 .f_damper)
         })
         .collect()
+}
+
+/// Leaves out of each record's fitted samples those whose force hangs on the velocity below what
+/// the record resolves ([`crate::sensitivity`], as the diagnosis does), given each record's model at
+/// its start and its force `base` there; returns the draws of the residuals' change that the
+/// velocity's noise makes over the samples kept, the records in turn (path k of each record makes
+/// draw k; a record with fewer paths repeats its own, one with none adds zeros), whose spread the
+/// calibrated parameters inherit ([`lm::covariance`]): a smoothed or filtered velocity rounds the
+/// motion alike at every corner, and the fit absorbs what that does to the force without a trace
+/// in its residuals. No draws where every record's noise is white ([`ShiftedRuns::input_error`]).
+fn inform(records: &mut [Record], base: &[Vec<f64>], pool: &rayon::ThreadPool) -> Result<Vec<Vec<f64>>, String> {
+    use rayon::prelude::*;
+    let runs: Vec<ShiftedRuns> = pool.install(|| {
+        records
+            .par_iter()
+            .map(|r| {
+                let run = |noise: &[f64]| {
+                    let v_damper = r.drive.v_damper.iter().zip(noise).map(|(v, e)| v + e).collect();
+                    let drive = Drive { v_damper, ..r.drive.clone() };
+                    let run = r.backend.run_first(&r.model, &drive, drive.len(), false);
+                    Ok(run.map_err(|e| format!("{}: {e}", r.path))?.f_damper)
+                };
+                ShiftedRuns::new(r.velocity_noise.as_ref(), &r.drive.v_damper, run)
+            })
+            .collect::<Result<Vec<_>, String>>()
+    })?;
+    let mut draws: Vec<Vec<Vec<f64>>> = Vec::with_capacity(records.len());
+    for ((r, runs), base) in records.iter_mut().zip(&runs).zip(base) {
+        let residual: Vec<f64> = base.iter().zip(&r.measured).map(|(m, y)| m - y).collect();
+        let informative = runs.informative(base, noise_sigma(&residual));
+        for (kept, informs) in r.kept.iter_mut().zip(&informative.keep) {
+            *kept &= informs;
+        }
+        let own = runs.input_error(base, |i| r.kept[i]);
+        // a record without draws (white noise paths) adds no input error to any draw
+        let kept = r.kept.iter().filter(|k| **k).count();
+        draws.push(if own.is_empty() { vec![vec![0.0; kept]] } else { own });
+    }
+    if draws.iter().all(|own| own.iter().flatten().all(|d| *d == 0.0)) {
+        return Ok(Vec::new());
+    }
+    let n = draws.iter().map(Vec::len).max().unwrap_or(0);
+    Ok((0..n).map(|k| draws.iter().flat_map(|own| own[k % own.len()].iter().copied()).collect()).collect())
 }
 
 /// Why the fit cannot pin a parameter (the worst one), if any: (index, reason).
@@ -473,8 +522,9 @@ pub fn calibrate(o: &CalibrateOptions, progress: &(dyn Fn(&Round) + Sync)) -> Re
     let scales: Vec<Bound> =
         entries.iter().zip(&starts).map(|(e, &s)| search_box(e.name, s, &base)).collect::<Result<_, _>>()?;
     let measured: Vec<f64> = records.iter().flat_map(|r| r.measured.iter().copied()).collect();
-    let kept: Vec<bool> = records.iter().flat_map(|r| r.kept.iter().copied()).collect();
     let before = forces(&records, &[], &[])?;
+    let inputs = inform(&mut records, &before, &pool)?;
+    let kept: Vec<bool> = records.iter().flat_map(|r| r.kept.iter().copied()).collect();
 
     let mut x = starts.clone();
     // the values of held entries (the others are overwritten by each fit)
@@ -496,7 +546,7 @@ pub fn calibrate(o: &CalibrateOptions, progress: &(dyn Fn(&Round) + Sync)) -> Re
         };
         let x0: Vec<f64> = active.iter().map(|&i| x[i]).collect();
         let sc: Vec<Bound> = active.iter().map(|&i| scales[i]).collect();
-        let s = lm::solve(&residuals, &x0, &sc, &pool, lm::Options::default(), &[])?;
+        let s = lm::solve(&residuals, &x0, &sc, &pool, lm::Options::default(), &inputs)?;
         model_runs += s.model_runs;
         for (k, &i) in active.iter().enumerate() {
             x[i] = s.x[k];

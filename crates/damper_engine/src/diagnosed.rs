@@ -13,9 +13,8 @@ use crate::model::{force_simulator, thread_pool, Drive};
 use crate::parameters::{set_effect, set_real};
 use crate::propagation::{inherited, CalibrationCovariance};
 use crate::residual_signature::{self, Quantity};
-use crate::sensitivity::{informative, velocity_noise_paths};
+use crate::sensitivity::ShiftedRuns;
 use crate::units::Column;
-use rayon::prelude::*;
 use semi_active_damper::physics::params::Parameters;
 
 /// A finished diagnosis with its comparison.
@@ -52,39 +51,26 @@ pub fn diagnose_measurement(
     let largest_stroke = c.prediction.x_damper[..train].iter().fold(0.0f64, |a, x| a.max(x.abs()));
     let mut check = baseline;
     check.rtol = baseline.rtol * NUMERICS_CHECK_FACTOR;
-    let coloured = c.measurement.velocity_noise.as_ref();
-    let (paths, delta_v) = velocity_noise_paths(coloured, &c.drive.v_damper);
-    let signs: Vec<Vec<f64>> =
-        if coloured.is_some() { sign_runs(&c.drive.v_damper, delta_v).into() } else { Vec::new() };
-    let shifted = |noise: &Vec<f64>| {
+    let shifted = |noise: &[f64]| {
         let v_damper = c.drive.v_damper.iter().zip(noise).map(|(v, e)| v + e).collect();
         let drive = Drive { v_damper, ..c.drive.clone() };
         let run = force_simulator(c.setup.backend.as_ref(), &drive, opts.load_cell_lowpass_hz);
         run(&baseline, drive.len())
     };
-    let (base_check, (perturbed, signed)) = pool.install(|| {
-        rayon::join(
-            || simulate(&check, measured.len()),
-            || {
-                rayon::join(
-                    || paths.par_iter().map(shifted).collect::<Result<Vec<_>, _>>(),
-                    || signs.par_iter().map(shifted).collect::<Result<Vec<_>, _>>(),
-                )
-            },
-        )
+    let coloured = c.measurement.velocity_noise.as_ref();
+    let (base_check, runs) = pool.install(|| {
+        rayon::join(|| simulate(&check, measured.len()), || ShiftedRuns::new(coloured, &c.drive.v_damper, shifted))
     });
     let base = &c.prediction.f_damper;
     let residual: Vec<f64> = base.iter().zip(&measured).map(|(m, y)| m - y).collect();
-    let (perturbed, signed) = (perturbed?, signed?);
-    let mut informative = informative(base, &perturbed, &signed, delta_v, noise_sigma(&residual));
+    let runs = runs?;
+    let mut informative = runs.informative(base, noise_sigma(&residual));
     // the samples the record's checks leave out (a clipped force)
     for (keep, excluded) in informative.keep.iter_mut().zip(&c.measurement.excluded) {
         *keep &= !excluded;
     }
     // the velocity noise's change of the force, over the samples a fit's residuals hold
-    let fitted = |i: &usize| informative.keep[*i];
-    let input_error: Vec<Vec<f64>> =
-        perturbed.iter().map(|p| (0..train).filter(fitted).map(|i| p[i] - base[i]).collect()).collect();
+    let input_error = runs.input_error(&base[..train], |i| informative.keep[i]);
     let fit = FitSetup {
         input_error: &input_error,
         simulate: &simulate,
@@ -96,8 +82,13 @@ pub fn diagnose_measurement(
         pool: &pool,
         progress,
     };
-    let numerics =
-        Numerics { base, perturbed: &perturbed, base_check: &base_check?, rtol: baseline.rtol, rtol_check: check.rtol };
+    let numerics = Numerics {
+        base,
+        perturbed: &runs.perturbed,
+        base_check: &base_check?,
+        rtol: baseline.rtol,
+        rtol_check: check.rtol,
+    };
     let mut d = diagnose(&c.measurement.time, &fit, &candidates, &baseline, &numerics)?;
     if let Some((path, setting)) = &opts.calibration {
         inherit(&mut d, &fit, &baseline, &CalibrationCovariance::read(path, setting.as_deref())?)?;
@@ -146,27 +137,6 @@ fn inherit(
     }
     Ok(())
 }
-
-/// Two velocity shifts that try the sign of the motion both ways where the velocity is within its
-/// noise `delta_v` of zero: `±SIGN_SHIFT·δ·exp(−(v/δ)²)`, which makes every |v| < δ positive in one
-/// run and negative in the other, and fades out by 2δ. A velocity made from the displacement is
-/// not the one the damper's controller sensed, and where the motion rests or turns slowly the
-/// semi-active clip's sign, and with it the force for a few hundred milliseconds, hangs on what
-/// the record cannot tell (a rig's wave touching zero between its parts: up to 1.3 kN).
-fn sign_runs(v: &[f64], delta_v: f64) -> [Vec<f64>; 2] {
-    let up: Vec<f64> = v
-        .iter()
-        .map(|v| {
-            let u = v / delta_v;
-            SIGN_SHIFT * delta_v * libm::exp(-u * u)
-        })
-        .collect();
-    [up.iter().map(|e| -e).collect(), up]
-}
-
-/// The sign runs' largest shift, in the velocity's noise: 3 > e makes v + 3δ·exp(−(v/δ)²) positive
-/// for every v ≥ −δ.
-const SIGN_SHIFT: f64 = 3.0;
 
 /// Why the model does not fit, in physical terms. A residual that mostly follows the stroke, the
 /// time or the temperature is one local effect the catalog lacks, not a damper of another kind:

@@ -18,7 +18,8 @@ pub struct Floor {
     pub nrmse: f64,
     /// The measured velocity's noise carried through the model into its force: RMS of the
     /// baseline with the velocity's noise added ([`crate::sensitivity`], coloured where the
-    /// velocity is made from the displacement: [`crate::velocity_noise`]) less the baseline, over
+    /// velocity is made from the displacement or was smoothed: [`crate::velocity_noise`]) less the
+    /// baseline, over
     /// the validation part / std(measured).
     pub nrmse_inputs: f64,
     /// The part of [`nrmse_inputs`](Self::nrmse_inputs) the noise estimate cannot see, in

@@ -65,7 +65,9 @@ pub struct Solution {
     /// (JᵀJ)⁻¹·Ω·(JᵀJ)⁻¹ on the physical scale, Ω the long-run covariance of the scores Jᵢrᵢ
     /// by batch means ([`covariance`]); None when JᵀJ is singular.
     pub covariance: Option<DMatrix<f64>>,
-    /// The correlation matrix of `covariance`.
+    /// The correlation matrix of `covariance` without the inputs' term: how well the records tell
+    /// the parameters apart. The inputs' term, from a few draws (two to four), is of rank at most
+    /// their number and would make any two parameters it moves look inseparable.
     pub correlation: Option<DMatrix<f64>>,
     /// When JᵀJ is singular: the index of each parameter with a large share (|component| > 0.3)
     /// of the eigenvector of the smallest eigenvalue, largest first.
@@ -204,10 +206,12 @@ pub fn solve(
     let jp = DMatrix::from_fn(m, n, |row, col| j[(row, col)] / scales[col].slope(x[col]));
     let sigma2 = cost / (m - n) as f64;
     let block = score_block(&r, n);
-    let (covariance, singular, condition) = covariance(&jp, &r, block, m as f64 / (m - n) as f64, inputs);
-    let correlation = covariance
+    let (parts, singular, condition) = covariance(&jp, &r, block, m as f64 / (m - n) as f64, inputs);
+    let correlation = parts
         .as_ref()
+        .map(|p| &p.of_residuals)
         .map(|c| DMatrix::from_fn(n, n, |i, k| c[(i, k)] / (c[(i, i)] * c[(k, k)]).sqrt().max(1e-300)));
+    let covariance = parts.map(|p| p.total);
     Ok(Solution {
         x,
         cost,
@@ -286,6 +290,12 @@ pub fn score_block(r: &[f64], n: usize) -> usize {
     (2 * correlation_length(r)).clamp(1, most)
 }
 
+/// The parameters' covariance ([`covariance`]), whole and without the inputs' term.
+pub struct Covariances {
+    pub total: DMatrix<f64>,
+    pub of_residuals: DMatrix<f64>,
+}
+
 /// The covariance of the fitted parameters, (JᵀJ)⁻¹·Ω·(JᵀJ)⁻¹·`dof`, Ω = Σ_b s_b s_bᵀ with s_b the
 /// sum of the scores Jᵢrᵢ over batch b of `block` consecutive residuals (the "sandwich" with a
 /// batch-means long-run covariance; `dof` = m/(m − n)), plus the spread the noise of the measured
@@ -296,7 +306,8 @@ pub fn score_block(r: &[f64], n: usize) -> usize {
 /// slow error does not touch and understates those along a ridge of two laws that trade against
 /// each other, where it does. With white residuals and
 /// batches of one it is σ²(JᵀJ)⁻¹. (JᵀJ)⁻¹ via its unit-diagonal scaling; None, with the
-/// parameters of the null space, when JᵀJ is singular ([`MAX_CONDITION`]).
+/// parameters of the null space, when JᵀJ is singular ([`MAX_CONDITION`]). Returns the whole
+/// covariance and its part without the inputs' term.
 ///
 /// The inputs' term is needed besides Ω: an error of the model's input that bends the force the
 /// same way wherever the motion does (a smoothed velocity rounds every corner) is absorbed by the
@@ -308,7 +319,7 @@ pub fn covariance(
     block: usize,
     dof: f64,
     inputs: &[Vec<f64>],
-) -> (Option<DMatrix<f64>>, Vec<usize>, f64) {
+) -> (Option<Covariances>, Vec<usize>, f64) {
     let a = jp.transpose() * jp;
     let n = a.nrows();
     let d: Vec<f64> = (0..n).map(|i| a[(i, i)].max(0.0).sqrt()).collect();
@@ -340,11 +351,14 @@ pub fn covariance(
         omega += &s * s.transpose();
     }
     omega *= dof;
+    let mut of_inputs = DMatrix::<f64>::zeros(n, n);
     for d in inputs {
         let s = DVector::from_fn(n, |k, _| d.iter().enumerate().map(|(i, e)| jp[(i, k)] * e).sum::<f64>());
-        omega += &s * s.transpose() / inputs.len() as f64;
+        of_inputs += &s * s.transpose() / inputs.len() as f64;
     }
-    (Some(&a_inv * omega * &a_inv), Vec::new(), condition)
+    let of_residuals = &a_inv * omega * &a_inv;
+    let total = &of_residuals + &a_inv * of_inputs * &a_inv;
+    (Some(Covariances { total, of_residuals }), Vec::new(), condition)
 }
 
 #[cfg(test)]
@@ -477,6 +491,13 @@ mod tests {
         let var = |s: &Solution, i: usize| s.std_error(i).unwrap().powi(2);
         assert!((var(&with, 1) - var(&without, 1) - 0.02f64.powi(2)).abs() < 1e-9, "{with:?}");
         assert!((var(&with, 0) - var(&without, 0)).abs() < 1e-9, "{with:?}");
+        // the correlation says how well the data tell the two apart: the inputs' term, of rank
+        // one here, would have moved it
+        let rho = |s: &Solution| s.strongest_correlation(0).unwrap().1;
+        assert_eq!(rho(&with), rho(&without));
+        let c = with.covariance.as_ref().unwrap();
+        let total = c[(0, 1)] / (c[(0, 0)] * c[(1, 1)]).sqrt();
+        assert!((total - rho(&without)).abs() > 0.05, "{total} vs {}", rho(&without));
     }
 
     #[test]

@@ -111,7 +111,8 @@ pub struct Measurement {
     /// sample, or where the velocity fused with it starts ([`crate::stroke`]).
     pub x_start: Option<f64>,
     /// The velocity's noise when it is made from the displacement (a logger's derivative, or this
-    /// reader's): coloured, and what the sensitivity test and the floor perturb the model with.
+    /// reader's), or when a transducer's was smoothed: coloured, and what the sensitivity test, the
+    /// floor and the parameters' uncertainties perturb the model with.
     pub velocity_noise: Option<VelocityNoise>,
     /// Where the logger's velocity made from the displacement was kept, the motion made again from
     /// the displacement ([`crate::motion::motion`]; [`Measurement::with_velocity_made_again`]).

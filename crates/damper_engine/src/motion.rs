@@ -16,7 +16,8 @@ pub struct Motion {
     pub v: Option<Vec<f64>>,
     /// The stroke at the first sample (m), where the record measures the displacement.
     pub x_start: Option<f64>,
-    /// The velocity's noise when it is made from the displacement.
+    /// The velocity's noise when it is made from the displacement, or when a transducer's was
+    /// smoothed.
     pub velocity_noise: Option<VelocityNoise>,
     /// What was decided, for the user.
     pub notes: Vec<String>,
@@ -78,7 +79,7 @@ pub fn motion(time: &[f64], v: Option<Vec<f64>>, x: Option<&[f64]>, from_displac
         notes.push("v_damper kept: the smaller error".into());
         made_again = Some(Box::new(again));
     }
-    if let Some(note) = smooth_velocity(&mut v, velocity_noise.as_mut()) {
+    if let Some(note) = smooth_velocity(&mut v, &mut velocity_noise, dt) {
         notes.push(note);
     }
     let Some(x) = x else {
@@ -105,31 +106,37 @@ pub fn motion(time: &[f64], v: Option<Vec<f64>>, x: Option<&[f64]>, from_displac
 pub const SMOOTHED_VELOCITY_NOISE: f64 = 3e-4;
 
 /// Smooths `v` in place when its noise exceeds [`SMOOTHED_VELOCITY_NOISE`]: under the coloured
-/// spectrum of a velocity made from the displacement (`derived`, whose smoother is kept), else
-/// as white noise. Returns the note that says so.
-fn smooth_velocity(v: &mut Vec<f64>, derived: Option<&mut VelocityNoise>) -> Option<String> {
-    match derived {
-        Some(noise) if noise.rms() > SMOOTHED_VELOCITY_NOISE => {
-            *v = noise.smooth(v);
+/// spectrum of a velocity made from the displacement (`noise`, whose smoother is kept), else as a
+/// transducer's white noise, whose [`VelocityNoise::of_sensor`] then becomes `noise` (what the
+/// smoothed velocity still carries is what the diagnosis and calibration perturb the model with).
+/// `dt`: the sample interval (s). Returns the note that says so.
+fn smooth_velocity(v: &mut Vec<f64>, noise: &mut Option<VelocityNoise>, dt: f64) -> Option<String> {
+    match noise {
+        Some(derived) if derived.rms() > SMOOTHED_VELOCITY_NOISE => {
+            *v = derived.smooth(v);
             Some(format!(
                 "v_damper carries the displacement's {:.1} µm of noise as {:.2} mm/s: smoothed (zero-phase Wiener \
                  filter under that coloured noise), {:.2} mm/s of error left",
-                noise.sigma_x * 1e6,
-                noise.rms() * 1e3,
-                noise.carried_rms(crate::sensitivity::SENSITIVITY_SEEDS[0], v.len()) * 1e3
+                derived.sigma_x * 1e6,
+                derived.rms() * 1e3,
+                derived.carried_rms(crate::sensitivity::SENSITIVITY_SEEDS[0], v.len()) * 1e3
             ))
         }
         Some(_) => None,
         None => {
             let sigma = crate::stroke::white_noise(v);
             (sigma > SMOOTHED_VELOCITY_NOISE).then(|| {
-                *v = crate::dsp::wiener_smooth(v, sigma);
+                let mut sensor = VelocityNoise::of_sensor(sigma, dt);
+                *v = sensor.smooth(v);
+                let left = sensor.carried_rms(crate::sensitivity::SENSITIVITY_SEEDS[0], v.len());
+                *noise = Some(sensor);
                 format!(
                     "v_damper carries {:.2} mm/s of white noise (more than {} mm/s): smoothed (zero-phase Wiener \
                      filter), since the model's force would carry it through the valve law's slope, and a fit bends \
-                     its parameters to the noise (errors in variables)",
+                     its parameters to the noise (errors in variables); {:.2} mm/s of error left",
                     sigma * 1e3,
-                    SMOOTHED_VELOCITY_NOISE * 1e3
+                    SMOOTHED_VELOCITY_NOISE * 1e3,
+                    left * 1e3
                 )
             })
         }

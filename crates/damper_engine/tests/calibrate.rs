@@ -177,3 +177,36 @@ fn the_parameter_set_round_trips_and_a_bad_one_names_line_and_field() {
     assert_eq!(setup.model.params.k_sol, 70.0);
     assert_eq!(get_real(&setup.model.params, "air_fraction").unwrap(), get_real(&p, "air_fraction").unwrap());
 }
+
+/// Two velocity chains in one calibration, each truth driven by the true velocity: a transducer
+/// with 1 mm/s of noise, smoothed (coloured: its noise paths' input error enters the covariance),
+/// beside a quiet one (white: none). The two moved parameters land within 3 uncertainties.
+#[test]
+fn records_of_a_noisy_and_a_quiet_velocity_calibrate_together() {
+    let dir = common::scratch("calibrate_chains");
+    let moved = [("air_fraction", 0.032), ("p_reservoir0", 6.0e5)];
+    let record = |name: &str, seed: u64, velocity_noise: Option<f64>| {
+        common::generate(&dir, name, |o| {
+            o.sets = moved.iter().map(|(n, v)| (n.to_string(), v.to_string())).collect();
+            o.sets.push(("rtol".into(), "1e-6".into()));
+            o.duration = 4.0;
+            o.seed = seed;
+            o.errors_in_variables = true;
+            if let Some(sigma) = velocity_noise {
+                o.noise.v_damper.noise = sigma;
+            }
+        })
+        .0
+    };
+    let mut o = CalibrateOptions::new(vec![record("noisy", 21, Some(1e-3)), record("quiet", 22, None)]);
+    o.fit = moved.iter().map(|(n, _)| n.to_string()).collect();
+    o.compare.load_cell_lowpass_hz = Some(400.0);
+    o.threads = 2;
+    let c = calibrate(&o, &|_| {}).expect("calibrate");
+    for (name, truth) in moved {
+        let p = c.parameters.iter().find(|p| p.name == name).unwrap();
+        let se = p.std_error.unwrap_or_else(|| panic!("{name} not identified: {:?}", p.status));
+        eprintln!("{name}: {} ± {se}, truth {truth}", p.value);
+        assert!((p.value - truth).abs() <= 3.0 * se, "{name}: {} ± {se}, truth {truth}", p.value);
+    }
+}
