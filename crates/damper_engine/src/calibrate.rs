@@ -322,7 +322,7 @@ struct Record {
     drive: Drive,
     model: Model,
     backend: Arc<dyn Backend>,
-    /// The noise of a velocity made from the displacement, if it was.
+    /// The velocity's noise where it was made from the displacement or smoothed.
     velocity_noise: Option<crate::velocity_noise::VelocityNoise>,
 }
 
@@ -430,8 +430,7 @@ fn inform(records: &mut [Record], base: &[Vec<f64>], pool: &rayon::ThreadPool) -
         records
             .par_iter()
             .map(|r| {
-                let run = |noise: &[f64]| {
-                    let v_damper = r.drive.v_damper.iter().zip(noise).map(|(v, e)| v + e).collect();
+                let run = |v_damper: Vec<f64>| {
                     let drive = Drive { v_damper, ..r.drive.clone() };
                     let run = r.backend.run_first(&r.model, &drive, drive.len(), false);
                     Ok(run.map_err(|e| format!("{}: {e}", r.path))?.f_damper)
@@ -447,16 +446,22 @@ fn inform(records: &mut [Record], base: &[Vec<f64>], pool: &rayon::ThreadPool) -
         for (kept, informs) in r.kept.iter_mut().zip(&informative.keep) {
             *kept &= informs;
         }
-        let own = runs.input_error(base, |i| r.kept[i]);
-        // a record without draws (white noise paths) adds no input error to any draw
-        let kept = r.kept.iter().filter(|k| **k).count();
-        draws.push(if own.is_empty() { vec![vec![0.0; kept]] } else { own });
-    }
-    if draws.iter().all(|own| own.iter().flatten().all(|d| *d == 0.0)) {
-        return Ok(Vec::new());
+        draws.push(runs.input_error(base, |i| r.kept[i]));
     }
     let n = draws.iter().map(Vec::len).max().unwrap_or(0);
-    Ok((0..n).map(|k| draws.iter().flat_map(|own| own[k % own.len()].iter().copied()).collect()).collect())
+    Ok((0..n)
+        .map(|k| {
+            records
+                .iter()
+                .zip(&draws)
+                .flat_map(|(r, own)| match own.len() {
+                    // white noise paths: no input error
+                    0 => vec![0.0; r.kept.iter().filter(|k| **k).count()],
+                    len => own[k % len].clone(),
+                })
+                .collect()
+        })
+        .collect())
 }
 
 /// Why the fit cannot pin a parameter (the worst one), if any: (index, reason).

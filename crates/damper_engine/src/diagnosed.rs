@@ -51,8 +51,7 @@ pub fn diagnose_measurement(
     let largest_stroke = c.prediction.x_damper[..train].iter().fold(0.0f64, |a, x| a.max(x.abs()));
     let mut check = baseline;
     check.rtol = baseline.rtol * NUMERICS_CHECK_FACTOR;
-    let shifted = |noise: &[f64]| {
-        let v_damper = c.drive.v_damper.iter().zip(noise).map(|(v, e)| v + e).collect();
+    let shifted = |v_damper: Vec<f64>| {
         let drive = Drive { v_damper, ..c.drive.clone() };
         let run = force_simulator(c.setup.backend.as_ref(), &drive, opts.load_cell_lowpass_hz);
         run(&baseline, drive.len())

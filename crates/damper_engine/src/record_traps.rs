@@ -292,10 +292,10 @@ fn spread_levels(rests: &[(f64, f64, f64)], levels: &[usize], n_levels: usize) -
 /// creeping in an end stop) cannot be told from it and is not reported.
 fn drift_stands_out(a: &nalgebra::DMatrix<f64>, f: &nalgebra::DVector<f64>, solution: &nalgebra::DVector<f64>) -> bool {
     let dof = a.nrows().saturating_sub(a.ncols());
-    let Ok(inverse) = (a.transpose() * a).pseudo_inverse(1e-12) else { return true };
     if dof == 0 {
         return true;
     }
+    let Ok(inverse) = (a.transpose() * a).pseudo_inverse(1e-12) else { return true };
     let s2 = (f - a * solution).norm_squared() / dof as f64;
     solution[0].abs() > DRIFT_T * (s2 * inverse[(0, 0)]).max(0.0).sqrt()
 }

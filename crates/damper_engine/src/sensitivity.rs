@@ -17,6 +17,7 @@
 
 use crate::dsp::{median, rms};
 use crate::rng::Rng;
+use crate::velocity_noise::velocity_resolution;
 use crate::velocity_noise::{NoiseSource, VelocityNoise};
 use rayon::prelude::*;
 
@@ -25,24 +26,6 @@ use rayon::prelude::*;
 pub const SENSITIVE_SIGMAS: f64 = 3.0;
 /// The seeds of the two perturbed runs.
 pub const SENSITIVITY_SEEDS: [u64; 2] = [0x5E45_0001, 0x5E45_0002];
-/// The smallest δ (m/s): a velocity channel's quantum (0.01 mm/s).
-pub const MIN_VELOCITY_RESOLUTION: f64 = 1e-5;
-
-/// The white-noise level of a velocity record (m/s), from its fourth differences (white noise of
-/// variance σ² gives fourth differences of variance 70σ²; a damper's motion, smooth at the sample
-/// rate, barely shows in them), by their median absolute value; at least
-/// [`MIN_VELOCITY_RESOLUTION`].
-pub fn velocity_resolution(v: &[f64]) -> f64 {
-    let mut d4: Vec<f64> = v.windows(5).map(|w| (w[0] - 4.0 * w[1] + 6.0 * w[2] - 4.0 * w[3] + w[4]).abs()).collect();
-    // median |N(0, 70σ²)| = 0.6745·√70·σ
-    let sigma = median(&mut d4) / (0.674_489_75 * 70f64.sqrt());
-    if sigma.is_finite() {
-        sigma.max(MIN_VELOCITY_RESOLUTION)
-    } else {
-        MIN_VELOCITY_RESOLUTION
-    }
-}
-
 /// Which samples inform the diagnosis.
 #[derive(Clone, Debug)]
 pub struct Informative {
@@ -104,7 +87,7 @@ pub fn informative(
 /// [`SENSITIVITY_SEEDS`]. A coloured path runs both ways (antithetic): at a slow reversal one of the
 /// two moves the zero crossing earlier and the other later, so the semi-active clip's sign is
 /// always tried.
-pub fn velocity_noise_paths(coloured: Option<&VelocityNoise>, v: &[f64]) -> (Vec<Vec<f64>>, f64) {
+fn velocity_noise_paths(coloured: Option<&VelocityNoise>, v: &[f64]) -> (Vec<Vec<f64>>, f64) {
     let n = v.len();
     match coloured {
         None => {
@@ -135,7 +118,8 @@ pub fn velocity_noise_paths(coloured: Option<&VelocityNoise>, v: &[f64]) -> (Vec
 /// The model's force with the record's velocity shifted by what the record cannot tell from it.
 #[derive(Clone, Debug)]
 pub struct ShiftedRuns {
-    /// One run per velocity noise path ([`velocity_noise_paths`]).
+    /// One run per velocity noise path: coloured (both ways) where the velocity was made from the
+    /// displacement or smoothed, else white at its resolution ([`velocity_resolution`]).
     pub perturbed: Vec<Vec<f64>>,
     /// The two sign runs of a velocity made from the displacement (the sign of the motion tried
     /// both ways where the velocity is within its noise of zero); else none.
@@ -147,20 +131,21 @@ pub struct ShiftedRuns {
 }
 
 impl ShiftedRuns {
-    /// Runs `run` (the model's force with the noise it is given added to the record's velocity
-    /// `v`) once per noise path and sign run, on the caller's rayon pool. `coloured`: the noise of
-    /// a velocity made from the displacement, if it was.
+    /// Runs `run` (the model's force driven by the velocity it is given) on the record's velocity
+    /// `v` shifted by each noise path and sign run, on the caller's rayon pool. `coloured`: the
+    /// velocity's noise where it was made from the displacement or smoothed.
     pub fn new(
         coloured: Option<&VelocityNoise>,
         v: &[f64],
-        run: impl Fn(&[f64]) -> Result<Vec<f64>, String> + Sync,
+        run: impl Fn(Vec<f64>) -> Result<Vec<f64>, String> + Sync,
     ) -> Result<ShiftedRuns, String> {
         let (paths, delta_v) = velocity_noise_paths(coloured, v);
         let derived = coloured.is_some_and(|n| n.source == NoiseSource::Displacement);
         let signs: Vec<Vec<f64>> = if derived { sign_runs(v, delta_v).into() } else { Vec::new() };
+        let shifted = |noise: &Vec<f64>| run(v.iter().zip(noise).map(|(v, e)| v + e).collect());
         let (perturbed, signed) = rayon::join(
-            || paths.par_iter().map(|p| run(p)).collect::<Result<Vec<_>, _>>(),
-            || signs.par_iter().map(|p| run(p)).collect::<Result<Vec<_>, _>>(),
+            || paths.par_iter().map(shifted).collect::<Result<Vec<_>, _>>(),
+            || signs.par_iter().map(shifted).collect::<Result<Vec<_>, _>>(),
         );
         Ok(ShiftedRuns { perturbed: perturbed?, signed: signed?, delta_v, coloured: coloured.is_some() })
     }
@@ -219,22 +204,6 @@ const SIGN_SHIFT: f64 = 3.0;
 )]
 mod tests {
     use super::*;
-
-    #[test]
-    fn the_velocity_resolution_is_the_noise_not_the_motion() {
-        let mut rng = crate::rng::Rng::new(3);
-        let h = 2e-3;
-        let v: Vec<f64> = (0..4000)
-            .map(|k| {
-                let t = k as f64 * h;
-                0.1 * (2.0 * std::f64::consts::PI * 8.0 * t).sin() + 1e-4 * rng.normal()
-            })
-            .collect();
-        let r = velocity_resolution(&v);
-        assert!((r / 1e-4 - 1.0).abs() < 0.1, "{r:e}");
-        let quiet = vec![0.05; 100];
-        assert_eq!(velocity_resolution(&quiet), MIN_VELOCITY_RESOLUTION);
-    }
 
     #[test]
     fn a_sample_is_left_out_only_where_the_force_hangs_on_the_velocity() {

@@ -18,7 +18,7 @@
 //! noise paths of the same colour, smoothed alike, are what the sensitivity test and the floor
 //! perturb the model's velocity with ([`VelocityNoise::path`]).
 
-use crate::dsp::{rms, WienerGains};
+use crate::dsp::{median, rms, WienerGains};
 use crate::rng::Rng;
 use nalgebra::{DMatrix, DVector};
 
@@ -39,6 +39,24 @@ const LOCAL_SEED: u64 = 0x5E45_00FF;
 /// A velocity whose misfit to the displacement's response is below this share of the noise the
 /// response carries from the displacement is made from the displacement.
 pub const DERIVED_SHARE: f64 = 0.5;
+
+/// The smallest δ (m/s): a velocity channel's quantum (0.01 mm/s).
+pub const MIN_VELOCITY_RESOLUTION: f64 = 1e-5;
+
+/// The white-noise level of a velocity record (m/s), from its fourth differences (white noise of
+/// variance σ² gives fourth differences of variance 70σ²; a damper's motion, smooth at the sample
+/// rate, barely shows in them), by their median absolute value; at least
+/// [`MIN_VELOCITY_RESOLUTION`].
+pub fn velocity_resolution(v: &[f64]) -> f64 {
+    let mut d4: Vec<f64> = v.windows(5).map(|w| (w[0] - 4.0 * w[1] + 6.0 * w[2] - 4.0 * w[3] + w[4]).abs()).collect();
+    // median |N(0, 70σ²)| = 0.6745·√70·σ
+    let sigma = median(&mut d4) / (0.674_489_75 * 70f64.sqrt());
+    if sigma.is_finite() {
+        sigma.max(MIN_VELOCITY_RESOLUTION)
+    } else {
+        MIN_VELOCITY_RESOLUTION
+    }
+}
 
 /// Where a velocity's noise comes from.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -106,7 +124,7 @@ impl VelocityNoise {
     /// The white noise `sigma` (m/s) of a velocity transducer sampled every `dt` (s). Smoothed
     /// ([`smooth`](Self::smooth), as [`crate::dsp::wiener_smooth`] does), what is left of it is no
     /// longer white: it lies where the motion stands above the noise, and a velocity's resolution
-    /// from its high differences ([`crate::stroke::white_noise`]) no longer sees it.
+    /// from its high differences ([`velocity_resolution`]) no longer sees it.
     pub fn of_sensor(sigma: f64, dt: f64) -> VelocityNoise {
         VelocityNoise {
             source: NoiseSource::Sensor,
@@ -308,6 +326,22 @@ mod tests {
         assert!((found.rms() / truth - 1.0).abs() < 0.15, "{} against {truth}", found.rms());
     }
 
+    #[test]
+    fn the_velocity_resolution_is_the_noise_not_the_motion() {
+        let mut rng = crate::rng::Rng::new(3);
+        let h = 2e-3;
+        let v: Vec<f64> = (0..4000)
+            .map(|k| {
+                let t = k as f64 * h;
+                0.1 * (2.0 * std::f64::consts::PI * 8.0 * t).sin() + 1e-4 * rng.normal()
+            })
+            .collect();
+        let r = velocity_resolution(&v);
+        assert!((r / 1e-4 - 1.0).abs() < 0.1, "{r:e}");
+        let quiet = vec![0.05; 100];
+        assert_eq!(velocity_resolution(&quiet), MIN_VELOCITY_RESOLUTION);
+    }
+
     /// A dyno's random motion (white noise through two 2 Hz low-passes, about 0.1 m/s RMS: a
     /// spectrum, not a line, as the Wiener error G·N assumes) measured by a transducer with 1 mm/s
     /// of white noise, smoothed: (the smoothed velocity's error against the truth, RMS; what its
@@ -323,7 +357,7 @@ mod tests {
         let smoothed = noise.smooth(&v);
         assert_eq!(smoothed, crate::dsp::wiener_smooth(&v, sigma));
         let error: Vec<f64> = smoothed.iter().zip(&truth).map(|(a, b)| a - b).collect();
-        (rms(&error[100..7900]), noise.carried_rms(1, 8000), crate::stroke::white_noise(&smoothed))
+        (rms(&error[100..7900]), noise.carried_rms(1, 8000), velocity_resolution(&smoothed))
     }
 
     /// A transducer's smoothed white noise, on twelve records: its paths never carry less than the
