@@ -42,7 +42,7 @@ DAMPER_FMU = REPO / "target" / "fmu" / "SemiActiveDamper.fmu"
 TRUCK_OUTPUTS = ("v_damper", "F_demand", "x_damper", "v_body", "a_body", "a_axle", "z_body", "z_axle",
                  "F_tyre", "F_suspension")
 DAMPER_OUTPUTS = ("F_damper", "F_demand_clipped", "x_spool", "x_damper")
-MODE_EXTERNAL, MODE_IDEAL, MODE_PASSIVE = 0, 1, 2
+MODE_EXTERNAL, MODE_IDEAL, MODE_PASSIVE, MODE_TRACKING = 0, 1, 2, 3
 # A damper in a HiL loop is tared: the gas force at rest is removed from F_damper.
 HIL_DAMPER_PARAMETERS = {"tare_load_cell": True}
 

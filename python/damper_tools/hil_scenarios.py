@@ -20,8 +20,9 @@ on the same road realisation, and writes to the output directory
     table.md, results.json         every metric (table.md is also printed)
 
 Metrics, over the record after the settling time:
-    ride          RMS sprung-mass acceleration a_body (m/s^2)
+    ride          RMS sprung-mass acceleration a_body (m/s^2), also ISO 2631-1 Wk-weighted (damper_tools.ride)
     DLC           dynamic load coefficient std(F_tyre) / ((m_body + m_axle) g)
+    road stress   mean((W + F_tyre)^4) / W^4 with W = (m_body + m_axle) g: fourth-power road damage
     working space RMS and peak |x_damper| (suspension deflection from static equilibrium)
     best passive  the c_passive with the lowest RMS a_body among the passive settings whose DLC is not
                   above the ideal semi-active's; if none is, the passive setting with the lowest DLC
@@ -44,7 +45,7 @@ from typing import Any
 
 import numpy as np
 
-from damper_tools import REPO, cosim, jsonable, roads
+from damper_tools import REPO, cosim, jsonable, ride, roads
 from damper_tools.fmu import FmuUnit
 
 OUT = REPO / "out" / "hil"
@@ -86,9 +87,12 @@ def truck_constants(truck_fmu: str | Path = cosim.TRUCK_FMU) -> dict[str, float]
 def vehicle_metrics(res: dict[str, np.ndarray], window: slice, static_load: float) -> dict[str, float]:
     """Ride, DLC and working space of a result dict over the samples in `window` (a slice)."""
     x = res["x_damper"][window]
+    step = float(res["time"][1] - res["time"][0])
     return {
         "a_body_rms": float(np.std(res["a_body"][window])),
+        "a_body_wk_rms": ride.wk_rms(res["a_body"][window], step),
         "DLC": float(np.std(res["F_tyre"][window]) / static_load),
+        "road_stress": ride.road_stress_factor(res["F_tyre"][window], static_load),
         "x_damper_rms": float(np.std(x)),
         "x_damper_peak": float(np.max(np.abs(x))),
         "F_suspension_rms": float(np.std(res["F_suspension"][window])),

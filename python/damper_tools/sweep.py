@@ -58,27 +58,33 @@ from typing import Any
 import numpy as np
 from distributed.diagnostics.plugin import WorkerPlugin
 
-from damper_tools import cosim, full_truck, hil_scenarios, rig_tests, roads
+from damper_tools import cosim, full_truck, hil_scenarios, rig_tests, roads, tracking_quality
 from damper_tools.fmu import FmuUnit
 
 SCENARIOS = ("hil", "full_truck", "rig")
 # Settings of each scenario and their defaults; everything else in a point is an FMU parameter.
 SCENARIO_KEYS: dict[str, dict[str, Any]] = {
     "hil": {"road": "minor", "speed": 14.0, "mode": "fmu", "duration": 15.0, "settle": 3.0, "step": 1e-3,
-            "fade_in": hil_scenarios.FADE_IN, "replicate": 0},
+            "fade_in": hil_scenarios.FADE_IN, "replicate": 0,
+            "tracking_delay": 0.0, "tracking_bandwidth": math.inf, "tracking_direction": "both"},
     "full_truck": {"road": "minor", "speed": 14.0, "duration": 15.0, "settle": 3.0, "step": 1e-3,
                    "correlation": full_truck.TRACK_CORRELATION, "replicate": 0},
     "rig": {"output_interval": rig_tests.OUTPUT_INTERVAL, "replicate": 0},
 }
-MODES = {"fmu": cosim.MODE_EXTERNAL, "ideal": cosim.MODE_IDEAL, "passive": cosim.MODE_PASSIVE}
+MODES = {"fmu": cosim.MODE_EXTERNAL, "ideal": cosim.MODE_IDEAL, "passive": cosim.MODE_PASSIVE,
+         "tracking": cosim.MODE_TRACKING}
+TRACKING_DIRECTIONS = ("both", "extension", "compression")
 DISTRIBUTIONS = ("uniform", "loguniform", "normal", "choice")
 DEFAULT_SEED_FROM = ("road", "replicate")
 PLUGIN_NAME = "damper-sweep-fmus"
 
-HIL_METRICS = ("a_body_rms", "DLC", "x_damper_rms", "x_damper_peak", "F_suspension_rms", "v_damper_max",
+HIL_METRICS = ("a_body_rms", "a_body_wk_rms", "DLC", "road_stress", "x_damper_rms", "x_damper_peak",
+               "F_suspension_rms", "v_damper_max",
                "F_rms", "F_demand_rms", "force_error_rms", "force_mean_error", "extension_bias",
                "extension_above", "compression_bias", "compression_below", "force_peak_hz",
-               "force_peak_wheel_hop_hz")
+               "force_peak_wheel_hop_hz", "tracking_delay_extension", "tracking_bandwidth_extension",
+               "tracking_fit_error_extension", "tracking_delay_compression", "tracking_bandwidth_compression",
+               "tracking_fit_error_compression")
 FULL_TRUCK_METRICS = ("a_body_rms", "a_body_rms_max", "DLC", "DLC_max", "x_damper_rms", "x_damper_peak",
                       "force_error_rms", "extension_bias", "compression_bias")
 RIG_METRICS = ("extension_t90", "extension_t100", "extension_overshoot_pct", "compression_t90",
@@ -284,6 +290,8 @@ def run_hil(point: dict[str, Any], seed: int, truck_fmu: Path, damper_fmu: Path)
     first = int(round(float(s["settle"]) / step))
     window = slice(first, None)
     dp = {**cosim.HIL_DAMPER_PARAMETERS, **damper}
+    if s["mode"] == "tracking":
+        truck = {**tracking_parameters(s), **truck}
     res = cosim.simulate_one(case.z_road, case.v_road, step, case.t.size - 1, MODES[s["mode"]], truck, dp,
                              truck_fmu=truck_fmu, damper_fmu=damper_fmu)
     out = hil_scenarios.vehicle_metrics(res, window, _static_load(truck_unit, truck))
@@ -298,7 +306,33 @@ def run_hil(point: dict[str, Any], seed: int, truck_fmu: Path, damper_fmu: Path)
                    compression_bias=tr["compression"]["mean_error"],
                    compression_below=tr["compression"]["fraction_below"],
                    force_peak_hz=pk["peak_above_3Hz"], force_peak_wheel_hop_hz=pk["peak_wheel_hop_band"])
+        # the force on the masses (one communication step after the damper's, Jacobi) against the demand
+        fitted = tracking_quality.fit(res["F_demand"][window], res["F_suspension"][window], res["v_damper"][window],
+                                      step)
+        for direction, tr_fit in fitted.items():
+            out[f"tracking_delay_{direction}"] = tr_fit.delay
+            out[f"tracking_bandwidth_{direction}"] = tr_fit.bandwidth
+            out[f"tracking_fit_error_{direction}"] = tr_fit.fit_error_rms / tr_fit.error_rms
     return {m: float(out.get(m, math.nan)) for m in HIL_METRICS}
+
+
+def tracking_parameters(settings: dict[str, Any]) -> dict[str, float]:
+    """QuarterTruck.fmu's tracking-damper parameters from a point's `tracking_delay` (s),
+    `tracking_bandwidth` (Hz; inf: no lag) and `tracking_direction` (both, extension or compression:
+    the other direction then tracks ideally)."""
+    direction = settings["tracking_direction"]
+    if direction not in TRACKING_DIRECTIONS:
+        raise SweepError(f"tracking_direction must be one of {TRACKING_DIRECTIONS}, not {direction!r}")
+    delay, bandwidth = float(settings["tracking_delay"]), float(settings["tracking_bandwidth"])
+    if not (delay >= 0 and bandwidth > 0):
+        raise SweepError(f"tracking_delay must be >= 0 s and tracking_bandwidth > 0 Hz, not {delay}, {bandwidth}")
+    tau = 0.0 if math.isinf(bandwidth) else 1 / (2 * math.pi * bandwidth)
+    out = {}
+    for side in ("extension", "compression"):
+        on = direction in ("both", side)
+        out[f"tracking_delay_{side}"] = delay if on else 0.0
+        out[f"tracking_time_constant_{side}"] = tau if on else 0.0
+    return out
 
 
 def run_full_truck(point: dict[str, Any], seed: int, truck_fmu: Path, damper_fmu: Path) -> dict[str, float]:

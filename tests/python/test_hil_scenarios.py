@@ -56,11 +56,14 @@ def test_damper_fmu_tracking_asymmetry_has_the_papers_sign(minor_14):
 
 
 def test_metric_definitions():
-    res = {"a_body": np.array([0.0, 1.0, -1.0, 1.0, -1.0]), "F_tyre": np.array([9.0, 100.0, -100.0, 100.0, -100.0]),
+    res = {"time": np.arange(5) * 1e-3,
+           "a_body": np.array([0.0, 1.0, -1.0, 1.0, -1.0]), "F_tyre": np.array([9.0, 100.0, -100.0, 100.0, -100.0]),
            "x_damper": np.array([0.0, 0.01, -0.02, 0.01, 0.0]), "F_suspension": np.zeros(5),
            "v_damper": np.array([0.0, 0.1, -0.3, 0.2, 0.0])}
     m = hil_scenarios.vehicle_metrics(res, slice(1, None), static_load=1000.0)
     assert m["a_body_rms"] == 1.0 and m["DLC"] == pytest.approx(0.1)
+    # ±100 N on 1000 N: (1.1⁴ + 0.9⁴)/2
+    assert m["road_stress"] == pytest.approx((1.1**4 + 0.9**4) / 2)
     assert m["x_damper_peak"] == 0.02 and m["v_damper_max"] == 0.3
     tr = hil_scenarios.tracking_metrics(force=[2000.0, 600.0, -1000.0, -3000.0],
                                         demand=[1000.0, 1000.0, -2000.0, -2000.0], v=[0.1, 0.1, -0.1, -0.1])

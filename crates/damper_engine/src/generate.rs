@@ -583,7 +583,8 @@ fn hil_run(
     rng: &mut Rng,
     noise_rng: &mut Rng,
 ) -> Result<HilRun, String> {
-    use quarter_truck::truck::{Inputs as TruckInputs, Params as TruckParams};
+    use quarter_truck::tracking::DemandHistory;
+    use quarter_truck::truck::{At, Inputs as TruckInputs, Params as TruckParams};
     let gd0 = road_gd0(&o.road)?;
     let n_waves = 300;
     let (n_lo, n_hi) = (0.01f64, 10.0f64);
@@ -603,13 +604,15 @@ fn hil_run(
         env * waves.iter().map(|(amp, w, ph)| amp * libm::cos(w * s + ph)).sum::<f64>()
     };
     let truck = TruckParams::default();
-    let mut y = [truck.z_body_start, truck.v_body_start, truck.z_axle_start, truck.v_axle_start];
+    let mut y = truck.start_state();
+    // the truck's own damper modes are not used here: its demand needs no past
+    let mut past = DemandHistory::default();
     let n = t.len();
     let (mut v, mut v_true, mut demand) = (Vec::with_capacity(n), Vec::with_capacity(n), Vec::with_capacity(n));
     let mut damper: Option<Damper> = None;
     let mut z_now = z_road(t[0]);
     for k in 0..n {
-        let probe = truck.evaluate(&TruckInputs::default(), &y, 0.0);
+        let probe = truck.evaluate(&TruckInputs::default(), &y, At { step_start: t[k], since_step: 0.0, past: &past });
         let v_rel = y[1] - y[3];
         let v_measured = measure(&[v_rel], o.noise.v_damper, noise_rng)[0];
         let f_dem = (probe.f_demand * 10.0).round() / 10.0;
@@ -632,7 +635,7 @@ fn hil_run(
             let h = t[k + 1] - t[k];
             let z_next = z_road(t[k + 1]);
             let u = TruckInputs { z_road: z_now, v_road: (z_next - z_now) / h, f_damper: load_cell };
-            truck.advance(&u, &mut y, h);
+            truck.advance(&u, &mut y, h, t[k], &mut past);
             z_now = z_next;
         }
     }

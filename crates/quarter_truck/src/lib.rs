@@ -3,6 +3,7 @@
 //! demand out, so it connects output-to-input with `SemiActiveDamper.fmu`.
 //!
 //! - [`truck`]: the equations of motion, the MSD law and the RK4 integration (safe Rust, SI);
+//! - [`tracking`]: the idealised tracking damper (delay and lag per direction) of `damper_mode` 3;
 //! - [`variables`]: the binding of `modelDescription.xml`'s variables onto the parameters, inputs and
 //!   outputs (exhaustive matches over the generated enums);
 //! - [`limits`]: the step limit and the RK4 stability check of the parameters;
@@ -12,6 +13,7 @@
 pub mod limits;
 pub mod slave;
 pub mod snapshot;
+pub mod tracking;
 pub mod truck;
 pub mod variables;
 

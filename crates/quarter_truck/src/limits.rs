@@ -1,6 +1,6 @@
 //! What keeps the truck's steps bounded and its explicit integration stable (docs/robustness.md).
 
-use crate::truck::Params;
+use crate::truck::{Params, MODE_IDEAL, MODE_PASSIVE, MODE_TRACKING};
 
 /// Most RK4 steps in one communication step: 2500 s at the default h_max of 0.25 ms.
 pub const MAX_SUBSTEPS: f64 = 1e7;
@@ -16,17 +16,19 @@ impl Params {
     /// A bound on the largest |eigenvalue| (1/s) of the truck with its damper law: with
     /// K = M⁻¹·stiffness and C = M⁻¹·damping, λ²x + λCx + Kx = 0 gives
     /// |λ| ≤ (‖C‖ + sqrt(‖C‖² + 4‖K‖))/2 in the row-sum norm. The MSD law adds at most Cm
-    /// (clipped to 0 or applied), an external damper force nothing.
+    /// (clipped to its floor c_min or applied), an external damper force nothing; the tracking
+    /// damper's lags have eigenvalues −1/τ.
     pub fn eigenvalue_bound(&self) -> f64 {
         let c = self.c_susp
             + match self.damper_mode {
-                1 => self.cm,
-                2 => self.c_passive,
+                MODE_IDEAL | MODE_TRACKING => self.cm.max(self.c_min),
+                MODE_PASSIVE => self.c_passive,
                 _ => 0.0,
             };
         let k = (2.0 * self.k_susp / self.m_body).max((2.0 * self.k_susp + self.k_tyre) / self.m_axle);
         let c = (2.0 * c / self.m_body).max((2.0 * c + self.c_tyre) / self.m_axle);
-        0.5 * (c + (c * c + 4.0 * k).sqrt())
+        let lag = if self.damper_mode == MODE_TRACKING { self.tracking().fastest_rate() } else { 0.0 };
+        (0.5 * (c + (c * c + 4.0 * k).sqrt())).max(lag)
     }
 
     /// Refuses parameters for which RK4 with steps of `h_max` could be unstable.
@@ -35,7 +37,8 @@ impl Params {
         if z > RK4_STABLE_RADIUS {
             return Err(format!(
                 "h_max·|λ|max = {z:.3} exceeds RK4's stable {RK4_STABLE_RADIUS}: lower h_max, or the stiffness or \
-                 damping (k_susp, k_tyre, c_susp, c_tyre, Cm/c_passive) against the masses (m_body, m_axle)"
+                 damping (k_susp, k_tyre, c_susp, c_tyre, Cm/c_passive/c_min) against the masses (m_body, m_axle), \
+                 or a tracking_time_constant_* shorter than h_max/2.5"
             ));
         }
         Ok(())
@@ -48,7 +51,7 @@ mod tests {
 
     #[test]
     fn the_defaults_are_far_inside_the_stable_region() {
-        for damper_mode in 0..=2 {
+        for damper_mode in 0..=3 {
             let p = Params { damper_mode, ..Params::default() };
             assert!(p.h_max * p.eigenvalue_bound() < 0.1, "mode {damper_mode}");
             assert!(p.validate().is_ok());

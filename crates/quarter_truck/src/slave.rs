@@ -6,7 +6,8 @@
 use crate::limits::MAX_SUBSTEPS;
 use crate::model_description::{BooleanVar, Causality, IntegerVar, RealVar, CAN_INTERPOLATE_INPUTS, GUID};
 use crate::snapshot::MAGIC;
-use crate::truck::{Evaluation, Inputs, Params, State};
+use crate::tracking::DemandHistory;
+use crate::truck::{At, Evaluation, Inputs, Params, State, MODE_TRACKING};
 use crate::variables::{real_input, real_output};
 use fmi2_slave::snapshot;
 use fmi2_slave::{check_integer, check_real, Model, ToleranceNote, VarInfo};
@@ -17,6 +18,8 @@ pub struct Slave {
     pub(crate) params: Params,
     pub(crate) inputs: Inputs,
     pub(crate) y: State,
+    /// The clipped demand's past, for the tracking damper's delay.
+    pub(crate) past: DemandHistory,
     pub(crate) time: f64,
     pub(crate) initialized: bool,
 }
@@ -31,7 +34,8 @@ impl Slave {
     /// stored: outputs use the held inputs).
     fn evaluation(&self) -> (State, Evaluation) {
         let y = if self.initialized { self.y } else { self.params.start_state() };
-        (y, self.params.evaluate(&self.inputs, &y, 0.0))
+        let at = At { step_start: self.time, since_step: 0.0, past: &self.past };
+        (y, self.params.evaluate(&self.inputs, &y, at))
     }
 
     /// Whether every output is a finite number.
@@ -54,8 +58,12 @@ impl Slave {
         }
         let mode = IntegerVar::DamperMode;
         check_integer(mode.name(), self.params.damper_mode, mode.min(), mode.max())?;
-        if !self.y.iter().chain([&self.time]).all(|x| x.is_finite()) {
+        let past = self.past.time.iter().chain(&self.past.demand);
+        if !self.y.iter().chain([&self.time]).chain(past).all(|x| x.is_finite()) {
             return Err("a state or the time is not finite".into());
+        }
+        if self.past.len > crate::tracking::HISTORY || self.past.newest >= crate::tracking::HISTORY {
+            return Err("the demand's past has an index beyond its ring".into());
         }
         if self.initialized {
             self.params.validate()?;
@@ -152,6 +160,7 @@ impl Model for Slave {
     fn initialize(&mut self, start_time: f64) -> Result<(), String> {
         self.params.validate()?;
         self.y = self.params.start_state();
+        self.past = DemandHistory::default();
         self.time = start_time;
         self.initialized = true;
         Ok(())
@@ -169,17 +178,25 @@ impl Model for Slave {
         if self.params.substeps(h) > MAX_SUBSTEPS {
             return Err("more than 1e7 integration steps (h/h_max) in one step");
         }
+        let dt = h / self.params.substeps(h);
+        if self.params.damper_mode == MODE_TRACKING && self.params.tracking().longest_delay() > DemandHistory::span(dt)
+        {
+            return Err("a tracking delay longer than the demand's past holds (510 internal steps of the step \
+                        divided by h_max): raise h_max or shorten tracking_delay_*");
+        }
         Ok(())
     }
 
     fn do_step(&mut self, h: f64) -> Result<Option<Self::StepWarning>, &'static str> {
         let saved = *self;
         let mut y = self.y;
-        self.params.advance(&self.inputs, &mut y, h);
+        let mut past = self.past;
+        self.params.advance(&self.inputs, &mut y, h, self.time, &mut past);
         if !y.iter().all(|x| x.is_finite()) {
             return Err("non-finite state");
         }
         self.y = y;
+        self.past = past;
         // the road input is extrapolated over the step; hold its end value for the outputs
         self.inputs.z_road += self.inputs.v_road * h;
         self.time += h;

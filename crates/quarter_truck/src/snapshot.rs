@@ -3,15 +3,16 @@
 //! (destructuring makes a new field of the others a compile error until it is visited here).
 
 use crate::slave::Slave;
+use crate::tracking::DemandHistory;
 use crate::truck::Inputs;
-use fmi2_slave::snapshot::{boolean, int32, Visit, Visitor};
+use fmi2_slave::snapshot::{boolean, int32, uint, Visit, Visitor};
 
 /// Tag of a serialised quarter-truck state.
-pub const MAGIC: &[u8; 8] = b"QTRUCK01";
+pub const MAGIC: &[u8; 8] = b"QTRUCK02";
 
 impl Visit for Slave {
     fn visit<V: Visitor>(&mut self, v: &mut V) {
-        let Slave { params, inputs, y, time, initialized } = self;
+        let Slave { params, inputs, y, past, time, initialized } = self;
         // the parameters in the generated field lists' order (Integers, then Reals, each in XML order)
         for i in params.integer_fields_mut() {
             int32(v, i);
@@ -23,6 +24,12 @@ impl Visit for Slave {
         for x in [z_road, v_road, f_damper].into_iter().chain(y.iter_mut()) {
             v.real(x);
         }
+        let DemandHistory { time: past_time, demand, newest, len } = past;
+        for x in past_time.iter_mut().chain(demand.iter_mut()) {
+            v.real(x);
+        }
+        uint(v, newest);
+        uint(v, len);
         v.real(time);
         boolean(v, initialized);
     }

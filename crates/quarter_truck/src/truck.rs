@@ -3,11 +3,15 @@
 //! ```text
 //! M_s z̈_s = −F_s,          F_s = k_s (z_s − z_u) + c_s (ż_s − ż_u) + F      (F: damper, tension +)
 //! M_u z̈_u = F_s + F_t,     F_t = k_t (z_r − z_u) + c_t (ż_r − ż_u)          (tyre, compression +)
-//! clipped MSD (paper eqs. 1–2): F_d = C_m [α V_rel + (1 − α) V_body] if F_d·V_rel > 0, else 0,
+//! clipped MSD (paper eqs. 1–2): F_d = C_m [α V_rel + (1 − α) V_body] where it resists V_rel at
+//!                               least as much as c_min V_rel, else c_min V_rel (the paper: c_min = 0),
 //!                               V_rel = ż_s − ż_u (extension +),  V_body = ż_s
 //! ```
 //! The road is z_r(t) = z_road + v_road (t − t_k) over a communication step from t_k; the damper
-//! force input is held. Integration: classical RK4 with equal steps ≤ `h_max`.
+//! force input is held. The tracking damper (`damper_mode` 3, [`crate::tracking`]) adds two lag
+//! states and the demand's past. Integration: classical RK4 with equal steps ≤ `h_max`.
+
+use crate::tracking::{dissipative, DemandHistory, Tracking, COMPRESSION, EXTENSION};
 
 /// Parameters (SI): generated from `modelDescription.xml`, which documents them, one field per
 /// parameter (its name in lower case); `Default` gives the XML's start values.
@@ -24,17 +28,19 @@ pub struct Inputs {
     pub f_damper: f64,
 }
 
-/// States [z_body, v_body, z_axle, v_axle] (m, m/s, m, m/s).
-pub type State = [f64; 4];
+/// States [z_body, v_body, z_axle, v_axle, f_extension, f_compression] (m, m/s, m, m/s, N, N): the
+/// last two are the tracking damper's lag states (0 in the other modes).
+pub type State = [f64; 6];
 
-/// Clipped Modified Skyhook demand (N) for relative velocity `v_rel` and body velocity `v_body`.
-pub fn msd_demand(cm: f64, alpha: f64, v_rel: f64, v_body: f64) -> f64 {
-    let f = cm * (alpha * v_rel + (1.0 - alpha) * v_body);
-    if f * v_rel > 0.0 {
-        f
-    } else {
-        0.0
-    }
+/// The damper modes of `damper_mode`.
+pub const MODE_IDEAL: i32 = 1;
+pub const MODE_PASSIVE: i32 = 2;
+pub const MODE_TRACKING: i32 = 3;
+
+/// Clipped Modified Skyhook demand (N) for relative velocity `v_rel` and body velocity `v_body`,
+/// with the floor `c_min·v_rel`.
+pub fn msd_demand(cm: f64, alpha: f64, c_min: f64, v_rel: f64, v_body: f64) -> f64 {
+    dissipative(cm * (alpha * v_rel + (1.0 - alpha) * v_body), v_rel, c_min)
 }
 
 /// Everything evaluated at one state and time.
@@ -49,41 +55,84 @@ pub struct Evaluation {
     pub f_demand: f64,
 }
 
+/// When an evaluation is: `since_step` (s) after the start of the communication step (the road's
+/// extrapolation), at the absolute time `step_start + since_step`, with the demand's past before it.
+#[derive(Clone, Copy, Debug)]
+pub struct At<'a> {
+    pub step_start: f64,
+    pub since_step: f64,
+    pub past: &'a DemandHistory,
+}
+
 impl Params {
-    /// Derivatives and forces at state `y`, `t` (s) after the start of the communication step.
-    pub fn evaluate(&self, u: &Inputs, y: &State, t: f64) -> Evaluation {
-        let [z_s, v_s, z_u, v_u] = *y;
+    /// The tracking damper's delays, lags and floor.
+    pub fn tracking(&self) -> Tracking {
+        Tracking {
+            delay: [self.tracking_delay_extension, self.tracking_delay_compression],
+            time_constant: [self.tracking_time_constant_extension, self.tracking_time_constant_compression],
+            c_min: self.c_min,
+        }
+    }
+
+    /// The clipped MSD demand (N) at state `y`.
+    pub fn demand(&self, y: &State) -> f64 {
+        msd_demand(self.cm, self.alpha, self.c_min, y[1] - y[3], y[1])
+    }
+
+    /// Derivatives and forces at state `y` and time `at`.
+    pub fn evaluate(&self, u: &Inputs, y: &State, at: At<'_>) -> Evaluation {
+        let [z_s, v_s, z_u, v_u, lag_e, lag_c] = *y;
         let v_rel = v_s - v_u;
-        let f_demand = msd_demand(self.cm, self.alpha, v_rel, v_s);
+        let f_demand = self.demand(y);
+        let mut lag_rates = [0.0; 2];
         let f_suspension = match self.damper_mode {
-            1 => f_demand,
-            2 => self.c_passive * v_rel,
+            MODE_IDEAL => f_demand,
+            MODE_PASSIVE => self.c_passive * v_rel,
+            MODE_TRACKING => {
+                let tracking = self.tracking();
+                let delayed = tracking.delayed(at.past, at.step_start + at.since_step, f_demand);
+                lag_rates = tracking.lag_rates([lag_e, lag_c], delayed);
+                tracking.force(tracking.paths([lag_e, lag_c], delayed), v_rel)
+            }
             _ => u.f_damper,
         };
         let f_s = self.k_susp * (z_s - z_u) + self.c_susp * v_rel + f_suspension;
-        let z_r = u.z_road + u.v_road * t;
+        let z_r = u.z_road + u.v_road * at.since_step;
         let f_tyre = self.k_tyre * (z_r - z_u) + self.c_tyre * (u.v_road - v_u);
         Evaluation {
-            dydt: [v_s, -f_s / self.m_body, v_u, (f_s + f_tyre) / self.m_axle],
+            dydt: [
+                v_s,
+                -f_s / self.m_body,
+                v_u,
+                (f_s + f_tyre) / self.m_axle,
+                lag_rates[EXTENSION],
+                lag_rates[COMPRESSION],
+            ],
             f_suspension,
             f_tyre,
             f_demand,
         }
     }
 
-    /// Advances `y` over `h` (s) from the start of a communication step, in
+    /// Advances `y` over `h` (s) from the start of a communication step at `step_start` (s), in
     /// [`Params::substeps`] equal steps (the slave refuses a step of more than
-    /// [`crate::limits::MAX_SUBSTEPS`]; this caps them there too).
-    pub fn advance(&self, u: &Inputs, y: &mut State, h: f64) {
+    /// [`crate::limits::MAX_SUBSTEPS`]; this caps them there too). The tracking damper's demand is
+    /// kept in `past` at the start of each step.
+    pub fn advance(&self, u: &Inputs, y: &mut State, h: f64, step_start: f64, past: &mut DemandHistory) {
         let n = self.substeps(h).min(crate::limits::MAX_SUBSTEPS) as usize;
         let dt = h / n as f64;
         let add = |y: &State, k: &State, s: f64| -> State { std::array::from_fn(|i| y[i] + s * k[i]) };
         for step in 0..n {
             let t = step as f64 * dt;
-            let k1 = self.evaluate(u, y, t).dydt;
-            let k2 = self.evaluate(u, &add(y, &k1, 0.5 * dt), t + 0.5 * dt).dydt;
-            let k3 = self.evaluate(u, &add(y, &k2, 0.5 * dt), t + 0.5 * dt).dydt;
-            let k4 = self.evaluate(u, &add(y, &k3, dt), t + dt).dydt;
+            if self.damper_mode == MODE_TRACKING {
+                past.push(step_start + t, self.demand(y));
+            }
+            let past = &*past;
+            let at = |since_step| At { step_start, since_step, past };
+            let k1 = self.evaluate(u, y, at(t)).dydt;
+            let k2 = self.evaluate(u, &add(y, &k1, 0.5 * dt), at(t + 0.5 * dt)).dydt;
+            let k3 = self.evaluate(u, &add(y, &k2, 0.5 * dt), at(t + 0.5 * dt)).dydt;
+            let k4 = self.evaluate(u, &add(y, &k3, dt), at(t + dt)).dydt;
             *y = std::array::from_fn(|i| y[i] + dt / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]));
         }
     }
@@ -111,12 +160,81 @@ mod tests {
         }
     }
 
+    /// Runs `p` for `n` communication steps of 1 ms over a 1.5 Hz road of 1 cm; per step the force
+    /// on the masses, the demand and the damper velocity at its end.
+    fn run(p: &Params, n: usize) -> Vec<(f64, f64, f64)> {
+        let (mut y, mut past) = (p.start_state(), DemandHistory::default());
+        let road = |t: f64| 0.01 * (2.0 * std::f64::consts::PI * 1.5 * t).sin();
+        (0..n)
+            .map(|k| {
+                let t = k as f64 * 1e-3;
+                let u = Inputs { z_road: road(t), v_road: (road(t + 1e-3) - road(t)) / 1e-3, f_damper: 0.0 };
+                p.advance(&u, &mut y, 1e-3, t, &mut past);
+                let at = At { step_start: t + 1e-3, since_step: 0.0, past: &past };
+                let e = p.evaluate(&u, &y, at);
+                (e.f_suspension, e.f_demand, y[1] - y[3])
+            })
+            .collect()
+    }
+
+    #[test]
+    fn no_delay_and_no_lag_is_the_ideal_damper() {
+        let ideal = run(&Params { damper_mode: MODE_IDEAL, ..table1() }, 3000);
+        let tracking = run(&Params { damper_mode: MODE_TRACKING, ..table1() }, 3000);
+        assert!(ideal.iter().any(|r| r.0.abs() > 1e3), "the road works the damper");
+        assert!(ideal.iter().zip(&tracking).all(|(a, b)| a.0.to_bits() == b.0.to_bits()));
+    }
+
+    #[test]
+    fn a_lag_that_never_moves_is_the_passive_floor() {
+        let c_min = 3000.0;
+        let passive = run(&Params { damper_mode: MODE_PASSIVE, c_passive: c_min, ..table1() }, 3000);
+        let slow = Params {
+            damper_mode: MODE_TRACKING,
+            c_min,
+            tracking_time_constant_extension: 1e9,
+            tracking_time_constant_compression: 1e9,
+            ..table1()
+        };
+        let tracking = run(&slow, 3000);
+        let scale = passive.iter().map(|r| r.0.abs()).fold(0.0, f64::max);
+        assert!(scale > 50.0, "the floor works: {scale} N");
+        for (a, b) in passive.iter().zip(&tracking) {
+            assert!((a.0 - b.0).abs() < 1e-6 * scale, "{} against {}", b.0, a.0);
+        }
+    }
+
+    #[test]
+    fn the_force_is_the_demand_of_a_delay_before() {
+        // 5 ms in extension, 12 ms in compression: whole internal steps, where the past is exact
+        let p = Params {
+            damper_mode: MODE_TRACKING,
+            tracking_delay_extension: 5e-3,
+            tracking_delay_compression: 12e-3,
+            ..table1()
+        };
+        let r = run(&p, 3000);
+        let (mut extension, mut compression) = (0, 0);
+        for k in 20..r.len() {
+            let (force, _, v) = r[k];
+            let back = if v > 0.0 { 5 } else { 12 };
+            let expected = dissipative(r[k - back].1, v, 0.0);
+            assert!((force - expected).abs() < 1e-9 * (1.0 + expected.abs()), "step {k}: {force} against {expected}");
+            extension += (v > 0.0 && force > 0.0) as usize;
+            compression += (v < 0.0 && force < 0.0) as usize;
+        }
+        assert!(extension > 100 && compression > 100, "{extension} {compression}");
+    }
+
     #[test]
     fn msd_is_clipped_to_dissipation() {
-        assert!((msd_demand(24e3, 0.8, 0.1, 0.0) - 1920.0).abs() < 1e-9);
+        assert!((msd_demand(24e3, 0.8, 0.0, 0.1, 0.0) - 1920.0).abs() < 1e-9);
         // body moving up fast while the damper compresses slowly: demand would push, so 0
-        assert_eq!(msd_demand(24e3, 0.8, -0.01, 0.5), 0.0);
-        assert_eq!(msd_demand(24e3, 0.8, 0.0, 0.3), 0.0);
+        assert_eq!(msd_demand(24e3, 0.8, 0.0, -0.01, 0.5), 0.0);
+        assert_eq!(msd_demand(24e3, 0.8, 0.0, 0.0, 0.3), 0.0);
+        // with a floor: the floor where the law asks for less or pushes
+        assert_eq!(msd_demand(24e3, 0.8, 5e3, -0.01, 0.5), -50.0);
+        assert!((msd_demand(24e3, 0.8, 5e3, 0.1, -0.3) - 500.0).abs() < 1e-9);
     }
 
     #[test]
@@ -128,10 +246,11 @@ mod tests {
                 + 0.5 * p.k_susp * (y[0] - y[2]).powi(2)
                 + 0.5 * p.k_tyre * y[2] * y[2]
         };
-        let mut y = [0.01, 0.0, 0.0, 0.0];
+        let mut y = [0.01, 0.0, 0.0, 0.0, 0.0, 0.0];
+        let mut past = DemandHistory::default();
         let e0 = energy(&y);
         for _ in 0..2000 {
-            p.advance(&Inputs::default(), &mut y, 1e-3);
+            p.advance(&Inputs::default(), &mut y, 1e-3, 0.0, &mut past);
         }
         assert!((energy(&y) - e0).abs() < 1e-6 * e0, "energy drift {}", energy(&y) / e0 - 1.0);
     }
@@ -140,9 +259,9 @@ mod tests {
     fn static_road_offset_is_followed() {
         // a constant road height of 1 cm: with passive damping both masses settle 1 cm up
         let p = Params { c_passive: 20e3, ..table1() };
-        let mut y = [0.0; 4];
+        let (mut y, mut past) = ([0.0; 6], DemandHistory::default());
         for _ in 0..10_000 {
-            p.advance(&Inputs { z_road: 0.01, ..Default::default() }, &mut y, 1e-3);
+            p.advance(&Inputs { z_road: 0.01, ..Default::default() }, &mut y, 1e-3, 0.0, &mut past);
         }
         assert!((y[0] - 0.01).abs() < 1e-6 && (y[2] - 0.01).abs() < 1e-6, "{y:?}");
     }

@@ -3,6 +3,8 @@
 //! generates from the XML; the test checks that every variable is mapped once.
 
 use crate::model_description::RealVar;
+#[cfg(test)]
+use crate::truck::At;
 use crate::truck::{Evaluation, Inputs, Params, State};
 
 pub fn real_input(u: &mut Inputs, v: RealVar) -> Option<&mut f64> {
@@ -35,7 +37,7 @@ pub fn real_output(y: &State, e: &Evaluation, v: RealVar) -> Option<f64> {
 impl Params {
     /// The state at initialisation, from the `*_start` parameters.
     pub fn start_state(&self) -> State {
-        [self.z_body_start, self.v_body_start, self.z_axle_start, self.v_axle_start]
+        [self.z_body_start, self.v_body_start, self.z_axle_start, self.v_axle_start, 0.0, 0.0]
     }
 }
 
@@ -47,7 +49,8 @@ mod tests {
     fn every_real_variable_is_mapped_once() {
         let (mut p, mut u) = (Params::default(), Inputs::default());
         let y = p.start_state();
-        let e = p.evaluate(&u, &y, 0.0);
+        let past = crate::tracking::DemandHistory::default();
+        let e = p.evaluate(&u, &y, At { step_start: 0.0, since_step: 0.0, past: &past });
         for v in RealVar::ALL {
             let n = p.real_mut(v).is_some() as u8
                 + real_input(&mut u, v).is_some() as u8

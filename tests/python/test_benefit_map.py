@@ -1,0 +1,99 @@
+"""The semi-active benefit map (damper_tools.benefit_map, docs/benefit-map.md): the packaged truck's
+idealised tracking damper against its hand results at both ends, the fit of a damper's tracking on a
+record it did not make, the comparison rule, and the command on a small grid."""
+
+import math
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from damper_tools import benefit_map, cosim, roads, sweep, tracking_quality
+
+
+@pytest.fixture(scope="module")
+def paths(fmus):
+    return {"truck": fmus["truck_fmu"], "damper": fmus["damper_fmu"]}
+
+
+def hil(paths, **point):
+    return sweep.run_hil({"duration": 3.0, "settle": 1.0, **point}, 11, paths["truck"], paths["damper"])
+
+
+def test_no_delay_and_no_lag_is_the_ideal_damper(paths):
+    ideal = hil(paths, mode="ideal")
+    tracking = hil(paths, mode="tracking", tracking_delay=0.0, tracking_bandwidth=math.inf)
+    assert ideal["a_body_rms"] > 0.3
+    for m in ("a_body_rms", "a_body_wk_rms", "DLC", "road_stress", "x_damper_peak"):
+        assert tracking[m] == ideal[m], m
+
+
+def test_a_lag_that_never_moves_is_the_passive_floor(paths):
+    floor = hil(paths, mode="passive", c_passive=6e3)
+    slow = hil(paths, mode="tracking", c_min=6e3, tracking_delay=0.01, tracking_bandwidth=1e-9)
+    for m in ("a_body_rms", "DLC", "road_stress", "x_damper_peak"):
+        assert slow[m] == pytest.approx(floor[m], rel=1e-6), m
+    # and the demand law's own floor: the ideal damper with c_min never dissipates less
+    assert hil(paths, mode="ideal", c_min=6e3)["DLC"] != hil(paths, mode="ideal")["DLC"]
+
+
+def test_a_delay_costs_ride(paths):
+    ideal = hil(paths, mode="tracking")
+    late = hil(paths, mode="tracking", tracking_delay=0.02, tracking_bandwidth=20.0)
+    assert late["a_body_rms"] > 1.05 * ideal["a_body_rms"]
+
+
+def test_the_fit_finds_the_tracking_of_a_record_it_did_not_make(fmus):
+    """The truck's tracking damper (RK4, the delay interpolated at 0.25 ms, a continuous lag) with 7 ms
+    and 30 Hz in extension, 12 ms and 15 Hz in compression; the fit knows whole 1 ms samples and a
+    discrete lag."""
+    case = roads.road_case("minor", 14.0, 10.0, 3, step=1e-3, fade_in=1.0)
+    truth = {"tracking_delay_extension": 0.007, "tracking_delay_compression": 0.012,
+             "tracking_time_constant_extension": 1 / (2 * math.pi * 30), "tracking_time_constant_compression":
+             1 / (2 * math.pi * 15)}
+    r = cosim.simulate_one(case.z_road, case.v_road, 1e-3, case.t.size - 1, cosim.MODE_TRACKING, truth,
+                           truck_fmu=fmus["truck_fmu"])
+    w = slice(2000, None)
+    fit = tracking_quality.fit(r["F_demand"][w], r["F_suspension"][w], r["v_damper"][w], 1e-3)
+    for side, delay, bandwidth in (("extension", 0.007, 30.0), ("compression", 0.012, 15.0)):
+        assert fit[side].delay == pytest.approx(delay, abs=1.01e-3), side
+        assert fit[side].bandwidth == pytest.approx(bandwidth, rel=0.25), side
+        assert fit[side].fit_error_rms < 0.1 * fit[side].error_rms, side
+
+
+def test_the_benefit_is_over_the_best_riding_passive_damper():
+    passive = pd.DataFrame({"road": "minor", "speed": 14.0, "c_passive": [10e3, 20e3, 30e3],
+                            "a_body_rms": [1.00, 0.90, 0.95], "a_body_wk_rms": [0.70, 0.66, 0.65],
+                            "DLC": [0.12, 0.11, 0.10]})
+    rows = pd.DataFrame({"road": "minor", "speed": 14.0, "a_body_rms": [0.81, 0.99], "a_body_wk_rms": [0.65, 0.52],
+                         "DLC": [0.099, 0.121]})
+    b = benefit_map.benefits(rows, passive)
+    # plain: against 20 kNs/m (0.90 m/s², DLC 0.11); Wk: against 30 kNs/m (0.65, DLC 0.10)
+    assert b["benefit"].tolist() == pytest.approx([0.10, -0.10])
+    assert b["dlc_change"].tolist() == pytest.approx([0.099 / 0.11 - 1, 0.121 / 0.11 - 1])
+    assert b["benefit_wk"].tolist() == pytest.approx([0.0, 0.2])
+    assert b["dlc_change_wk"].tolist() == pytest.approx([-0.01, 0.21])
+
+
+def test_tracking_settings_are_checked():
+    with pytest.raises(sweep.SweepError, match="tracking_direction"):
+        sweep.tracking_parameters({"tracking_direction": "rebound", "tracking_delay": 0.0,
+                                   "tracking_bandwidth": math.inf})
+    p = sweep.tracking_parameters({"tracking_direction": "compression", "tracking_delay": 0.01,
+                                   "tracking_bandwidth": 50.0})
+    assert p["tracking_delay_extension"] == 0.0 and p["tracking_delay_compression"] == 0.01
+    assert p["tracking_time_constant_compression"] == pytest.approx(1 / (2 * math.pi * 50))
+
+
+def test_the_command_writes_its_tables_and_maps(paths, tmp_path):
+    grid = benefit_map.Grid(roads=("minor",), speeds=(14.0,), delays=(0.0, 0.01), bandwidths=(20.0, math.inf),
+                            c_passive=(15e3, 25e3, 35e3), duration=3.0)
+    results = benefit_map.run(grid, tmp_path, paths)
+    for name in ("map.parquet", "passive.parquet", "fmu.parquet", "table.md", "results.json",
+                 "benefit_map_headline.png", "benefit_wk_map_headline.png", "benefit_map_cases.png", "demand_laws.png"):
+        assert (tmp_path / name).is_file(), name
+    m = pd.DataFrame(results["map"])
+    assert len(m) == 3 * 2 * 2
+    ideal = m[(m["tracking_delay"] == 0) & np.isinf(m["tracking_bandwidth"].astype(float))]
+    assert ideal["a_body_rms"].nunique() == 1, "the ideal point is the same run in every direction"
+    assert "minor, 14 m/s" in (tmp_path / "table.md").read_text()
