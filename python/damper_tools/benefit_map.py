@@ -23,7 +23,7 @@ import argparse
 import math
 import shutil
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -39,8 +39,15 @@ C_PASSIVE = tuple(float(c) for c in hil_scenarios.C_PASSIVE)  # N s/m
 ROADS = ("minor", "major", "motorway")
 SPEEDS = (14.0, 20.0, 25.0)  # m/s
 HEADLINE = ("minor", 14.0)
-LAW_ALPHAS = (0.0, 0.2, 0.4, 0.6, 0.8, 1.0)  # Modified Skyhook blends tried on the headline case
-LAW_CMS = (12e3, 24e3, 36e3, 48e3)  # N s/m
+LAW_ALPHAS = (0.0, 0.2, 0.4, 0.6, 0.8, 1.0)  # Modified Skyhook blends
+LAW_CMS = (12e3, 24e3, 36e3, 48e3, 60e3, 72e3)  # N s/m
+# the damper FMU's force-loop gains (defaults Kp_F 0.3, Ki_F 6/s) with the laws that suit it best
+CONTROLLER = {"Cm": (36e3, 48e3, 60e3), "alpha": (0.1, 0.2, 0.3), "Kp_F": (0.3, 1.0), "Ki_F": (0.0, 6.0)}
+# the non-linear passive family: extension slope (N s/m), compression/extension, knee (m/s; 1000: none),
+# slope above the knee / below
+NONLINEAR = {"c_passive": (10e3, 15e3, 20e3, 25e3, 30e3, 40e3, 50e3),
+             "passive_compression_ratio": (0.33, 0.5, 0.75, 1.0),
+             "passive_v_knee": (0.05, 0.15, 1000.0), "passive_high_speed_ratio": (0.3, 0.6)}
 TARGET = 0.08  # the ride benefit asked for (issue 34), at a DLC no worse
 SEED = 2034
 METRICS = ["a_body_rms", "a_body_wk_rms", "DLC", "road_stress", "x_damper_rms", "x_damper_peak"]
@@ -62,16 +69,21 @@ class Grid:
     alpha: float = 0.8
     law_alphas: Sequence[float] = LAW_ALPHAS
     law_cms: Sequence[float] = LAW_CMS
+    nonlinear: dict[str, Sequence[float]] = field(default_factory=lambda: dict(NONLINEAR))
+    controller: dict[str, Sequence[float]] = field(default_factory=lambda: dict(CONTROLLER))
 
 
 QUICK = Grid(roads=("minor",), speeds=(14.0,), delays=(0.0, 0.005, 0.015, 0.030), bandwidths=(10.0, 35.0, math.inf),
-             c_passive=tuple(np.arange(10e3, 50e3 + 1, 5e3)), duration=8.0, law_alphas=(0.6, 0.8), law_cms=(24e3,))
+             c_passive=tuple(np.arange(10e3, 50e3 + 1, 5e3)), duration=8.0, law_alphas=(0.6, 0.8), law_cms=(24e3,),
+             nonlinear={"c_passive": (20e3, 30e3), "passive_compression_ratio": (0.5, 1.0), "passive_v_knee": (0.1,),
+                        "passive_high_speed_ratio": (0.5,)},
+             controller={"Cm": (48e3,), "alpha": (0.2,), "Kp_F": (0.3,), "Ki_F": (0.0, 6.0)})
 
 
 def sweeps(grid: Grid) -> dict[str, sweep.Sweep]:
-    """The four sweeps, on one road realisation per road (seed_from road): the tracking map, the
-    passive dampers, the damper FMU, and the demand laws (Cm, alpha) ideal and with the FMU on the
-    first case."""
+    """The six sweeps, on one road realisation per road (seed_from road): the tracking map, the
+    linear and the non-linear passive dampers, the damper FMU, the demand laws (Cm, alpha), ideal
+    and with the FMU, and the FMU's force-loop gains with the laws that suit it."""
     common = {"seed": SEED, "seed_from": ["road"]}
     cases = {"road": list(grid.roads), "speed": list(grid.speeds)}
     fixed = {"duration": grid.duration, "alpha": grid.alpha}
@@ -86,10 +98,16 @@ def sweeps(grid: Grid) -> dict[str, sweep.Sweep]:
                                     "grid": {**cases, "c_passive": list(grid.c_passive)}}),
         "fmu": sweep.from_dict({**common, "name": "fmu", "scenario": "hil", "fixed": {**fixed, "mode": "fmu"},
                                 "metrics": FMU_METRICS, "grid": cases}),
+        "nonlinear": sweep.from_dict({**common, "name": "nonlinear", "scenario": "hil", "metrics": METRICS,
+                                      "fixed": {**fixed, "mode": "passive"},
+                                      "grid": {**cases, **{k: list(v) for k, v in grid.nonlinear.items()}}}),
         "laws": sweep.from_dict({**common, "name": "laws", "scenario": "hil", "metrics": METRICS,
                                  "fixed": {"duration": grid.duration},
-                                 "grid": {"road": [grid.roads[0]], "speed": [grid.speeds[0]], "mode": ["ideal", "fmu"],
-                                          "Cm": list(grid.law_cms), "alpha": list(grid.law_alphas)}}),
+                                 "grid": {**cases, "mode": ["ideal", "fmu"], "Cm": list(grid.law_cms),
+                                          "alpha": list(grid.law_alphas)}}),
+        "controller": sweep.from_dict({**common, "name": "controller", "scenario": "hil", "metrics": METRICS,
+                                       "fixed": {"duration": grid.duration, "mode": "fmu"},
+                                       "grid": {**cases, **{k: list(v) for k, v in grid.controller.items()}}}),
     }
 
 
@@ -142,17 +160,14 @@ def _pct(x: float) -> str:
     return "–" if not np.isfinite(x) else f"{100 * x:+.1f} %"
 
 
-def case_table(m: Any, fmu: Any, like: Any, passive: Any) -> str:
-    """One row per road and speed: the best passive, the ideal, the FMU and the tracking damper at the
-    FMU's fitted values."""
-    lines = ["| road, speed | best-riding passive: c, RMS a_body (m/s²), DLC | ideal semi-active: benefit (Wk), "
-             "DLC change | damper FMU: benefit (Wk), DLC change | FMU's fitted tracking: extension; compression | "
-             "tracking damper at those: benefit (Wk), DLC change | longest delay (no lag) with a benefit at a DLC "
-             "no worse |",
-             "|---|---|---|---|---|---|---|"]
+def case_table(m: Any, fmu: Any, like: Any) -> str:
+    """One row per road and speed, with the paper's law: the ideal, the FMU, the FMU's fitted tracking
+    and the tracking damper at those values, and how much delay the ideal bandwidth allows."""
+    lines = ["| road, speed | ideal semi-active: benefit (Wk), DLC change | damper FMU: benefit (Wk), DLC change | "
+             "FMU's fitted tracking: extension; compression | tracking damper at those: benefit (Wk), DLC change | "
+             "longest delay (no lag) with a benefit at a DLC no worse |",
+             "|---|---|---|---|---|---|"]
     for (road, speed), g in m.groupby(["road", "speed"], sort=False):
-        p = passive[(passive["road"] == road) & (passive["speed"] == speed)]
-        best = best_passive(p)
         ideal = g[(g["tracking_delay"] == 0) & np.isinf(g["tracking_bandwidth"]) & (g["tracking_direction"] == "both")]
         ideal = ideal.iloc[0]
         f = fmu[(fmu["road"] == road) & (fmu["speed"] == speed)].iloc[0]
@@ -162,25 +177,51 @@ def case_table(m: Any, fmu: Any, like: Any, passive: Any) -> str:
         reach = f"{1e3 * both['tracking_delay'].max():g} ms" if len(both) else "none"
         fit = (f"{1e3 * f['tracking_delay_extension']:g} ms, {_bw(f['tracking_bandwidth_extension'])} Hz; "
                f"{1e3 * f['tracking_delay_compression']:g} ms, {_bw(f['tracking_bandwidth_compression'])} Hz")
-        lines.append(
-            f"| {road}, {speed:g} m/s | {best['c_passive'] / 1e3:g} kNs/m, {best['a_body_rms']:.3f}, {best['DLC']:.4f} "
-            f"| {_pct(ideal['benefit'])} ({_pct(ideal['benefit_wk'])}), {_pct(ideal['dlc_change'])} "
-            f"| {_pct(f['benefit'])} ({_pct(f['benefit_wk'])}), {_pct(f['dlc_change'])} | {fit} "
-            f"| {_pct(lk['benefit'])} ({_pct(lk['benefit_wk'])}), {_pct(lk['dlc_change'])} | {reach} |")
+        lines.append(f"| {road}, {speed:g} m/s | {_score(ideal)} | {_score(f)} | {fit} | {_score(lk)} | {reach} |")
     return "\n".join(lines)
 
 
-def law_table(laws: Any) -> str:
-    """The demand laws of the first case, ideal and with the FMU: benefit and DLC change, best first
-    among those at a DLC no worse."""
-    lines = ["| damper | Cm (kNs/m) | alpha | benefit (Wk) | DLC change |", "|---|---|---|---|---|"]
-    for mode, g in laws.groupby("mode", sort=False):
-        ok = g[g["dlc_change"] <= 0].sort_values("benefit", ascending=False)
-        rest = g[g["dlc_change"] > 0].sort_values("benefit", ascending=False)
-        for _, r in list(ok.head(3).iterrows()) + list(rest.head(2).iterrows()):
-            name = "ideal semi-active" if mode == "ideal" else "damper FMU"
-            lines.append(f"| {name} | {r['Cm'] / 1e3:g} | {r['alpha']:g} | {_pct(r['benefit'])} "
-                         f"({_pct(r['benefit_wk'])}) | {_pct(r['dlc_change'])} |")
+def _score(r: Any) -> str:
+    return f"{_pct(r['benefit'])} ({_pct(r['benefit_wk'])}), {_pct(r['dlc_change'])}"
+
+
+def _passive_name(r: Any) -> str:
+    if r["family"] == "linear":
+        return f"{r['c_passive'] / 1e3:g} kNs/m"
+    knee = "no knee" if r["passive_v_knee"] >= 1000 else (f"knee {r['passive_v_knee']:g} m/s, "
+                                                          f"x{r['passive_high_speed_ratio']:g} above")
+    return f"{r['c_passive'] / 1e3:g} kNs/m, compression x{r['passive_compression_ratio']:g}, {knee}"
+
+
+def _best_law(g: Any, gains: bool = False) -> str:
+    ok = g[g["dlc_change"] <= 0]
+    if not len(ok):
+        return "none at a DLC no worse"
+    r = ok.loc[ok["benefit"].idxmax()]
+    setting = f", Kp_F {r['Kp_F']:g}, Ki_F {r['Ki_F']:g}" if gains else ""
+    return f"Cm {r['Cm'] / 1e3:g}, α {r['alpha']:g}{setting}: {_score(r)}"
+
+
+def comparison_table(passive: Any, m: Any, fmu: Any, laws: Any, controller: Any) -> str:
+    """One row per road and speed: the best-riding passive damper of each family, the paper's law ideal
+    and with the FMU, and the best law of each at a DLC no worse than the best-riding passive's, the
+    FMU's also with its force-loop gains."""
+    lines = ["| road, speed | best-riding linear passive: RMS a_body (m/s²), DLC | best-riding non-linear passive | "
+             "paper's law, ideal: benefit (Wk), DLC change | paper's law, damper FMU | best law, ideal | "
+             "best law, damper FMU | best law and force-loop gains, damper FMU |", "|---|---|---|---|---|---|---|---|"]
+    for (road, speed), g in m.groupby(["road", "speed"], sort=False):
+        case = (passive["road"] == road) & (passive["speed"] == speed)
+        lin = best_passive(passive[case & (passive["family"] == "linear")])
+        non = best_passive(passive[case & (passive["family"] == "non-linear")])
+        ideal = g[(g["tracking_delay"] == 0) & np.isinf(g["tracking_bandwidth"])].iloc[0]
+        f = fmu[(fmu["road"] == road) & (fmu["speed"] == speed)].iloc[0]
+        law = laws[(laws["road"] == road) & (laws["speed"] == speed)]
+        gains = controller[(controller["road"] == road) & (controller["speed"] == speed)]
+        lines.append(
+            f"| {road}, {speed:g} m/s | {_passive_name(lin)}: {lin['a_body_rms']:.3f}, {lin['DLC']:.4f} "
+            f"| {_passive_name(non)}: {non['a_body_rms']:.3f}, {non['DLC']:.4f} | {_score(ideal)} | {_score(f)} "
+            f"| {_best_law(law[law['mode'] == 'ideal'])} | {_best_law(law[law['mode'] == 'fmu'])} "
+            f"| {_best_law(gains, gains=True)} |")
     return "\n".join(lines)
 
 
@@ -189,12 +230,15 @@ def plot_laws(path: Path, laws: Any, passive: Any) -> None:
     the FMU."""
     plt = hil_scenarios._plt()
     road, speed = laws.iloc[0]["road"], laws.iloc[0]["speed"]
-    p = passive[(passive["road"] == road) & (passive["speed"] == speed)].sort_values("c_passive")
+    p = passive[(passive["road"] == road) & (passive["speed"] == speed)]
+    lin = p[p["family"] == "linear"].sort_values("c_passive")
     fig, ax = plt.subplots(figsize=(8, 5.5))
-    ax.plot(p["DLC"], p["a_body_rms"], "k.-", label="passive, c = 5-60 kNs/m")
+    ax.plot(lin["DLC"], lin["a_body_rms"], "k.-", label="linear passive, c = 5-60 kNs/m")
+    non = p[p["family"] == "non-linear"]
+    ax.plot(non["DLC"], non["a_body_rms"], ".", color="0.6", ms=4, label="non-linear passive (asymmetric, knee)")
     best = best_passive(p)
-    ax.plot(best["DLC"], best["a_body_rms"], "ks", mfc="none", ms=10, label=f"best-riding passive, "
-            f"{best['c_passive'] / 1e3:g} kNs/m")
+    ax.plot(best["DLC"], best["a_body_rms"], "ks", mfc="none", ms=10,
+            label=f"best-riding passive: {_passive_name(best)}")
     for mode, marker in (("ideal", "*"), ("fmu", "D")):
         g = laws[laws["mode"] == mode]
         sc = ax.scatter(g["DLC"], g["a_body_rms"], c=g["alpha"], s=18 + g["Cm"] / 600, marker=marker, cmap="viridis",
@@ -206,8 +250,9 @@ def plot_laws(path: Path, laws: Any, passive: Any) -> None:
     ax.set_ylabel("RMS a_body (m/s²)")
     ax.set_xlim(0.9 * min(laws["DLC"].min(), p["DLC"].min()), 1.1 * max(best["DLC"], laws["DLC"].median()))
     ax.set_ylim(0.8 * laws["a_body_rms"].min(), 1.3 * best["a_body_rms"])
-    ax.set_title(f"{road} road, {speed:g} m/s: Modified Skyhook laws (Cm 12-48 kNs/m, alpha 0-1)")
-    ax.legend(fontsize=8)
+    ax.set_title(f"{road} road, {speed:g} m/s: Modified Skyhook laws (Cm {laws['Cm'].min() / 1e3:g}-"
+                 f"{laws['Cm'].max() / 1e3:g} kNs/m, alpha 0-1)")
+    ax.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.12), ncol=2)
     ax.grid(alpha=0.3)
     fig.savefig(path, dpi=110, bbox_inches="tight")
     plt.close(fig)
@@ -307,6 +352,8 @@ def plot_all_cases(path: Path, m: Any, fmu: Any, grid: Grid) -> None:
 
 def run(grid: Grid, out: Path, fmus: dict[str, Path], client: Any = None) -> dict[str, Any]:
     """Runs the sweeps (on `client`, or serially), scores them, writes the tables and plots."""
+    import pandas as pd
+
     specs = sweeps(grid)
     tables = {}
     for name, spec in specs.items():
@@ -316,21 +363,23 @@ def run(grid: Grid, out: Path, fmus: dict[str, Path], client: Any = None) -> dic
             raise RuntimeError(f"{len(failed)} {name} runs failed, e.g. {failed[0]['error']}")
         tables[name] = sweep.table(spec, outcome.rows)
         sweep.write_parquet(tables[name], out / f"{name}.parquet")
-    passive = tables["passive"]
+    passive = pd.concat([tables["passive"].assign(family="linear"), tables["nonlinear"].assign(family="non-linear")],
+                        ignore_index=True)
     m, fmu = benefits(tables["map"], passive), benefits(tables["fmu"], passive)
     like = benefits(fmu_like(fmu, specs["map"], fmus), passive)
     laws = benefits(tables["laws"], passive)
-    text = case_table(m, fmu, like, passive) + "\n\n" + law_table(laws)
+    controller = benefits(tables["controller"], passive)
+    text = comparison_table(passive, m, fmu, laws, controller) + "\n\n" + case_table(m, fmu, like)
     (out / "table.md").write_text(text + "\n", encoding="utf-8")
     road, speed = HEADLINE if HEADLINE[0] in grid.roads and HEADLINE[1] in grid.speeds else (grid.roads[0],
                                                                                                grid.speeds[0])
     plot_maps(out / "benefit_map_headline.png", m, fmu, road, speed)
     plot_maps(out / "benefit_wk_map_headline.png", m, fmu, road, speed, metric="benefit_wk")
     plot_all_cases(out / "benefit_map_cases.png", m, fmu, grid)
-    plot_laws(out / "demand_laws.png", laws, passive)
+    plot_laws(out / "demand_laws.png", laws[(laws["road"] == road) & (laws["speed"] == speed)], passive)
     results = {"grid": grid.__dict__, "map": m.to_dict("records"), "fmu": fmu.to_dict("records"),
                "fmu_like": like.to_dict("records"), "passive": passive.to_dict("records"),
-               "laws": laws.to_dict("records")}
+               "laws": laws.to_dict("records"), "controller": controller.to_dict("records")}
     import json
 
     (out / "results.json").write_text(json.dumps(jsonable(results), indent=1), encoding="utf-8")

@@ -43,6 +43,20 @@ def test_a_delay_costs_ride(paths):
     assert late["a_body_rms"] > 1.05 * ideal["a_body_rms"]
 
 
+def test_the_non_linear_passive_damper_is_its_characteristic(fmus):
+    """The truck's passive damper with a softer compression and a degressive knee: its force on the
+    masses is the characteristic at its velocity, at every communication point."""
+    case = roads.road_case("minor", 14.0, 4.0, 3, step=1e-3, fade_in=1.0)
+    p = {"c_passive": 20e3, "passive_compression_ratio": 0.4, "passive_v_knee": 0.05, "passive_high_speed_ratio": 0.3}
+    r = cosim.simulate_one(case.z_road, case.v_road, 1e-3, case.t.size - 1, cosim.MODE_PASSIVE, p,
+                           truck_fmu=fmus["truck_fmu"])
+    v = r["v_damper"]
+    low = np.clip(v, -0.05, 0.05)
+    expected = 20e3 * np.where(v < 0, 0.4, 1.0) * (low + 0.3 * (v - low))
+    assert np.abs(v).max() > 0.1, "the road takes the damper past its knee"
+    np.testing.assert_allclose(r["F_suspension"], expected, rtol=1e-12, atol=1e-9)
+
+
 def test_the_fit_finds_the_tracking_of_a_record_it_did_not_make(fmus):
     """The truck's tracking damper (RK4, the delay interpolated at 0.25 ms, a continuous lag) with 7 ms
     and 30 Hz in extension, 12 ms and 15 Hz in compression; the fit knows whole 1 ms samples and a
@@ -87,9 +101,14 @@ def test_tracking_settings_are_checked():
 
 def test_the_command_writes_its_tables_and_maps(paths, tmp_path):
     grid = benefit_map.Grid(roads=("minor",), speeds=(14.0,), delays=(0.0, 0.01), bandwidths=(20.0, math.inf),
-                            c_passive=(15e3, 25e3, 35e3), duration=3.0)
+                            c_passive=(15e3, 25e3, 35e3), duration=3.0, law_alphas=(0.4, 0.8), law_cms=(24e3,),
+                            nonlinear={"c_passive": (20e3,), "passive_compression_ratio": (0.5, 1.0),
+                                       "passive_v_knee": (0.1,), "passive_high_speed_ratio": (0.5,)},
+                            controller={"Cm": (48e3,), "alpha": (0.2,), "Kp_F": (0.3,), "Ki_F": (0.0,)})
     results = benefit_map.run(grid, tmp_path, paths)
-    for name in ("map.parquet", "passive.parquet", "fmu.parquet", "table.md", "results.json",
+    for name in ("map.parquet", "passive.parquet", "nonlinear.parquet", "laws.parquet", "controller.parquet",
+                 "fmu.parquet", "table.md",
+                 "results.json",
                  "benefit_map_headline.png", "benefit_wk_map_headline.png", "benefit_map_cases.png", "demand_laws.png"):
         assert (tmp_path / name).is_file(), name
     m = pd.DataFrame(results["map"])

@@ -22,7 +22,9 @@ impl Params {
         let c = self.c_susp
             + match self.damper_mode {
                 MODE_IDEAL | MODE_TRACKING => self.cm.max(self.c_min),
-                MODE_PASSIVE => self.c_passive,
+                MODE_PASSIVE => {
+                    self.c_passive * self.passive_compression_ratio.max(1.0) * self.passive_high_speed_ratio.max(1.0)
+                }
                 _ => 0.0,
             };
         let k = (2.0 * self.k_susp / self.m_body).max((2.0 * self.k_susp + self.k_tyre) / self.m_axle);

@@ -74,6 +74,17 @@ impl Params {
         }
     }
 
+    /// The passive damper's force (N, tension positive) at damper speed `v` (m/s, extension
+    /// positive): slope `c_passive` in extension and `passive_compression_ratio` times it in
+    /// compression, each changing by `passive_high_speed_ratio` beyond ±`passive_v_knee`.
+    pub fn passive_force(&self, v: f64) -> f64 {
+        let knee = self.passive_v_knee;
+        let low = v.max(-knee).min(knee);
+        let shaped = low + self.passive_high_speed_ratio * (v - low);
+        let c = if v < 0.0 { self.c_passive * self.passive_compression_ratio } else { self.c_passive };
+        c * shaped
+    }
+
     /// The clipped MSD demand (N) at state `y`.
     pub fn demand(&self, y: &State) -> f64 {
         msd_demand(self.cm, self.alpha, self.c_min, y[1] - y[3], y[1])
@@ -87,7 +98,7 @@ impl Params {
         let mut lag_rates = [0.0; 2];
         let f_suspension = match self.damper_mode {
             MODE_IDEAL => f_demand,
-            MODE_PASSIVE => self.c_passive * v_rel,
+            MODE_PASSIVE => self.passive_force(v_rel),
             MODE_TRACKING => {
                 let tracking = self.tracking();
                 let delayed = tracking.delayed(at.past, at.step_start + at.since_step, f_demand);
@@ -224,6 +235,21 @@ mod tests {
             compression += (v < 0.0 && force < 0.0) as usize;
         }
         assert!(extension > 100 && compression > 100, "{extension} {compression}");
+    }
+
+    #[test]
+    fn the_passive_damper_is_linear_by_default_and_shaped_on_request() {
+        let linear = Params { c_passive: 20e3, ..table1() };
+        for v in [-0.7, -0.05, 0.0, 0.05, 0.7] {
+            assert_eq!(linear.passive_force(v), 20e3 * v);
+        }
+        let shaped =
+            Params { passive_compression_ratio: 0.4, passive_v_knee: 0.1, passive_high_speed_ratio: 0.25, ..linear };
+        // extension: 20 kNs/m to 0.1 m/s (2 kN), then 5 kNs/m
+        assert!((shaped.passive_force(0.3) - (2000.0 + 5000.0 * 0.2)).abs() < 1e-9);
+        assert!((shaped.passive_force(0.05) - 1000.0).abs() < 1e-9);
+        // compression: 8 kNs/m to -0.1 m/s (-0.8 kN), then 2 kNs/m
+        assert!((shaped.passive_force(-0.3) - (-800.0 - 2000.0 * 0.2)).abs() < 1e-9);
     }
 
     #[test]
