@@ -5,8 +5,8 @@
 
 An idealised tracking damper (QuarterTruck.fmu, damper_mode 3: the clipped Modified Skyhook demand
 delayed by d and through a first-order lag of bandwidth f_c, kept dissipative) is swept over d and f_c,
-in both directions and in one direction at a time, on the paper's roads and speeds. Every run is
-scored against the passive dampers of the same road realisation:
+in both directions and in one direction at a time, on the paper's roads and speeds and on the measured
+Belgian block. Every run is scored against the passive dampers of the same road realisation:
 
     benefit = 1 - a / a_ref,  a_ref = the ride of the best-riding passive damper of the case (the least
                                       RMS a_body over c_passive); the benefit counts where the run's DLC
@@ -71,6 +71,7 @@ class Grid:
     law_cms: Sequence[float] = LAW_CMS
     nonlinear: dict[str, Sequence[float]] = field(default_factory=lambda: dict(NONLINEAR))
     controller: dict[str, Sequence[float]] = field(default_factory=lambda: dict(CONTROLLER))
+    crg_speed: float | None = hil_scenarios.CRG_SPEED  # m/s on the Belgian block; None: not run
 
 
 QUICK = Grid(roads=("minor",), speeds=(14.0,), delays=(0.0, 0.005, 0.015, 0.030), bandwidths=(10.0, 35.0, math.inf),
@@ -80,35 +81,36 @@ QUICK = Grid(roads=("minor",), speeds=(14.0,), delays=(0.0, 0.005, 0.015, 0.030)
              controller={"Cm": (48e3,), "alpha": (0.2,), "Kp_F": (0.3,), "Ki_F": (0.0, 6.0)})
 
 
-def sweeps(grid: Grid) -> dict[str, sweep.Sweep]:
-    """The six sweeps, on one road realisation per road (seed_from road): the tracking map, the
-    linear and the non-linear passive dampers, the damper FMU, the demand laws (Cm, alpha), ideal
-    and with the FMU, and the FMU's force-loop gains with the laws that suit it."""
-    common = {"seed": SEED, "seed_from": ["road"]}
-    cases = {"road": list(grid.roads), "speed": list(grid.speeds)}
+def sweeps(grid: Grid, cases: dict[str, list[Any]], suffix: str = "") -> dict[str, sweep.Sweep]:
+    """The six sweeps over `cases` (road and speed axes), on one road realisation per road (seed_from
+    road): the tracking map, the linear and the non-linear passive dampers, the damper FMU, the demand
+    laws (Cm, alpha), ideal and with the FMU, and the FMU's force-loop gains with the laws that suit
+    it. Each is named by its kind and `suffix`."""
+    common = {"seed": SEED, "seed_from": ["road"], "scenario": "hil"}
     fixed = {"duration": grid.duration, "alpha": grid.alpha}
-    return {
-        "map": sweep.from_dict({**common, "name": "map", "scenario": "hil", "fixed": {**fixed, "mode": "tracking"},
-                                "metrics": METRICS,
-                                "grid": {**cases, "tracking_direction": list(sweep.TRACKING_DIRECTIONS),
-                                         "tracking_delay": list(grid.delays),
-                                         "tracking_bandwidth": list(grid.bandwidths)}}),
-        "passive": sweep.from_dict({**common, "name": "passive", "scenario": "hil", "metrics": METRICS,
-                                    "fixed": {**fixed, "mode": "passive"},
-                                    "grid": {**cases, "c_passive": list(grid.c_passive)}}),
-        "fmu": sweep.from_dict({**common, "name": "fmu", "scenario": "hil", "fixed": {**fixed, "mode": "fmu"},
-                                "metrics": FMU_METRICS, "grid": cases}),
-        "nonlinear": sweep.from_dict({**common, "name": "nonlinear", "scenario": "hil", "metrics": METRICS,
-                                      "fixed": {**fixed, "mode": "passive"},
-                                      "grid": {**cases, **{k: list(v) for k, v in grid.nonlinear.items()}}}),
-        "laws": sweep.from_dict({**common, "name": "laws", "scenario": "hil", "metrics": METRICS,
-                                 "fixed": {"duration": grid.duration},
-                                 "grid": {**cases, "mode": ["ideal", "fmu"], "Cm": list(grid.law_cms),
-                                          "alpha": list(grid.law_alphas)}}),
-        "controller": sweep.from_dict({**common, "name": "controller", "scenario": "hil", "metrics": METRICS,
-                                       "fixed": {"duration": grid.duration, "mode": "fmu"},
-                                       "grid": {**cases, **{k: list(v) for k, v in grid.controller.items()}}}),
+    grids = {
+        "map": ({**fixed, "mode": "tracking"}, {"tracking_direction": list(sweep.TRACKING_DIRECTIONS),
+                                                "tracking_delay": list(grid.delays),
+                                                "tracking_bandwidth": list(grid.bandwidths)}),
+        "passive": ({**fixed, "mode": "passive"}, {"c_passive": list(grid.c_passive)}),
+        "nonlinear": ({**fixed, "mode": "passive"}, {k: list(v) for k, v in grid.nonlinear.items()}),
+        "fmu": ({**fixed, "mode": "fmu"}, {}),
+        "laws": ({"duration": grid.duration}, {"mode": ["ideal", "fmu"], "Cm": list(grid.law_cms),
+                                               "alpha": list(grid.law_alphas)}),
+        "controller": ({"duration": grid.duration, "mode": "fmu"}, {k: list(v) for k, v in grid.controller.items()}),
     }
+    return {kind: sweep.from_dict({**common, "name": kind + suffix, "fixed": f, "grid": {**cases, **g},
+                                   "metrics": FMU_METRICS if kind == "fmu" else METRICS})
+            for kind, (f, g) in grids.items()}
+
+
+def case_sets(grid: Grid) -> dict[str, dict[str, list[Any]]]:
+    """The random roads at their speeds, and the measured Belgian block at its speed (if any), by the
+    suffix of their sweeps."""
+    sets = {"": {"road": list(grid.roads), "speed": list(grid.speeds)}}
+    if grid.crg_speed:
+        sets["_crg"] = {"road": [sweep.CRG_ROAD], "speed": [grid.crg_speed]}
+    return sets
 
 
 def best_passive(passive: Any, metric: str = "a_body_rms") -> Any:
@@ -354,15 +356,19 @@ def run(grid: Grid, out: Path, fmus: dict[str, Path], client: Any = None) -> dic
     """Runs the sweeps (on `client`, or serially), scores them, writes the tables and plots."""
     import pandas as pd
 
-    specs = sweeps(grid)
-    tables = {}
-    for name, spec in specs.items():
-        outcome = sweep.run_sweep(spec, out / "work" / name, fmus, client)
-        failed = [r for r in outcome.rows if r["error"]]
-        if failed:
-            raise RuntimeError(f"{len(failed)} {name} runs failed, e.g. {failed[0]['error']}")
-        tables[name] = sweep.table(spec, outcome.rows)
-        sweep.write_parquet(tables[name], out / f"{name}.parquet")
+    specs: dict[str, sweep.Sweep] = {}
+    parts: dict[str, list[Any]] = {}
+    for suffix, cases in case_sets(grid).items():
+        for kind, spec in sweeps(grid, cases, suffix).items():
+            outcome = sweep.run_sweep(spec, out / "work" / spec.name, fmus, client)
+            failed = [r for r in outcome.rows if r["error"]]
+            if failed:
+                raise RuntimeError(f"{len(failed)} {spec.name} runs failed, e.g. {failed[0]['error']}")
+            parts.setdefault(kind, []).append(sweep.table(spec, outcome.rows))
+            specs.setdefault(kind, spec)
+    tables = {kind: pd.concat(p, ignore_index=True) for kind, p in parts.items()}
+    for kind, table in tables.items():
+        sweep.write_parquet(table, out / f"{kind}.parquet")
     passive = pd.concat([tables["passive"].assign(family="linear"), tables["nonlinear"].assign(family="non-linear")],
                         ignore_index=True)
     m, fmu = benefits(tables["map"], passive), benefits(tables["fmu"], passive)

@@ -74,6 +74,9 @@ SCENARIO_KEYS: dict[str, dict[str, Any]] = {
 MODES = {"fmu": cosim.MODE_EXTERNAL, "ideal": cosim.MODE_IDEAL, "passive": cosim.MODE_PASSIVE,
          "tracking": cosim.MODE_TRACKING}
 TRACKING_DIRECTIONS = ("both", "extension", "compression")
+# the `road` of the measured Belgian block (data/roads/belgian_block.crg, docs/hil.md); `duration`,
+# `settle` and `fade_in` do not apply to it
+CRG_ROAD = "belgian_block"
 DISTRIBUTIONS = ("uniform", "loguniform", "normal", "choice")
 DEFAULT_SEED_FROM = ("road", "replicate")
 PLUGIN_NAME = "damper-sweep-fmus"
@@ -285,14 +288,18 @@ def run_hil(point: dict[str, Any], seed: int, truck_fmu: Path, damper_fmu: Path)
     if s["mode"] not in MODES:
         raise SweepError(f"mode must be one of {tuple(MODES)}, not {s['mode']!r}")
     step = float(s["step"])
-    case = roads.road_case(s["road"], float(s["speed"]), float(s["settle"]) + float(s["duration"]), seed,
-                           step=step, fade_in=float(s["fade_in"]))
-    first = int(round(float(s["settle"]) / step))
-    window = slice(first, None)
+    if s["road"] == CRG_ROAD:
+        # the measured track between level road; the metrics while the wheel is on it
+        _, z_road, v_road, first, last, _ = hil_scenarios.crg_road(speed=float(s["speed"]), step=step)
+        window = slice(first, last + 1)
+    else:
+        case = roads.road_case(s["road"], float(s["speed"]), float(s["settle"]) + float(s["duration"]), seed,
+                               step=step, fade_in=float(s["fade_in"]))
+        z_road, v_road, window = case.z_road, case.v_road, slice(int(round(float(s["settle"]) / step)), None)
     dp = {**cosim.HIL_DAMPER_PARAMETERS, **damper}
     if s["mode"] == "tracking":
         truck = {**tracking_parameters(s), **truck}
-    res = cosim.simulate_one(case.z_road, case.v_road, step, case.t.size - 1, MODES[s["mode"]], truck, dp,
+    res = cosim.simulate_one(z_road, v_road, step, z_road.size - 1, MODES[s["mode"]], truck, dp,
                              truck_fmu=truck_fmu, damper_fmu=damper_fmu)
     out = hil_scenarios.vehicle_metrics(res, window, _static_load(truck_unit, truck))
     if s["mode"] == "fmu":
