@@ -41,6 +41,8 @@ SPEEDS = (14.0, 20.0, 25.0)  # m/s
 HEADLINE = ("minor", 14.0)
 LAW_ALPHAS = (0.0, 0.2, 0.4, 0.6, 0.8, 1.0)  # Modified Skyhook blends
 LAW_CMS = (12e3, 24e3, 36e3, 48e3, 60e3, 72e3)  # N s/m
+# hybrid sky-groundhook laws: the groundhook coefficient added to a Modified Skyhook (N s/m)
+HYBRID = {"Cm": (24e3, 48e3), "alpha": (0.2, 0.8), "C_ground": (0.0, 10e3, 20e3, 40e3)}
 # the damper FMU's force-loop gains (defaults Kp_F 0.3, Ki_F 6/s) with the laws that suit it best
 CONTROLLER = {"Cm": (36e3, 48e3, 60e3), "alpha": (0.1, 0.2, 0.3), "Kp_F": (0.3, 1.0), "Ki_F": (0.0, 6.0)}
 # the non-linear passive family: extension slope (N s/m), compression/extension, knee (m/s; 1000: none),
@@ -71,6 +73,7 @@ class Grid:
     law_cms: Sequence[float] = LAW_CMS
     nonlinear: dict[str, Sequence[float]] = field(default_factory=lambda: dict(NONLINEAR))
     controller: dict[str, Sequence[float]] = field(default_factory=lambda: dict(CONTROLLER))
+    hybrid: dict[str, Sequence[float]] = field(default_factory=lambda: dict(HYBRID))
     crg_speed: float | None = hil_scenarios.CRG_SPEED  # m/s on the Belgian block; None: not run
 
 
@@ -78,14 +81,15 @@ QUICK = Grid(roads=("minor",), speeds=(14.0,), delays=(0.0, 0.005, 0.015, 0.030)
              c_passive=tuple(np.arange(10e3, 50e3 + 1, 5e3)), duration=8.0, law_alphas=(0.6, 0.8), law_cms=(24e3,),
              nonlinear={"c_passive": (20e3, 30e3), "passive_compression_ratio": (0.5, 1.0), "passive_v_knee": (0.1,),
                         "passive_high_speed_ratio": (0.5,)},
-             controller={"Cm": (48e3,), "alpha": (0.2,), "Kp_F": (0.3,), "Ki_F": (0.0, 6.0)})
+             controller={"Cm": (48e3,), "alpha": (0.2,), "Kp_F": (0.3,), "Ki_F": (0.0, 6.0)},
+             hybrid={"Cm": (24e3,), "alpha": (0.8,), "C_ground": (0.0, 20e3)})
 
 
 def sweeps(grid: Grid, cases: dict[str, list[Any]], suffix: str = "") -> dict[str, sweep.Sweep]:
-    """The six sweeps over `cases` (road and speed axes), on one road realisation per road (seed_from
+    """The seven sweeps over `cases` (road and speed axes), on one road realisation per road (seed_from
     road): the tracking map, the linear and the non-linear passive dampers, the damper FMU, the demand
-    laws (Cm, alpha), ideal and with the FMU, and the FMU's force-loop gains with the laws that suit
-    it. Each is named by its kind and `suffix`."""
+    laws (Cm, alpha) and the hybrid sky-groundhook laws (C_ground), ideal and with the FMU, and the FMU's
+    force-loop gains with the laws that suit it. Each is named by its kind and `suffix`."""
     common = {"seed": SEED, "seed_from": ["road"], "scenario": "hil"}
     fixed = {"duration": grid.duration, "alpha": grid.alpha}
     grids = {
@@ -98,6 +102,8 @@ def sweeps(grid: Grid, cases: dict[str, list[Any]], suffix: str = "") -> dict[st
         "laws": ({"duration": grid.duration}, {"mode": ["ideal", "fmu"], "Cm": list(grid.law_cms),
                                                "alpha": list(grid.law_alphas)}),
         "controller": ({"duration": grid.duration, "mode": "fmu"}, {k: list(v) for k, v in grid.controller.items()}),
+        "hybrid": ({"duration": grid.duration},
+                   {"mode": ["ideal", "fmu"], **{k: list(v) for k, v in grid.hybrid.items()}}),
     }
     return {kind: sweep.from_dict({**common, "name": kind + suffix, "fixed": f, "grid": {**cases, **g},
                                    "metrics": FMU_METRICS if kind == "fmu" else METRICS})
@@ -122,7 +128,8 @@ def benefits(rows: Any, passive: Any) -> Any:
     """`rows` with their ride benefit over the best-riding passive damper of their case, plain
     (`benefit`, against the passive of least RMS a_body) and Wk-weighted (`benefit_wk`, against the
     passive of least Wk RMS), and their DLC against that damper's (`dlc_change`, `dlc_change_wk`:
-    DLC / DLC_passive - 1; at most 0 is a DLC no worse)."""
+    DLC / DLC_passive - 1; at most 0 is a DLC no worse), and their fourth-power road stress against
+    the best-riding passive's (`stress_change`)."""
     out = rows.copy()
     for i, r in out.iterrows():
         p = passive[(passive["road"] == r["road"]) & (passive["speed"] == r["speed"])]
@@ -130,6 +137,8 @@ def benefits(rows: Any, passive: Any) -> Any:
             ref = best_passive(p, metric)
             out.loc[i, col] = 1 - r[metric] / ref[metric]
             out.loc[i, col.replace("benefit", "dlc_change")] = r["DLC"] / ref["DLC"] - 1
+            if metric == "a_body_rms":
+                out.loc[i, "stress_change"] = r["road_stress"] / ref["road_stress"] - 1
     return out
 
 
@@ -224,6 +233,25 @@ def comparison_table(passive: Any, m: Any, fmu: Any, laws: Any, controller: Any)
             f"| {_passive_name(non)}: {non['a_body_rms']:.3f}, {non['DLC']:.4f} | {_score(ideal)} | {_score(f)} "
             f"| {_best_law(law[law['mode'] == 'ideal'])} | {_best_law(law[law['mode'] == 'fmu'])} "
             f"| {_best_law(gains, gains=True)} |")
+    return "\n".join(lines)
+
+
+def road_friendly_table(laws: Any) -> str:
+    """One row per road and speed: the law (Modified Skyhook or hybrid) of least DLC among those that
+    ride no worse than the best-riding passive damper, ideal and with the FMU."""
+    lines = ["| road, speed | least DLC at a ride no worse, ideal: law, DLC change, road stress change, benefit | "
+             "the same, damper FMU |", "|---|---|---|"]
+    for (road, speed), g in laws.groupby(["road", "speed"], sort=False):
+        cells = []
+        for mode in ("ideal", "fmu"):
+            ok = g[(g["mode"] == mode) & (g["benefit"] >= 0)]
+            if not len(ok):
+                cells.append("none rides as well")
+                continue
+            r = ok.loc[ok["DLC"].idxmin()]
+            cells.append(f"Cm {r['Cm'] / 1e3:g}, α {r['alpha']:g}, C_ground {r['C_ground'] / 1e3:g}: "
+                         f"{_pct(r['dlc_change'])}, {_pct(r['stress_change'])}, {_pct(r['benefit'])}")
+        lines.append(f"| {road}, {speed:g} m/s | {cells[0]} | {cells[1]} |")
     return "\n".join(lines)
 
 
@@ -375,7 +403,10 @@ def run(grid: Grid, out: Path, fmus: dict[str, Path], client: Any = None) -> dic
     like = benefits(fmu_like(fmu, specs["map"], fmus), passive)
     laws = benefits(tables["laws"], passive)
     controller = benefits(tables["controller"], passive)
-    text = comparison_table(passive, m, fmu, laws, controller) + "\n\n" + case_table(m, fmu, like)
+    hybrid = benefits(tables["hybrid"], passive)
+    friendly = pd.concat([laws.assign(C_ground=0.0), hybrid], ignore_index=True)
+    text = "\n\n".join([comparison_table(passive, m, fmu, laws, controller), road_friendly_table(friendly),
+                        case_table(m, fmu, like)])
     (out / "table.md").write_text(text + "\n", encoding="utf-8")
     road, speed = HEADLINE if HEADLINE[0] in grid.roads and HEADLINE[1] in grid.speeds else (grid.roads[0],
                                                                                                grid.speeds[0])
@@ -385,7 +416,8 @@ def run(grid: Grid, out: Path, fmus: dict[str, Path], client: Any = None) -> dic
     plot_laws(out / "demand_laws.png", laws[(laws["road"] == road) & (laws["speed"] == speed)], passive)
     results = {"grid": grid.__dict__, "map": m.to_dict("records"), "fmu": fmu.to_dict("records"),
                "fmu_like": like.to_dict("records"), "passive": passive.to_dict("records"),
-               "laws": laws.to_dict("records"), "controller": controller.to_dict("records")}
+               "laws": laws.to_dict("records"), "controller": controller.to_dict("records"),
+               "hybrid": hybrid.to_dict("records")}
     import json
 
     (out / "results.json").write_text(json.dumps(jsonable(results), indent=1), encoding="utf-8")

@@ -104,9 +104,12 @@ def sensitivity(df: Any, params: list[str], metrics: list[str], random: Sequence
 
     rows = []
     for m in metrics:
+        # a metric that is infinite by definition on some rows (a fitted bandwidth "no lag") is
+        # ranked over its finite rows
+        d = df[np.isfinite(df[m].to_numpy(dtype=float))]
         for p in params:
-            rho = (float(df[p].corr(df[m], method="spearman")) if _numeric(df, p) else math.nan)
-            index, level = first_order_index(df[p], df[m].to_numpy())
+            rho = (float(d[p].corr(d[m], method="spearman")) if _numeric(d, p) else math.nan)
+            index, level = first_order_index(d[p], d[m].to_numpy())
             rows.append({"metric": m, "parameter": p, "index": index,
                          "no_effect_level": level if p in random else math.nan, "spearman": rho})
     return pd.DataFrame(rows, columns=["metric", "parameter", "index", "no_effect_level", "spearman"])
@@ -313,7 +316,8 @@ def write_html(path: Path, spec: sweep.Sweep, df: Any, images: list[tuple[str, P
         parts.append("<h2>Largest first-order indices</h2>" + top.to_html(index=False, float_format="%.3f"))
     if len(failed):
         parts.append("<h2>Failed points</h2>" + failed[["point", "point_id", "error"]].to_html(index=False))
-    parts.append("<h2>Metrics over the sweep</h2>" + df[spec.kept_metrics()].describe().T.to_html(float_format="%.4g"))
+    finite = df[spec.kept_metrics()].replace([np.inf, -np.inf], np.nan)  # counts and spreads of finite values
+    parts.append("<h2>Metrics over the sweep</h2>" + finite.describe().T.to_html(float_format="%.4g"))
     parts.append("</body></html>")
     path.write_text("\n".join(parts), encoding="utf-8")
     return path

@@ -20,6 +20,20 @@ def hil(paths, **point):
     return sweep.run_hil({"duration": 3.0, "settle": 1.0, **point}, 11, paths["truck"], paths["damper"])
 
 
+def test_a_speed_only_scales_a_homogeneous_truck(paths):
+    """The hand result behind the map's nine cases: an ISO 8608 road of waviness 2 is a white velocity
+    input at any speed, and the truck with the clipped MSD law or a linear damper is positively
+    homogeneous, so the ratio of two dampers' rides hardly moves with the speed (the profile's band
+    limits move in frequency)."""
+    ratios = []
+    for speed in (14.0, 25.0):
+        ideal = hil(paths, mode="ideal", speed=speed, duration=8.0)
+        passive = hil(paths, mode="passive", c_passive=25e3, speed=speed, duration=8.0)
+        ratios.append(ideal["a_body_rms"] / passive["a_body_rms"])
+    assert ratios[0] == pytest.approx(ratios[1], rel=3e-3)
+    assert ratios[0] < 0.97, "the ideal damper rides better"
+
+
 def test_no_delay_and_no_lag_is_the_ideal_damper(paths):
     ideal = hil(paths, mode="ideal")
     tracking = hil(paths, mode="tracking", tracking_delay=0.0, tracking_bandwidth=math.inf)
@@ -81,7 +95,10 @@ def test_the_benefit_is_over_the_best_riding_passive_damper():
                             "DLC": [0.12, 0.11, 0.10]})
     rows = pd.DataFrame({"road": "minor", "speed": 14.0, "a_body_rms": [0.81, 0.99], "a_body_wk_rms": [0.65, 0.52],
                          "DLC": [0.099, 0.121]})
+    passive["road_stress"] = [1.10, 1.08, 1.06]
+    rows["road_stress"] = [1.05, 1.12]
     b = benefit_map.benefits(rows, passive)
+    assert b["stress_change"].tolist() == pytest.approx([1.05 / 1.08 - 1, 1.12 / 1.08 - 1])
     # plain: against 20 kNs/m (0.90 m/s², DLC 0.11); Wk: against 30 kNs/m (0.65, DLC 0.10)
     assert b["benefit"].tolist() == pytest.approx([0.10, -0.10])
     assert b["dlc_change"].tolist() == pytest.approx([0.099 / 0.11 - 1, 0.121 / 0.11 - 1])
@@ -104,10 +121,11 @@ def test_the_command_writes_its_tables_and_maps(paths, tmp_path):
                             c_passive=(15e3, 25e3, 35e3), duration=3.0, law_alphas=(0.4, 0.8), law_cms=(24e3,),
                             nonlinear={"c_passive": (20e3,), "passive_compression_ratio": (0.5, 1.0),
                                        "passive_v_knee": (0.1,), "passive_high_speed_ratio": (0.5,)},
-                            controller={"Cm": (48e3,), "alpha": (0.2,), "Kp_F": (0.3,), "Ki_F": (0.0,)})
+                            controller={"Cm": (48e3,), "alpha": (0.2,), "Kp_F": (0.3,), "Ki_F": (0.0,)},
+                            hybrid={"Cm": (24e3,), "alpha": (0.8,), "C_ground": (20e3,)})
     results = benefit_map.run(grid, tmp_path, paths)
     for name in ("map.parquet", "passive.parquet", "nonlinear.parquet", "laws.parquet", "controller.parquet",
-                 "fmu.parquet", "table.md",
+                 "hybrid.parquet", "fmu.parquet", "table.md",
                  "results.json",
                  "benefit_map_headline.png", "benefit_wk_map_headline.png", "benefit_map_cases.png", "demand_laws.png"):
         assert (tmp_path / name).is_file(), name

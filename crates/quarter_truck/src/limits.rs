@@ -21,7 +21,7 @@ impl Params {
     pub fn eigenvalue_bound(&self) -> f64 {
         let c = self.c_susp
             + match self.damper_mode {
-                MODE_IDEAL | MODE_TRACKING => self.cm.max(self.c_min),
+                MODE_IDEAL | MODE_TRACKING => (self.cm + self.c_ground).max(self.c_min),
                 MODE_PASSIVE => {
                     self.c_passive * self.passive_compression_ratio.max(1.0) * self.passive_high_speed_ratio.max(1.0)
                 }

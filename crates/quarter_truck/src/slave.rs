@@ -188,20 +188,27 @@ impl Model for Slave {
     }
 
     fn do_step(&mut self, h: f64) -> Result<Option<Self::StepWarning>, &'static str> {
-        let saved = *self;
+        // what a refused step puts back; the demand's past (4 kB a side) only where it moves
+        let (y0, z_road0, time0) = (self.y, self.inputs.z_road, self.time);
+        let past0 = (self.params.damper_mode == MODE_TRACKING).then_some(self.past);
         let mut y = self.y;
-        let mut past = self.past;
-        self.params.advance(&self.inputs, &mut y, h, self.time, &mut past);
+        self.params.advance(&self.inputs, &mut y, h, self.time, &mut self.past);
+        let restore = |s: &mut Self| {
+            (s.y, s.inputs.z_road, s.time) = (y0, z_road0, time0);
+            if let Some(past) = past0 {
+                s.past = past;
+            }
+        };
         if !y.iter().all(|x| x.is_finite()) {
+            restore(self);
             return Err("non-finite state");
         }
         self.y = y;
-        self.past = past;
         // the road input is extrapolated over the step; hold its end value for the outputs
         self.inputs.z_road += self.inputs.v_road * h;
         self.time += h;
         if !self.outputs_finite() || !self.inputs.z_road.is_finite() {
-            *self = saved;
+            restore(self);
             return Err("an output is not finite at the end of the step");
         }
         Ok(None)

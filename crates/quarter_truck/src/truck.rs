@@ -3,9 +3,9 @@
 //! ```text
 //! M_s z̈_s = −F_s,          F_s = k_s (z_s − z_u) + c_s (ż_s − ż_u) + F      (F: damper, tension +)
 //! M_u z̈_u = F_s + F_t,     F_t = k_t (z_r − z_u) + c_t (ż_r − ż_u)          (tyre, compression +)
-//! clipped MSD (paper eqs. 1–2): F_d = C_m [α V_rel + (1 − α) V_body] where it resists V_rel at
-//!                               least as much as c_min V_rel, else c_min V_rel (the paper: c_min = 0),
-//!                               V_rel = ż_s − ż_u (extension +),  V_body = ż_s
+//! clipped MSD (paper eqs. 1–2): F_d = C_m [α V_rel + (1 − α) V_body] − C_g ż_u where it resists
+//!                               V_rel at least as much as c_min V_rel, else c_min V_rel (the paper:
+//!                               C_g = 0, c_min = 0), V_rel = ż_s − ż_u (extension +),  V_body = ż_s
 //! ```
 //! The road is z_r(t) = z_road + v_road (t − t_k) over a communication step from t_k; the damper
 //! force input is held. The tracking damper (`damper_mode` 3, [`crate::tracking`]) adds two lag
@@ -37,10 +37,26 @@ pub const MODE_IDEAL: i32 = 1;
 pub const MODE_PASSIVE: i32 = 2;
 pub const MODE_TRACKING: i32 = 3;
 
-/// Clipped Modified Skyhook demand (N) for relative velocity `v_rel` and body velocity `v_body`,
-/// with the floor `c_min·v_rel`.
-pub fn msd_demand(cm: f64, alpha: f64, c_min: f64, v_rel: f64, v_body: f64) -> f64 {
-    dissipative(cm * (alpha * v_rel + (1.0 - alpha) * v_body), v_rel, c_min)
+/// The demand law: the paper's Modified Skyhook, with an optional groundhook term and floor.
+#[derive(Clone, Copy, Debug)]
+pub struct DemandLaw {
+    /// Skyhook coefficient C_m (N·s/m) and blend α (1).
+    pub cm: f64,
+    pub alpha: f64,
+    /// Groundhook coefficient (N·s/m) on the axle velocity.
+    pub c_ground: f64,
+    /// Floor of the clip (N·s/m).
+    pub c_min: f64,
+}
+
+impl DemandLaw {
+    /// The clipped demand (N, tension positive) at relative velocity `v_rel`, body velocity
+    /// `v_body` and axle velocity `v_axle` (m/s): C_m [α v_rel + (1 − α) v_body] − C_g v_axle, kept
+    /// dissipative and at least `c_min·v_rel`.
+    pub fn demand(&self, v_rel: f64, v_body: f64, v_axle: f64) -> f64 {
+        let f = self.cm * (self.alpha * v_rel + (1.0 - self.alpha) * v_body) - self.c_ground * v_axle;
+        dissipative(f, v_rel, self.c_min)
+    }
 }
 
 /// Everything evaluated at one state and time.
@@ -85,9 +101,14 @@ impl Params {
         c * shaped
     }
 
-    /// The clipped MSD demand (N) at state `y`.
+    /// The demand law of the parameters.
+    pub fn demand_law(&self) -> DemandLaw {
+        DemandLaw { cm: self.cm, alpha: self.alpha, c_ground: self.c_ground, c_min: self.c_min }
+    }
+
+    /// The clipped demand (N) at state `y`.
     pub fn demand(&self, y: &State) -> f64 {
-        msd_demand(self.cm, self.alpha, self.c_min, y[1] - y[3], y[1])
+        self.demand_law().demand(y[1] - y[3], y[1], y[3])
     }
 
     /// Derivatives and forces at state `y` and time `at`.
@@ -254,13 +275,20 @@ mod tests {
 
     #[test]
     fn msd_is_clipped_to_dissipation() {
-        assert!((msd_demand(24e3, 0.8, 0.0, 0.1, 0.0) - 1920.0).abs() < 1e-9);
+        let msd = |c_min, v_rel, v_body| {
+            DemandLaw { cm: 24e3, alpha: 0.8, c_ground: 0.0, c_min }.demand(v_rel, v_body, v_body - v_rel)
+        };
+        assert!((msd(0.0, 0.1, 0.0) - 1920.0).abs() < 1e-9);
         // body moving up fast while the damper compresses slowly: demand would push, so 0
-        assert_eq!(msd_demand(24e3, 0.8, 0.0, -0.01, 0.5), 0.0);
-        assert_eq!(msd_demand(24e3, 0.8, 0.0, 0.0, 0.3), 0.0);
+        assert_eq!(msd(0.0, -0.01, 0.5), 0.0);
+        assert_eq!(msd(0.0, 0.0, 0.3), 0.0);
         // with a floor: the floor where the law asks for less or pushes
-        assert_eq!(msd_demand(24e3, 0.8, 5e3, -0.01, 0.5), -50.0);
-        assert!((msd_demand(24e3, 0.8, 5e3, 0.1, -0.3) - 500.0).abs() < 1e-9);
+        assert_eq!(msd(5e3, -0.01, 0.5), -50.0);
+        assert!((msd(5e3, 0.1, -0.3) - 500.0).abs() < 1e-9);
+        // groundhook: the axle moving down while the damper extends asks for C_g |v_axle|
+        let ground = DemandLaw { cm: 0.0, alpha: 0.8, c_ground: 10e3, c_min: 0.0 };
+        assert!((ground.demand(0.1, 0.0, -0.1) - 1000.0).abs() < 1e-9);
+        assert_eq!(ground.demand(0.1, 0.2, 0.1), 0.0, "the axle moving up: it would push");
     }
 
     #[test]
