@@ -288,6 +288,46 @@ def plot_laws(path: Path, laws: Any, passive: Any) -> None:
     plt.close(fig)
 
 
+def plot_fronts(path: Path, passive: Any, laws: Any, controller: Any) -> None:
+    """The ride-DLC plane of every case: the Pareto fronts (least RMS a_body for a DLC) of the linear
+    and the non-linear passive families, of the ideal damper over the laws, and of the FMU over the
+    laws with its default gains and with the gains swept."""
+    plt = hil_scenarios._plt()
+    cases = list(passive.groupby(["road", "speed"], sort=False).groups)
+    cols = 3
+    rows = -(-len(cases) // cols)
+    fig, axes = plt.subplots(rows, cols, figsize=(4.6 * cols, 3.6 * rows), squeeze=False)
+    families = (("linear passive", passive, "family", "linear", "k.-"),
+                ("non-linear passive", passive, "family", "non-linear", ".-"),
+                ("ideal, laws", laws, "mode", "ideal", "*-"),
+                ("damper FMU, laws", laws, "mode", "fmu", "D-"),
+                ("damper FMU, laws and gains", controller, "mode", "fmu", "s-"))
+    for ax, (road, speed) in zip(axes.flat, cases, strict=False):
+        best = best_passive(passive[(passive["road"] == road) & (passive["speed"] == speed)])
+        for label, table, key, value, style in families:
+            g = table[(table["road"] == road) & (table["speed"] == speed) & (table[key] == value)]
+            front = hil_scenarios.pareto_front(g[["DLC", "a_body_rms"]].to_dict("records"))
+            ax.plot([f["DLC"] for f in front], [f["a_body_rms"] for f in front], style, ms=4, label=label)
+        ax.plot(best["DLC"], best["a_body_rms"], "ks", mfc="none", ms=9, label="best-riding passive")
+        ax.axvline(best["DLC"], color="k", lw=0.5, ls=":")
+        ax.axhline((1 - TARGET) * best["a_body_rms"], color="k", lw=0.5, ls="--")
+        ax.set_xlim(0.5 * best["DLC"], 1.3 * best["DLC"])
+        ax.set_ylim(0.5 * best["a_body_rms"], 1.3 * best["a_body_rms"])
+        ax.set_title(f"{road}, {speed:g} m/s", fontsize=9)
+        ax.grid(alpha=0.3)
+    for ax in axes.flat[len(cases):]:
+        ax.axis("off")
+    for ax in axes[:, 0]:
+        ax.set_ylabel("RMS a_body (m/s²)")
+    for ax in axes[-1]:
+        ax.set_xlabel("DLC")
+    axes[0][0].legend(fontsize=6)
+    fig.suptitle("Pareto fronts on the ride-DLC plane (dotted: the best-riding passive's DLC; dashed: 8 % better "
+                 "ride)")
+    fig.savefig(path, dpi=100, bbox_inches="tight")
+    plt.close(fig)
+
+
 def plot_maps(path: Path, m: Any, fmu: Any, road: str, speed: float, metric: str = "benefit") -> None:
     """Heat maps of `metric` over delay and bandwidth for one case, one panel per direction, with the
     FMU's fitted tracking marked."""
@@ -414,6 +454,7 @@ def run(grid: Grid, out: Path, fmus: dict[str, Path], client: Any = None) -> dic
     plot_maps(out / "benefit_wk_map_headline.png", m, fmu, road, speed, metric="benefit_wk")
     plot_all_cases(out / "benefit_map_cases.png", m, fmu, grid)
     plot_laws(out / "demand_laws.png", laws[(laws["road"] == road) & (laws["speed"] == speed)], passive)
+    plot_fronts(out / "pareto_fronts.png", passive, laws, controller)
     results = {"grid": grid.__dict__, "map": m.to_dict("records"), "fmu": fmu.to_dict("records"),
                "fmu_like": like.to_dict("records"), "passive": passive.to_dict("records"),
                "laws": laws.to_dict("records"), "controller": controller.to_dict("records"),
@@ -444,7 +485,7 @@ def main(argv: list[str] | None = None) -> None:
     with sweep.dask_client(args.scheduler, args.workers, args.serial) as client:
         run(grid, args.out, fmus, client)
     if args.docs:
-        for name in ("benefit_map_headline.png", "benefit_map_cases.png", "demand_laws.png"):
+        for name in ("benefit_map_headline.png", "benefit_map_cases.png", "demand_laws.png", "pareto_fronts.png"):
             shutil.copy(args.out / name, DOCS / "figures" / name)
         shutil.copy(args.out / "table.md", DOCS / "benefit-map-table.md")
 

@@ -127,7 +127,8 @@ def test_the_command_writes_its_tables_and_maps(paths, tmp_path):
     for name in ("map.parquet", "passive.parquet", "nonlinear.parquet", "laws.parquet", "controller.parquet",
                  "hybrid.parquet", "fmu.parquet", "table.md",
                  "results.json",
-                 "benefit_map_headline.png", "benefit_wk_map_headline.png", "benefit_map_cases.png", "demand_laws.png"):
+                 "benefit_map_headline.png", "benefit_wk_map_headline.png", "benefit_map_cases.png", "demand_laws.png",
+                 "pareto_fronts.png"):
         assert (tmp_path / name).is_file(), name
     m = pd.DataFrame(results["map"])
     assert sorted(m["road"].unique()) == ["belgian_block", "minor"]
