@@ -119,6 +119,17 @@ def case_sets(grid: Grid) -> dict[str, dict[str, list[Any]]]:
     return sets
 
 
+def of_case(table: Any, road: str, speed: float) -> Any:
+    """The rows of `table` on one road at one speed."""
+    return table[(table["road"] == road) & (table["speed"] == speed)]
+
+
+def ideal_row(m: Any) -> Any:
+    """The tracking map's run without delay or lag (the ideal damper) among the rows `m` of a case."""
+    ideal = (m["tracking_delay"] == 0) & np.isinf(m["tracking_bandwidth"]) & (m["tracking_direction"] == "both")
+    return m[ideal].iloc[0]
+
+
 def best_passive(passive: Any, metric: str = "a_body_rms") -> Any:
     """The passive row with the least `metric` (the best-riding passive damper)."""
     return passive.loc[passive[metric].idxmin()]
@@ -132,7 +143,7 @@ def benefits(rows: Any, passive: Any) -> Any:
     the best-riding passive's (`stress_change`)."""
     out = rows.copy()
     for i, r in out.iterrows():
-        p = passive[(passive["road"] == r["road"]) & (passive["speed"] == r["speed"])]
+        p = of_case(passive, r["road"], r["speed"])
         for metric, col in (("a_body_rms", "benefit"), ("a_body_wk_rms", "benefit_wk")):
             ref = best_passive(p, metric)
             out.loc[i, col] = 1 - r[metric] / ref[metric]
@@ -151,9 +162,8 @@ def fmu_like(fmu: Any, map_sweep: sweep.Sweep, fmus: dict[str, Path]) -> Any:
         point = {"road": f["road"], "speed": f["speed"], "duration": map_sweep.fixed["duration"],
                  "alpha": map_sweep.fixed["alpha"], "mode": "tracking"}
         for side in ("extension", "compression"):
-            bw = f[f"tracking_bandwidth_{side}"]
             point[f"tracking_delay_{side}"] = float(f[f"tracking_delay_{side}"])
-            point[f"tracking_time_constant_{side}"] = 0.0 if math.isinf(bw) else 1 / (2 * math.pi * bw)
+            point[f"tracking_time_constant_{side}"] = sweep.lag_time_constant(f[f"tracking_bandwidth_{side}"])
         seed = sweep.run_seed(map_sweep, {"road": f["road"]})
         rows.append({"road": f["road"], "speed": f["speed"],
                      **sweep.run_hil(point, seed, fmus["truck"], fmus["damper"])})
@@ -179,10 +189,9 @@ def case_table(m: Any, fmu: Any, like: Any) -> str:
              "longest delay (no lag) with a benefit at a DLC no worse |",
              "|---|---|---|---|---|---|"]
     for (road, speed), g in m.groupby(["road", "speed"], sort=False):
-        ideal = g[(g["tracking_delay"] == 0) & np.isinf(g["tracking_bandwidth"]) & (g["tracking_direction"] == "both")]
-        ideal = ideal.iloc[0]
-        f = fmu[(fmu["road"] == road) & (fmu["speed"] == speed)].iloc[0]
-        lk = like[(like["road"] == road) & (like["speed"] == speed)].iloc[0]
+        ideal = ideal_row(g)
+        f = of_case(fmu, road, speed).iloc[0]
+        lk = of_case(like, road, speed).iloc[0]
         both = g[(g["tracking_direction"] == "both") & np.isinf(g["tracking_bandwidth"]) & (g["benefit"] > 0)
                  & (g["dlc_change"] <= 0)]
         reach = f"{1e3 * both['tracking_delay'].max():g} ms" if len(both) else "none"
@@ -221,13 +230,13 @@ def comparison_table(passive: Any, m: Any, fmu: Any, laws: Any, controller: Any)
              "paper's law, ideal: benefit (Wk), DLC change | paper's law, damper FMU | best law, ideal | "
              "best law, damper FMU | best law and force-loop gains, damper FMU |", "|---|---|---|---|---|---|---|---|"]
     for (road, speed), g in m.groupby(["road", "speed"], sort=False):
-        case = (passive["road"] == road) & (passive["speed"] == speed)
-        lin = best_passive(passive[case & (passive["family"] == "linear")])
-        non = best_passive(passive[case & (passive["family"] == "non-linear")])
-        ideal = g[(g["tracking_delay"] == 0) & np.isinf(g["tracking_bandwidth"])].iloc[0]
-        f = fmu[(fmu["road"] == road) & (fmu["speed"] == speed)].iloc[0]
-        law = laws[(laws["road"] == road) & (laws["speed"] == speed)]
-        gains = controller[(controller["road"] == road) & (controller["speed"] == speed)]
+        p = of_case(passive, road, speed)
+        lin = best_passive(p[p["family"] == "linear"])
+        non = best_passive(p[p["family"] == "non-linear"])
+        ideal = ideal_row(g)
+        f = of_case(fmu, road, speed).iloc[0]
+        law = of_case(laws, road, speed)
+        gains = of_case(controller, road, speed)
         lines.append(
             f"| {road}, {speed:g} m/s | {_passive_name(lin)}: {lin['a_body_rms']:.3f}, {lin['DLC']:.4f} "
             f"| {_passive_name(non)}: {non['a_body_rms']:.3f}, {non['DLC']:.4f} | {_score(ideal)} | {_score(f)} "
@@ -260,7 +269,7 @@ def plot_laws(path: Path, laws: Any, passive: Any) -> None:
     the FMU."""
     plt = hil_scenarios._plt()
     road, speed = laws.iloc[0]["road"], laws.iloc[0]["speed"]
-    p = passive[(passive["road"] == road) & (passive["speed"] == speed)]
+    p = of_case(passive, road, speed)
     lin = p[p["family"] == "linear"].sort_values("c_passive")
     fig, ax = plt.subplots(figsize=(8, 5.5))
     ax.plot(lin["DLC"], lin["a_body_rms"], "k.-", label="linear passive, c = 5-60 kNs/m")
@@ -303,9 +312,10 @@ def plot_fronts(path: Path, passive: Any, laws: Any, controller: Any) -> None:
                 ("damper FMU, laws", laws, "mode", "fmu", "D-"),
                 ("damper FMU, laws and gains", controller, "mode", "fmu", "s-"))
     for ax, (road, speed) in zip(axes.flat, cases, strict=False):
-        best = best_passive(passive[(passive["road"] == road) & (passive["speed"] == speed)])
+        best = best_passive(of_case(passive, road, speed))
         for label, table, key, value, style in families:
-            g = table[(table["road"] == road) & (table["speed"] == speed) & (table[key] == value)]
+            g = of_case(table, road, speed)
+            g = g[g[key] == value]
             front = hil_scenarios.pareto_front(g[["DLC", "a_body_rms"]].to_dict("records"))
             ax.plot([f["DLC"] for f in front], [f["a_body_rms"] for f in front], style, ms=4, label=label)
         ax.plot(best["DLC"], best["a_body_rms"], "ks", mfc="none", ms=9, label="best-riding passive")
@@ -332,10 +342,10 @@ def plot_maps(path: Path, m: Any, fmu: Any, road: str, speed: float, metric: str
     """Heat maps of `metric` over delay and bandwidth for one case, one panel per direction, with the
     FMU's fitted tracking marked."""
     plt = hil_scenarios._plt()
-    g = m[(m["road"] == road) & (m["speed"] == speed)]
+    g = of_case(m, road, speed)
     delays = sorted(g["tracking_delay"].unique())
     bws = sorted(g["tracking_bandwidth"].unique())
-    f = fmu[(fmu["road"] == road) & (fmu["speed"] == speed)].iloc[0]
+    f = of_case(fmu, road, speed).iloc[0]
     fig, axes = plt.subplots(1, 3, figsize=(19, 5.6), sharey=True)
     lim = 200 * TARGET  # % either side: the benefits that matter; a worse ride saturates
     for ax, direction in zip(axes, sweep.TRACKING_DIRECTIONS, strict=True):
@@ -391,7 +401,8 @@ def plot_all_cases(path: Path, m: Any, fmu: Any, grid: Grid) -> None:
     for i, road in enumerate(grid.roads):
         for j, speed in enumerate(grid.speeds):
             ax = axes[i][j]
-            g = m[(m["road"] == road) & (m["speed"] == speed) & (m["tracking_direction"] == "both")]
+            g = of_case(m, road, speed)
+            g = g[g["tracking_direction"] == "both"]
             for bw in sorted(g["tracking_bandwidth"].unique()):
                 s = g[g["tracking_bandwidth"] == bw].sort_values("tracking_delay")
                 line, = ax.plot(1e3 * s["tracking_delay"], 100 * s["benefit"], "-", label=f"{_bw(bw)} Hz")
@@ -399,7 +410,7 @@ def plot_all_cases(path: Path, m: Any, fmu: Any, grid: Grid) -> None:
                 ax.plot(1e3 * s["tracking_delay"][ok], 100 * s["benefit"][ok], "o", ms=4, color=line.get_color())
                 ax.plot(1e3 * s["tracking_delay"][~ok], 100 * s["benefit"][~ok], "o", ms=4, mfc="none",
                         color=line.get_color())
-            f = fmu[(fmu["road"] == road) & (fmu["speed"] == speed)]
+            f = of_case(fmu, road, speed)
             if len(f):
                 ax.axhline(100 * f.iloc[0]["benefit"], color="gold", lw=2, label="damper FMU")
             ax.axhline(0, color="k", lw=0.8)
@@ -455,7 +466,7 @@ def run(grid: Grid, out: Path, fmus: dict[str, Path], client: Any = None) -> dic
     plot_maps(out / "benefit_map_headline.png", m, fmu, road, speed)
     plot_maps(out / "benefit_wk_map_headline.png", m, fmu, road, speed, metric="benefit_wk")
     plot_all_cases(out / "benefit_map_cases.png", m, fmu, grid)
-    plot_laws(out / "demand_laws.png", laws[(laws["road"] == road) & (laws["speed"] == speed)], passive)
+    plot_laws(out / "demand_laws.png", of_case(laws, road, speed), passive)
     plot_fronts(out / "pareto_fronts.png", passive, laws, controller)
     results = {"grid": grid.__dict__, "map": m.to_dict("records"), "fmu": fmu.to_dict("records"),
                "fmu_like": like.to_dict("records"), "passive": passive.to_dict("records"),

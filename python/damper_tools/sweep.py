@@ -333,13 +333,19 @@ def tracking_parameters(settings: dict[str, Any]) -> dict[str, float]:
     delay, bandwidth = float(settings["tracking_delay"]), float(settings["tracking_bandwidth"])
     if not (delay >= 0 and bandwidth > 0):
         raise SweepError(f"tracking_delay must be >= 0 s and tracking_bandwidth > 0 Hz, not {delay}, {bandwidth}")
-    tau = 0.0 if math.isinf(bandwidth) else 1 / (2 * math.pi * bandwidth)
+    tau = lag_time_constant(bandwidth)
     out = {}
     for side in ("extension", "compression"):
         on = direction in ("both", side)
         out[f"tracking_delay_{side}"] = delay if on else 0.0
         out[f"tracking_time_constant_{side}"] = tau if on else 0.0
     return out
+
+
+def lag_time_constant(bandwidth: float) -> float:
+    """The time constant (s) of a first-order lag of corner `bandwidth` (Hz): 0 for an infinite one,
+    the truck's "no lag"."""
+    return 0.0 if math.isinf(bandwidth) else 1 / (2 * math.pi * bandwidth)
 
 
 def run_full_truck(point: dict[str, Any], seed: int, truck_fmu: Path, damper_fmu: Path) -> dict[str, float]:

@@ -15,7 +15,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.signal import lfilter
 
-EXT_V = 0.02  # m/s, the classes of damper_tools.hil_scenarios
+from damper_tools.hil_scenarios import EXT_V  # m/s: the directions' classes, as the HiL metrics
+
 MAX_DELAY = 0.04  # s, longest delay searched
 BANDWIDTHS = tuple(np.geomspace(2.0, 500.0, 33)) + (math.inf,)  # Hz, 19 % apart
 
