@@ -72,7 +72,7 @@ impl CubicMount {
     /// Halley's iteration runs to convergence from the smaller of the linear and the cubic
     /// spring's deflection alone (both bound the root from outside within a factor of 2). The
     /// table replaced a series and a Halley step (4 % faster for the whole damper,
-    /// docs/journal.md, performance, tenth round); the closed form (hyperbolic Cardano) cost several times
+    /// JOURNAL.md, performance, tenth round); the closed form (hyperbolic Cardano) cost several times
     /// as much.
     pub fn deflection(&self, force: f64) -> f64 {
         let (k1, k3) = (self.k1, self.k3);

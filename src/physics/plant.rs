@@ -222,7 +222,7 @@ impl Plant<'_> {
     /// linearisation written into `lin` then. A quotient by a parameter or by a value known
     /// early (a volume, a denominator shared by several quotients) is a product by its
     /// reciprocal: the division then runs beside the chain of dependent operations instead of in
-    /// it (+3–4 % with the controller's, docs/journal.md, performance, twelfth round).
+    /// it (+3–4 % with the controller's, JOURNAL.md, performance, twelfth round).
     #[inline(always)]
     fn evaluate_with<const JAC: bool>(&self, y: &State, lin: Option<&mut Linearisation>) -> PlantOutputs {
         use idx::*;

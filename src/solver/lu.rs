@@ -43,7 +43,7 @@ impl<const N: usize> Lu<N> {
             let pivot_row = rows[k];
             // index loops over constant bounds, which the compiler unrolls for a small N (the
             // iterator chain they replace, `skip` over `zip`, was not unrolled, and cost twice the
-            // arithmetic: docs/journal.md, performance, fourth round)
+            // arithmetic: JOURNAL.md, performance, fourth round)
             for i in k + 1..N {
                 let factor = rows[i][k] * inverse;
                 rows[i][k] = factor;

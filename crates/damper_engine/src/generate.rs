@@ -49,7 +49,7 @@ use std::path::PathBuf;
 /// `cargo bench`'s input), so that a record carries the effects and the sensors it is told to and
 /// not the integrator's error at the FMU's default tolerance (17 N there, 0.86 load-cell σ), which a
 /// diagnosis fits: it moved the mount stiffness fitted from a 60 s record by 4.3 standard errors
-/// (docs/journal.md, performance, eleventh round).
+/// (JOURNAL.md, performance, eleventh round).
 const TRUTH_RTOL: f64 = 1e-6;
 
 /// How the damper is driven.

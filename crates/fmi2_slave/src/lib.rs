@@ -62,7 +62,7 @@ pub trait Model: Default {
     /// them). A batch of values is applied all or nothing: the FMI layer keeps a copy of this
     /// part, not of the whole model, and puts it back when one value is refused. (Copying the
     /// damper's whole model, integrator state and tables, at every fmi2SetReal cost more than
-    /// its communication step: docs/journal.md, performance, ninth round.)
+    /// its communication step: JOURNAL.md, performance, ninth round.)
     type Settable;
     fn settable(&self) -> Self::Settable;
     fn restore_settable(&mut self, settable: Self::Settable);
