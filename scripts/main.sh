@@ -9,11 +9,12 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 bash scripts/setup.sh
-# Builds the two FMUs' libraries only (no libclang), for Linux and Windows, and packs the damper's.
+# Builds the three FMUs' libraries only (no libclang), for Linux and Windows, and packs the damper's.
 echo "+ python3 scripts/package_fmu.py"
 python3 scripts/package_fmu.py
-echo "+ python3 scripts/package_truck.py --no-build"
+echo "+ python3 scripts/package_truck.py --no-build && python3 scripts/package_full_truck.py --no-build"
 python3 scripts/package_truck.py --no-build
+python3 scripts/package_full_truck.py --no-build
 echo "+ .venv/bin/python scripts/paper_tests.py $*"
 .venv/bin/python scripts/paper_tests.py "$@"
 echo "+ .venv/bin/python scripts/hil_scenarios.py"

@@ -130,9 +130,9 @@ def platforms_arg(text, program, product="the FMU gets"):
     return ["linux64", "win64"]
 
 
-def cargo_build(platforms, packages=("semi_active_damper", "quarter_truck"), environment=None):
-    """Builds `packages` for each platform; by default both FMUs' libraries (the damper's and the
-    quarter truck's), which need cargo alone, no libclang. `environment(triple)`, if given, is the
+def cargo_build(platforms, packages=("semi_active_damper", "quarter_truck", "full_truck"), environment=None):
+    """Builds `packages` for each platform; by default the three FMUs' libraries (the damper's and the
+    two trucks'), which need cargo alone, no libclang. `environment(triple)`, if given, is the
     build's environment for a target triple (None: the host's)."""
     for platform in platforms:
         triple = PLATFORMS[platform][0]

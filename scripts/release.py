@@ -1,8 +1,9 @@
 #!/usr/bin/env python3
-"""Pack a release: both FMUs and the `damper` program, for Linux and Windows, in one zip archive
+"""Pack a release: the three FMUs and the `damper` program, for Linux and Windows, in one zip archive
 (standard library only).
 
-    python3 scripts/release.py              # build everything (package_fmu, package_truck, build_cli), then pack
+    python3 scripts/release.py              # build everything (package_fmu, package_truck, package_full_truck,
+                                            # build_cli), then pack
     python3 scripts/release.py --no-build   # pack what target/ already holds
 
 writes target/dist/semi-active-damper-<version>.zip, whose one folder holds
@@ -11,6 +12,7 @@ writes target/dist/semi-active-damper-<version>.zip, whose one folder holds
     LICENSE-MIT, LICENSE-APACHE   the project's licences
     fmu/SemiActiveDamper.fmu      the damper (linux64 and win64 binaries; its licences inside)
     fmu/QuarterTruck.fmu          the quarter truck with the clipped Modified Skyhook demand
+    fmu/FullTruck.fmu             the three-axle truck (heave, pitch, roll) for six dampers
     bin/linux64/damper            the diagnosis and calibration program for Linux (glibc >= 2.34)
     bin/win64/damper.exe          the same for Windows 10 or later
     bin/THIRD-PARTY.txt           the crates compiled into the program, with their licences' text
@@ -34,6 +36,7 @@ from pathlib import Path
 # Run as a script, Python puts scripts/ first on sys.path, so the siblings are found.
 import build_cli
 import package_fmu
+import package_full_truck
 import package_truck
 
 REPO = package_fmu.REPO
@@ -54,6 +57,8 @@ fmu/SemiActiveDamper.fmu   the damper; binaries for linux64 (glibc >= 2.34) and 
                            F_damper [N]. Its documentation/index.html lists every variable.
 fmu/QuarterTruck.fmu       the paper's quarter truck (Table 1) with the clipped Modified Skyhook
                            demand, to couple with the damper on a road.
+fmu/FullTruck.fmu          a three-axle truck whose body heaves, pitches and rolls, Table 1 at each
+                           corner, to couple with six damper instances.
 bin/linux64/damper         compares the model with a measurement and names the physical effect
 bin/win64/damper.exe       the model misses (diagnose), fits nominal parameters (calibrate), makes
                            measurement-like records (generate); docs/cli.md is its help.
@@ -80,7 +85,7 @@ documentation/licenses/, those of the program in bin/ (THIRD-PARTY.txt and the f
 def version():
     """The crates' version, after checking that both model descriptions and the program agree."""
     crate = tomllib.loads((REPO / "Cargo.toml").read_text(encoding="utf-8"))["package"]["version"]
-    for xml in (REPO / "modelDescription.xml", package_truck.XML):
+    for xml in (REPO / "modelDescription.xml", package_truck.XML, package_full_truck.XML):
         found = package_fmu.read_model(xml)["version"]
         if found != crate:
             sys.exit(f"release: {xml.relative_to(REPO)} says version {found!r}, the crates {crate!r}")
@@ -127,11 +132,11 @@ def main(argv=None):
     args = parser.parse_args(argv)
     release = version()
     if not args.no_build:
-        for script in ("package_fmu.py", "package_truck.py", "build_cli.py"):
+        for script in ("package_fmu.py", "package_truck.py", "package_full_truck.py", "build_cli.py"):
             # a release has both platforms: each script stops with the reason where one cannot be built
             subprocess.run([sys.executable, str(REPO / "scripts" / script), "--platforms", ",".join(PLATFORMS)],
                            check=True)
-    fmus = [REPO / "target" / "fmu" / "SemiActiveDamper.fmu", package_truck.OUTPUT]
+    fmus = [REPO / "target" / "fmu" / "SemiActiveDamper.fmu", package_truck.OUTPUT, package_full_truck.OUTPUT]
     programs = {platform: build_cli.program_path(platform) for platform in PLATFORMS}
     missing = [str(p) for p in [*fmus, *programs.values()] if not p.exists()]
     if missing:

@@ -27,12 +27,14 @@ if [ -z "$reason" ]; then
 else
     echo "test.sh: the Windows tests of the FMI layer are skipped: $reason"
 fi
-echo "+ python3 scripts/package_fmu.py && python3 scripts/package_truck.py --no-build"
+echo "+ python3 scripts/package_fmu.py && python3 scripts/package_truck.py --no-build && python3 scripts/package_full_truck.py --no-build"
 python3 scripts/package_fmu.py
 python3 scripts/package_truck.py --no-build
+python3 scripts/package_full_truck.py --no-build
 echo "+ python3 scripts/build_cli.py (the damper program; for Windows too where it can be built)"
 python3 scripts/build_cli.py
 echo "+ .venv/bin/ruff check python scripts tests/python"
 .venv/bin/ruff check python scripts tests/python
-echo "+ .venv/bin/python -m pytest tests/python -q --fmu target/fmu/SemiActiveDamper.fmu --truck-fmu target/fmu/QuarterTruck.fmu $*"
-.venv/bin/python -m pytest tests/python -q --fmu target/fmu/SemiActiveDamper.fmu --truck-fmu target/fmu/QuarterTruck.fmu "$@"
+FMUS=(--fmu target/fmu/SemiActiveDamper.fmu --truck-fmu target/fmu/QuarterTruck.fmu --full-truck-fmu target/fmu/FullTruck.fmu)
+echo "+ .venv/bin/python -m pytest tests/python -q ${FMUS[*]} $*"
+.venv/bin/python -m pytest tests/python -q "${FMUS[@]}" "$@"

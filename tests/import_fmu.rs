@@ -14,10 +14,17 @@ use semi_active_damper::physics::params::Parameters;
 use semi_active_damper::variables::default_inputs;
 use std::io::Write;
 use std::path::PathBuf;
+use std::sync::OnceLock;
 
 /// Builds the cdylib of this test's profile (`cargo test` builds only the rlib, so the .so could
-/// be stale) and packs the .fmu in target/<profile>/import_test/.
+/// be stale) and packs the .fmu in target/<profile>/import_test/, once per test program: the tests
+/// run in parallel threads, and one rewriting the file while another reads it broke the zip.
 fn pack_fmu() -> PathBuf {
+    static FMU: OnceLock<PathBuf> = OnceLock::new();
+    FMU.get_or_init(pack).clone()
+}
+
+fn pack() -> PathBuf {
     let exe = std::env::current_exe().unwrap();
     let profile_dir = exe.parent().and_then(|d| d.parent()).unwrap().to_path_buf();
     let mut cargo = std::process::Command::new(std::env::var("CARGO").unwrap_or_else(|_| "cargo".into()));

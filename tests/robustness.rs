@@ -348,7 +348,7 @@ fn serialized_truck_states_are_accepted_whatever_the_inputs_did() {
 
 #[test]
 fn finding5_a_state_of_one_fmu_is_refused_by_the_other() {
-    let [damper, truck] = fmus();
+    let [damper, truck, _] = fmus();
     let (d, t) = (Instance::new(damper), Instance::new(truck));
     assert_eq!(d.initialise(), OK);
     assert_eq!(t.initialise(), OK);

@@ -1,11 +1,13 @@
-"""Python tools around the two FMUs of this repository (SemiActiveDamper.fmu, QuarterTruck.fmu).
+"""Python tools around the FMUs of this repository (SemiActiveDamper.fmu, QuarterTruck.fmu, FullTruck.fmu).
 
 Modules: `fmu` (one FMU instance through fmpy's FMU2Slave), `cosim` (the Jacobi master), `roads`
 (ISO 8608 and OpenCRG road inputs), `ssp` (the SSP of the coupled system, run with fmpy.ssp and
 libcosim), `rig_tests` and `paper_tests` (the paper's rig tests), `valve_response` (valve and force-loop
 transfer functions, flow map), `hil_scenarios` (the HiL runs), `hil_rig` (the HiL rig as a model),
-`full_truck` (six dampers as a three-axle truck), `sweep` and `sweep_report` (sweeps on Dask) and
-`campaign` (`damper diagnose` over a folder on Dask). The commands in scripts/ run their `main`.
+`full_truck` (the three-axle truck with six dampers), `instances` (six quarter trucks in one
+master), `ride`, `tracking_quality` and `benefit_map` (the semi-active benefit), `sweep` and
+`sweep_report` (sweeps on Dask) and `campaign` (`damper diagnose` over a folder on Dask). The
+commands in scripts/ run their `main`.
 """
 
 import math

@@ -1,133 +1,430 @@
-"""A full truck in one master: six quarter trucks, each with its own damper FMU instance.
+"""The three-axle full truck (FullTruck.fmu: the body heaves, pitches and rolls, each axle bounces and
+rolls) with six damper FMU instances in one master, and the semi-active benefit on it.
 
-    .venv/bin/python scripts/full_truck.py [--road minor --speed 14 --duration 5 --step 1e-3] [--out out/full_truck]
+    .venv/bin/python -m damper_tools.full_truck [--quick] [--docs] [--out out/full_truck]
 
-A three-axle truck is modelled as six independent quarter trucks (Table 1 each; no pitch or roll
-coupling through the body, an assumption of this example): front, first and second drive axle, left
-and right. The left and right tracks are partially correlated ISO 8608 profiles,
+Coupling (Jacobi, a fixed communication step, as damper_tools.cosim couples one quarter truck): at
+each communication point every damper instance gets its corner's v_damper and F_demand from the truck,
+the truck every corner's F_damper, and all seven step. With damper_mode 1-3 the truck runs alone.
+
+Roads: each tyre has its own road. On a random road (ISO 8608, damper_tools.roads) the left and right
+tracks are partially correlated,
 
     z_right = rho z_left + sqrt(1 - rho^2) z_2        (z_left, z_2 independent, same PSD)
 
 with rho = 0.6 at all wavelengths (an assumption; real roads lose coherence at short wavelengths).
-Each axle runs over the same track as the front axle, delayed by its distance behind the front
-axle divided by the speed. The road fades in over distance, so every wheel starts at rest on level
-road and the rear wheels see exactly the front wheels' road, later.
+On the measured Belgian block (data/roads/belgian_block.crg) the tracks are the surface's own
+sections under the left and right tyres (tyre_track apart). Each axle runs over the front axle's
+tracks, delayed by its distance behind the front axle over the speed; the axle positions and the
+tyre track come from the FMU's parameters.
 
-The script then shows that the instances are independent (each pair of the six-pair run equals, bit
-for bit, the same pair run alone in its own master) and times 1, 2, 4, 6 and 8 pairs to show that
-the cost grows linearly with the number of instances (pairs 7 and 8 reuse the roads of 1 and 2).
-Writes out/full_truck/full_truck.png and results.json.
+The benefit study (`main`) compares on the paper's three road/speed cases and the Belgian block the
+best linear passive damper (a grid of c_passive), the ideal semi-active damper and the damper FMU
+with the paper's law and with the law and gains docs/benefit-map.md found for the quarter truck:
+ride at the driver's seat (ISO 2631 Wk), body heave, pitch and roll, the six tyres' DLC and road
+stress. Writes out/full_truck/ (results.json, table.md, full_truck.png); --docs copies the table to
+docs/full-truck-table.md and the figure to docs/figures/.
 """
 
 import argparse
 import json
 import math
-import time
+import shutil
+from collections.abc import Sequence
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 import numpy as np
+from fmpy.fmi1 import FMICallException
 
-from damper_tools import REPO, cosim, roads
-from damper_tools.fmu import Value
+from damper_tools import REPO, cosim, hil_scenarios, ride, roads
+from damper_tools.fmu import FmuUnit, Slave, Value
 
+FULL_TRUCK_FMU = REPO / "target" / "fmu" / "FullTruck.fmu"
 OUT = REPO / "out" / "full_truck"
-AXLES = (("front", 0.0), ("drive1", 3.8), ("drive2", 5.15))  # m behind the front axle [A]
+AXLES = ("front", "drive1", "drive2")
 SIDES = ("left", "right")
+CORNERS = tuple(f"{axle}_{side}" for axle in AXLES for side in SIDES)
+CORNER_OUTPUTS = ("v_damper", "F_demand", "x_damper", "v_body", "a_body", "F_tyre", "F_suspension")
+BODY_OUTPUTS = ("z_body", "v_body", "a_body", "pitch", "pitch_rate", "a_pitch", "roll", "roll_rate", "a_roll",
+                "a_seat")
 TRACK_CORRELATION = 0.6  # [A]
-FADE_IN_DISTANCE = 10.0  # m
-SCALING_PAIRS = (1, 2, 4, 6, 8)
+FADE_IN_DISTANCE = 10.0  # m of road over which a random road rises from level
 
 
-def wheel_roads(road: str, speed: float, duration: float, seed: int, step: float,
-                correlation: float = TRACK_CORRELATION, axles: tuple[tuple[str, float], ...] = AXLES,
-                ) -> tuple[dict[tuple[str, str], tuple[np.ndarray, np.ndarray]], int]:
-    """{(axle, side): (z_road, v_road)} sampled at t_k = k step, k = 0..n."""
+Wheels = dict[str, tuple[np.ndarray, np.ndarray]]  # corner: (z_road, v_road) at t_k, k = 0..n
+
+
+def parameters(unit: FmuUnit, overrides: dict[str, Value] | None = None) -> dict[str, Value]:
+    """The truck's parameters: the FMU's start values with `overrides`."""
+    p = unit.parameters()
+    for name in overrides or {}:
+        unit.variable(name)  # a name the FMU does not have is an error here, not at the first step
+    return {**p, **(overrides or {})}
+
+
+def axle_positions(p: dict[str, Value]) -> dict[str, float]:
+    """Each axle's distance behind the front axle (m)."""
+    return {"front": 0.0, "drive1": float(p["drive1.x_axle"]), "drive2": float(p["drive2.x_axle"])}
+
+
+def random_wheel_roads(road: str | float, speed: float, duration: float, seed: int, step: float,
+                       axle_x: dict[str, float], correlation: float = TRACK_CORRELATION) -> tuple[Wheels, int]:
+    """Correlated left and right ISO 8608 tracks (module docstring), each axle on the front axle's
+    tracks later; level where the wheels stand at t = 0, then a rise over FADE_IN_DISTANCE."""
     gd0 = roads.gd0_of(road)
     n_steps = int(round(duration / step))
-    lag = max(d for _, d in axles)
+    lag = max(axle_x.values())
     length = lag + speed * n_steps * step + 1.0
     x, z_left = roads.generate_profile(length, gd0, seed)
     _, z_2 = roads.generate_profile(length, gd0, seed + 1000)
     z_right = correlation * z_left + math.sqrt(1.0 - correlation ** 2) * z_2
-    # level where the wheels stand at t = 0, then a raised-cosine rise over FADE_IN_DISTANCE
     ramp = np.clip((x - lag) / FADE_IN_DISTANCE, 0.0, 1.0)
     window = 0.5 * (1.0 - np.cos(np.pi * ramp))
+    tracks = {"left": z_left * window, "right": z_right * window}
+    return _delayed(x, tracks, speed, step, n_steps, axle_x, lag), n_steps
+
+
+def _delayed(x: np.ndarray, tracks: dict[str, np.ndarray], speed: float, step: float, n_steps: int,
+             axle_x: dict[str, float], lag: float) -> Wheels:
+    """Each corner's road: its side's track at the position of its axle, the front axle `lag` m
+    into the profile at t = 0."""
     out = {}
-    for side, z in (("left", z_left), ("right", z_right)):
-        for axle, d in axles:
-            _, zr, vr = roads.time_series(x, z * window, speed, step, n_steps, offset=lag - d)
-            out[(axle, side)] = (zr, vr)
-    return out, n_steps
+    for axle in AXLES:
+        for side in SIDES:
+            _, zr, vr = roads.time_series(x, tracks[side], speed, step, n_steps, offset=lag - axle_x[axle])
+            out[f"{axle}_{side}"] = (zr, vr)
+    return out
 
 
-def full_truck_cars(wheels: dict[tuple[str, str], tuple[np.ndarray, np.ndarray]],
-                    damper_parameters: dict[str, Value] | None = None) -> list[cosim.Car]:
-    dp = dict(cosim.HIL_DAMPER_PARAMETERS) if damper_parameters is None else damper_parameters
-    return [cosim.Car(f"{axle}_{side}", zr, vr, {"damper_mode": cosim.MODE_EXTERNAL}, dict(dp))
-            for (axle, side), (zr, vr) in wheels.items()]
+def crg_wheel_roads(speed: float, step: float, axle_x: dict[str, float], tyre_track: float,
+                    path: str | Path = hil_scenarios.CRG) -> tuple[Wheels, int, slice]:
+    """The Belgian block's sections under the left and right tyres (detrended, the tyre envelope of
+    damper_tools.hil_scenarios), between level road: CRG_LEAD s before the front axle reaches it,
+    CRG_RUNOUT s after the last axle leaves it. Returns the wheels' roads, the number of steps and
+    the window of samples while any wheel is on the track."""
+    surface = roads.read_crg(path)
+    sections = {side: roads.crg_track(surface, v=sign * 0.5 * tyre_track, envelope=hil_scenarios.CRG_ENVELOPE)
+                for side, sign in (("left", 1.0), ("right", -1.0))}
+    lag = max(axle_x.values())
+    lead = speed * hil_scenarios.CRG_LEAD + lag
+    length = sections["left"].x[-1]
+    x = np.concatenate(([0.0], lead + sections["left"].x, [lead + length + lag + speed * hil_scenarios.CRG_RUNOUT]))
+    tracks = {}
+    for side, section in sections.items():
+        blend = np.clip(section.x / hil_scenarios.CRG_BLEND, 0.0, 1.0)
+        z = section.z * 0.5 * (1 - np.cos(np.pi * blend))
+        tracks[side] = np.concatenate(([0.0], z, [z[-1]]))
+    duration = hil_scenarios.CRG_LEAD + (length + lag) / speed + hil_scenarios.CRG_RUNOUT
+    n_steps = int(round(duration / step)) - 1
+    first = int(round(hil_scenarios.CRG_LEAD / step))
+    last = int(round((hil_scenarios.CRG_LEAD + (length + lag) / speed) / step))
+    return _delayed(x, tracks, speed, step, n_steps, axle_x, lag), n_steps, slice(first, last + 1)
 
 
-def independence(cars: list[cosim.Car], step: float, n_steps: int,
-                 **kw: Any) -> tuple[list[dict[str, np.ndarray]], dict[str, bool]]:
-    """Runs all cars in one master, then each alone; returns {car: bit-identical?}."""
-    together = cosim.simulate(cars, step, n_steps, **kw)
-    same = {}
-    for car, res in zip(cars, together, strict=True):
-        alone = cosim.simulate([car], step, n_steps, **kw)[0]
-        same[car.name] = all(np.array_equal(res[k], alone[k]) for k in res)
-    return together, same
+def simulate(wheels: Wheels, step: float, n_steps: int, truck_parameters: dict[str, Value] | None = None,
+             damper_parameters: dict[str, Value] | None = None, full_truck_fmu: str | Path = FULL_TRUCK_FMU,
+             damper_fmu: str | Path = cosim.DAMPER_FMU, start_time: float = 0.0,
+             echo: bool = True) -> dict[str, np.ndarray]:
+    """Runs the full truck (with six damper FMU instances for damper_mode 0) for n_steps Jacobi steps
+    of `step` seconds. Returns 'time', each corner's road and outputs as 'CORNER.NAME'
+    (CORNER_OUTPUTS; 'CORNER.damper.F_damper' with dampers) and the body's outputs (BODY_OUTPUTS), at
+    the communication points, the first row after initialisation. A refused call raises
+    cosim.Refused."""
+    tp = dict(truck_parameters or {})
+    dp = dict(cosim.HIL_DAMPER_PARAMETERS if damper_parameters is None else damper_parameters)
+    if not step > 0 or n_steps < 1:
+        raise ValueError(f"need step > 0 and n_steps >= 1 (got {step}, {n_steps})")
+    if set(wheels) != set(CORNERS) or any(min(len(z), len(v)) < n_steps + 1 for z, v in wheels.values()):
+        raise ValueError(f"need the road of each of {CORNERS} with {n_steps + 1} samples")
+    truck_unit = FmuUnit.load(full_truck_fmu)
+    with_dampers = int(tp.get("damper_mode", cosim.MODE_EXTERNAL)) == cosim.MODE_EXTERNAL
+    truck_out = [f"{c}.{n}" for c in CORNERS for n in CORNER_OUTPUTS] + list(BODY_OUTPUTS)
+    i_v = [truck_out.index(f"{c}.v_damper") for c in CORNERS]
+    i_fd = [truck_out.index(f"{c}.F_demand") for c in CORNERS]
+    road_names = [(f"{c}.z_road", f"{c}.v_road", f"{c}.F_damper") for c in CORNERS]
+    times = start_time + step * np.arange(n_steps + 1)
+    rec = np.empty((n_steps + 1, len(truck_out)))
+    rec_f = np.zeros((n_steps + 1, len(CORNERS)))
+    instances: list[Slave] = []
+    t = start_time
+    try:
+        truck = Slave(truck_unit, "full_truck", echo=echo)
+        instances.append(truck)
+        truck.initialize(start_time, times[-1], **tp)
+        dampers = []
+        if with_dampers:
+            damper_unit = FmuUnit.load(damper_fmu)
+            for c in CORNERS:
+                damper = Slave(damper_unit, f"{c}.damper", echo=echo)
+                instances.append(damper)
+                damper.initialize(start_time, times[-1], **dp)
+                dampers.append(damper)
+        rec[0] = truck.get(truck_out)
+        for j, damper in enumerate(dampers):
+            rec_f[0, j] = damper.get(["F_damper"])[0]
+        for k in range(n_steps):
+            t = times[k]
+            inputs = {}
+            for j, (c, (zn, vn, fn)) in enumerate(zip(CORNERS, road_names, strict=True)):
+                inputs.update({zn: wheels[c][0][k], vn: wheels[c][1][k], fn: rec_f[k, j]})
+            truck.set(**inputs)
+            for j, damper in enumerate(dampers):
+                damper.set(v_damper=rec[k, i_v[j]], F_demand=rec[k, i_fd[j]], a_damper=0.0)
+            for inst in instances:
+                inst.step(step, t)
+            rec[k + 1] = truck.get(truck_out)
+            for j, damper in enumerate(dampers):
+                rec_f[k + 1, j] = damper.get(["F_damper"])[0]
+    except FMICallException as e:
+        culprit = next((s for s in instances if s.errors()), None)
+        if culprit is None:
+            raise
+        raise cosim.Refused(culprit.name, float(t), culprit.errors()[-1][2]) from e
+    finally:
+        for inst in instances:
+            inst.free()
+    res = {"time": times}
+    for c in CORNERS:
+        res[f"{c}.z_road"] = np.asarray(wheels[c][0][:n_steps + 1], float)
+    res.update({name: rec[:, i] for i, name in enumerate(truck_out)})
+    if with_dampers:
+        res.update({f"{c}.damper.F_damper": rec_f[:, j] for j, c in enumerate(CORNERS)})
+    return res
 
 
-def scaling(cars: list[cosim.Car], step: float, n_steps: int, pairs: tuple[int, ...] = SCALING_PAIRS, repeat: int = 3,
-            **kw: Any) -> tuple[list[dict[str, float]], float, float]:
-    """Wall time (best of `repeat`, after one warm-up run) of N damper+truck pairs; cars are reused
-    cyclically."""
-    cosim.simulate(cars[:1], step, n_steps, **kw)
+# --------------------------------------------------------------------------- the linear model
+
+def _coordinate_rows(p: dict[str, Value]) -> list[tuple[float, np.ndarray, str]]:
+    """Every spring of the truck as (stiffness, row, kind): its stretch is row · q, q = [z, θ, φ,
+    z_1, φ_1, z_2, φ_2, z_3, φ_3] (the FMU's coordinates), written here from the geometry alone."""
+    x_cg = float(p["x_cg"])
+    s, t = 0.5 * float(p["suspension_track"]), 0.5 * float(p["tyre_track"])
+    springs = []
+    for i, (axle, behind) in enumerate(axle_positions(p).items()):
+        x = x_cg - behind
+        for sign in (1.0, -1.0):
+            susp = np.zeros(9)
+            susp[[0, 1, 2, 3 + 2 * i, 4 + 2 * i]] = [1.0, x, sign * s, -1.0, -sign * s]
+            tyre = np.zeros(9)
+            tyre[[3 + 2 * i, 4 + 2 * i]] = [1.0, sign * t]
+            springs += [(float(p[f"{axle}.k_susp"]), susp, "suspension"), (float(p[f"{axle}.k_tyre"]), tyre, "tyre")]
+        roll = np.zeros(9)
+        roll[[2, 4 + 2 * i]] = [1.0, -1.0]
+        springs.append((float(p[f"{axle}.k_roll"]), roll, "roll"))
+    return springs
+
+
+def linear_model(p: dict[str, Value]) -> tuple[np.ndarray, np.ndarray]:
+    """The undamped truck's mass and stiffness matrices (SI), from its potential energy
+    ½ Σ k (row · q)² − ½ M g h φ² (gravity's roll moment), independently of the FMU's equations."""
+    mass = np.diag([float(p["m_body"]), float(p["I_pitch"]), float(p["I_roll"])]
+                   + [float(p[f"{a}.{n}"]) for a in AXLES for n in ("m_axle", "J_axle")])
+    stiffness = sum(k * np.outer(r, r) for k, r, _ in _coordinate_rows(p))
+    stiffness[2, 2] -= float(p["m_body"]) * float(p["gravity"]) * float(p["h_roll"])
+    return mass, stiffness
+
+
+def natural_frequencies(p: dict[str, Value]) -> np.ndarray:
+    """The undamped natural frequencies (Hz), ascending, with each mode's largest coordinate."""
+    mass, stiffness = linear_model(p)
+    w2, _ = np.linalg.eig(np.linalg.solve(mass, stiffness))
+    return np.sort(np.sqrt(np.real(w2))) / (2 * np.pi)
+
+
+def static_tyre_loads(p: dict[str, Value]) -> dict[str, float]:
+    """Each tyre's static load (N): the linear truck's deflection under its weight (the body's at
+    its centre of mass, each axle's at its centre), then each tyre's spring force."""
+    mass, stiffness = linear_model(p)
+    g = float(p["gravity"])
+    weight = np.zeros(9)
+    weight[[0, 3, 5, 7]] = [-mass[j, j] * g for j in (0, 3, 5, 7)]
+    q = np.linalg.solve(stiffness, weight)
+    tyres = [(k, r) for k, r, kind in _coordinate_rows(p) if kind == "tyre"]
+    return {c: float(-k * (r @ q)) for c, (k, r) in zip(CORNERS, tyres, strict=True)}
+
+
+# --------------------------------------------------------------------------- metrics
+
+def metrics(res: dict[str, np.ndarray], window: slice, static_loads: dict[str, float]) -> dict[str, float]:
+    """Ride, road holding and working space over the samples in `window`: the driver's seat (RMS and
+    ISO 2631 Wk RMS), the body's heave, pitch and roll accelerations (RMS), the six tyres' DLC (mean
+    and largest) and fourth-power road stress (mean), the dampers' deflection (RMS mean, peak)."""
+    step = float(res["time"][1] - res["time"][0])
+    dlc = [np.std(res[f"{c}.F_tyre"][window]) / static_loads[c] for c in CORNERS]
+    stress = [ride.road_stress_factor(res[f"{c}.F_tyre"][window], static_loads[c]) for c in CORNERS]
+    x = [res[f"{c}.x_damper"][window] for c in CORNERS]
+    return {
+        "a_seat_wk_rms": ride.wk_rms(res["a_seat"][window], step),
+        "a_seat_rms": float(np.std(res["a_seat"][window])),
+        "a_body_rms": float(np.std(res["a_body"][window])),
+        "a_pitch_rms": float(np.std(res["a_pitch"][window])),
+        "a_roll_rms": float(np.std(res["a_roll"][window])),
+        "DLC": float(np.mean(dlc)), "DLC_max": float(np.max(dlc)),
+        "road_stress": float(np.mean(stress)),
+        "x_damper_rms": float(np.mean([np.std(v) for v in x])),
+        "x_damper_peak": float(np.max([np.max(np.abs(v)) for v in x])),
+    }
+
+
+# --------------------------------------------------------------------------- the benefit study
+
+@dataclass(frozen=True)
+class Case:
+    """A road and speed: an ISO 8608 road (`road`) or the Belgian block (`road == CRG_ROAD`)."""
+    road: str
+    speed: float
+
+    @property
+    def label(self) -> str:
+        return "Belgian block" if self.road == CRG_ROAD else f"{self.road} road"
+
+
+CRG_ROAD = "belgian_block"
+CASES = (Case("minor", 14.0), Case("major", 20.0), Case("motorway", 25.0), Case(CRG_ROAD, hil_scenarios.CRG_SPEED))
+C_PASSIVE = tuple(float(c) for c in np.arange(5e3, 60e3 + 1, 5e3))  # N s/m per damper
+# The laws and gains: the paper's (the FMU's defaults), and docs/benefit-map.md's best for the FMU in
+# the quarter truck (Cm 48 kN s/m, alpha 0.2, force loop Kp_F 1, Ki_F 0).
+PAPER_LAW: dict[str, Value] = {}
+BEST_LAW: dict[str, Value] = {"Cm": 48e3, "alpha": 0.2}
+BEST_GAINS: dict[str, Value] = {"Kp_F": 1.0, "Ki_F": 0.0}
+SETTINGS: dict[str, tuple[int, dict[str, Value], dict[str, Value]]] = {
+    # name: (damper_mode, truck parameters, damper parameters)
+    "ideal, paper's law": (cosim.MODE_IDEAL, PAPER_LAW, {}),
+    "ideal, Cm 48 alpha 0.2": (cosim.MODE_IDEAL, BEST_LAW, {}),
+    "FMU, paper's law": (cosim.MODE_EXTERNAL, PAPER_LAW, {}),
+    "FMU, Cm 48 alpha 0.2, Ki_F 0": (cosim.MODE_EXTERNAL, BEST_LAW, BEST_GAINS),
+}
+# The laws searched for the best at a DLC no worse than the best-riding passive damper's: ideal, and
+# the FMU with BEST_GAINS (Cm in N s/m, alpha, C_ground in N s/m); groundhook never gave the least
+# DLC in the quarter truck's map, one hybrid law keeps it in view.
+LAW_GRID = tuple((cm, alpha, 0.0) for cm in (36e3, 48e3, 60e3, 72e3) for alpha in (0.2, 0.3, 0.4))
+LAW_GRID += ((48e3, 0.3, 12e3),)
+# The families of the law search (a row's setting starts with one of them).
+LAW_SEARCH = ("ideal law search", "FMU law search (Kp_F 1, Ki_F 0)")
+SEED = 3
+STEP = 1e-3
+DURATION, SETTLE = 15.0, 3.0  # s: the quarter truck's HiL record (docs/hil.md)
+QUICK_DURATION = 4.0
+
+
+def case_roads(case: Case, p: dict[str, Value], duration: float = DURATION,
+               settle: float = SETTLE) -> tuple[Wheels, int, slice]:
+    """The wheels' roads of a case, the steps, and the window the metrics use."""
+    axle_x = axle_positions(p)
+    if case.road == CRG_ROAD:
+        return crg_wheel_roads(case.speed, STEP, axle_x, float(p["tyre_track"]))
+    wheels, n = random_wheel_roads(case.road, case.speed, settle + duration, SEED, STEP, axle_x)
+    return wheels, n, slice(int(round(settle / STEP)), None)
+
+
+def run_case(case: Case, fmus: dict[str, Path], duration: float = DURATION, c_passive: Sequence[float] = C_PASSIVE,
+             laws: Sequence[tuple[float, float, float]] = LAW_GRID) -> list[dict[str, Any]]:
+    """Every passive damper of the grid, every setting and every law of `laws` (ideal, and the FMU
+    with BEST_GAINS) on one case: rows of metrics."""
+    unit = FmuUnit.load(fmus["full_truck"])
+    p = parameters(unit)
+    loads = static_tyre_loads(p)
+    wheels, n, window = case_roads(case, p, duration)
+    runs = [(f"passive {c / 1e3:g} kN s/m", cosim.MODE_PASSIVE, {"c_passive": c}, {}) for c in c_passive]
+    runs += [(name, mode, tp, dp) for name, (mode, tp, dp) in SETTINGS.items()]
+    for cm, alpha, cg in laws:
+        law = {"Cm": cm, "alpha": alpha, "C_ground": cg}
+        label = f"Cm {cm / 1e3:g} alpha {alpha:g} C_ground {cg / 1e3:g}"
+        runs += [(f"{LAW_SEARCH[0]}: {label}", cosim.MODE_IDEAL, law, {}),
+                 (f"{LAW_SEARCH[1]}: {label}", cosim.MODE_EXTERNAL, law, BEST_GAINS)]
     rows = []
-    for n in pairs:
-        subset = [cars[i % len(cars)] for i in range(n)]
-        subset = [cosim.Car(f"{c.name}_{i}", c.z_road, c.v_road, c.truck_parameters, c.damper_parameters)
-                  for i, c in enumerate(subset)]
-        best = math.inf
-        for _ in range(repeat):
-            t0 = time.perf_counter()
-            cosim.simulate(subset, step, n_steps, **kw)
-            best = min(best, time.perf_counter() - t0)
-        rows.append({"pairs": n, "wall_s": best, "per_pair_s": best / n,
-                     "per_pair_per_step_us": 1e6 * best / n / n_steps})
-    slope, intercept = np.polyfit([r["pairs"] for r in rows], [r["wall_s"] for r in rows], 1)
-    return rows, float(slope), float(intercept)
+    for name, mode, tp, dp in runs:
+        res = simulate(wheels, STEP, n, {"damper_mode": mode, **tp}, {**cosim.HIL_DAMPER_PARAMETERS, **dp},
+                       full_truck_fmu=fmus["full_truck"], damper_fmu=fmus["damper"])
+        rows.append({"road": case.road, "speed": case.speed, "setting": name, "passive": mode == cosim.MODE_PASSIVE,
+                     "c_passive": tp.get("c_passive", math.nan), **metrics(res, window, loads)})
+    return rows
 
 
-def plot(path: Path, results: list[dict[str, np.ndarray]], cars: list[cosim.Car], t: np.ndarray, title: str) -> None:
+def with_benefits(rows: list[dict[str, Any]], ride_metric: str = "a_seat_wk_rms") -> list[dict[str, Any]]:
+    """Each row's ride benefit over the best-riding passive damper of its case (least `ride_metric`)
+    and its DLC against that damper's (at most 0: no worse), as docs/benefit-map.md compares; and its
+    ride benefit over the passive front at its own DLC (`benefit_equal_dlc`: the passive dampers that
+    no other rides and holds the road better than, their ride interpolated linearly in DLC by
+    damper_tools.hil_scenarios; NaN outside their DLC range, `dlc_off_front` saying on which side)."""
+    out = []
+    for r in rows:
+        passive = [q for q in rows if q["passive"] and (q["road"], q["speed"]) == (r["road"], r["speed"])]
+        ref = min(passive, key=lambda q: q[ride_metric])
+        at_dlc = hil_scenarios.passive_ride_at_dlc(passive, r["DLC"], ride_metric)
+        front = hil_scenarios.pareto_front(passive, ride_metric)
+        side = "below" if r["DLC"] < front[0]["DLC"] else "above" if r["DLC"] > front[-1]["DLC"] else ""
+        out.append({**r, "benefit": 1 - r[ride_metric] / ref[ride_metric], "dlc_change": r["DLC"] / ref["DLC"] - 1,
+                    "reference": ref["setting"],
+                    "benefit_equal_dlc": math.nan if at_dlc is None else 1 - r[ride_metric] / at_dlc,
+                    "dlc_off_front": side})
+    return out
+
+
+def table(rows: list[dict[str, Any]]) -> str:
+    """The Markdown table of the study (one row per case and setting, the best passive first)."""
+    lines = ["| case | damper | seat Wk RMS (m/s²) | ride benefit | heave RMS (m/s²) | pitch RMS (rad/s²) "
+             "| roll RMS (rad/s²) | DLC (mean, max) | DLC change | ride benefit at equal DLC | road stress |",
+             "|---|---|---|---|---|---|---|---|---|---|---|"]
+    for case in dict.fromkeys((r["road"], r["speed"]) for r in rows):
+        of_case = [r for r in rows if (r["road"], r["speed"]) == case]
+        best = next(r for r in of_case if r["setting"] == of_case[0]["reference"])
+        label = Case(*case).label + f", {case[1]:g} m/s"
+        searched = [best_at_dlc(of_case, family) for family in LAW_SEARCH]
+        fixed = [r for r in of_case if r["setting"] in SETTINGS]
+        for r in [best] + fixed + [r for r in searched if r is not None]:
+            lines.append(f"| {label} | {r['setting']}{' (best passive)' if r is best else ''} "
+                         f"| {r['a_seat_wk_rms']:.3f} | {100 * r['benefit']:+.1f} % | {r['a_body_rms']:.3f} "
+                         f"| {r['a_pitch_rms']:.3f} | {r['a_roll_rms']:.3f} | {r['DLC']:.3f}, {r['DLC_max']:.3f} "
+                         f"| {100 * r['dlc_change']:+.1f} % | {_equal_dlc(r)} "
+                         f"| {r['road_stress']:.3f} |")
+    return "\n".join(lines) + "\n"
+
+
+def best_at_dlc(rows: list[dict[str, Any]], family: str) -> dict[str, Any] | None:
+    """The row of a law-search family with the largest ride benefit at a DLC no worse than the
+    best-riding passive damper's (None if no law of it holds the road as well)."""
+    fair = [r for r in rows if r["setting"].startswith(family) and r["dlc_change"] <= 0]
+    return max(fair, key=lambda r: r["benefit"]) if fair else None
+
+
+def _equal_dlc(r: dict[str, Any]) -> str:
+    """The benefit at equal DLC, or where the row's DLC lies off the passive front."""
+    if r["dlc_off_front"]:
+        return f"DLC {r['dlc_off_front']} every passive's on the front"
+    return f"{100 * r['benefit_equal_dlc']:+.1f} %"
+
+
+def plot(path: Path, rows: list[dict[str, Any]]) -> None:
+    """Seat ride against DLC per case: the passive family and each setting."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    fig, axes = plt.subplots(3, 2, figsize=(11, 8), sharex=True, sharey="row")
-    m = t >= t[-1] - 2.0
-    for col, side in enumerate(SIDES):
-        for row_, (axle, _) in enumerate(AXLES):
-            i = next(j for j, c in enumerate(cars) if c.name == f"{axle}_{side}")
-            r = results[i]
-            ax = axes[row_][col]
-            ax.plot(t[m], r["F_demand"][m] / 1e3, "--", color="tab:orange", lw=1, label="demand")
-            ax.plot(t[m], r["damper.F_damper"][m] / 1e3, color="tab:blue", lw=1, label="damper FMU")
-            ax2 = ax.twinx()
-            ax2.plot(t[m], 1e3 * r["z_road"][m], color="0.6", lw=0.8)
-            ax2.set_ylim(-60, 60)
-            ax2.tick_params(labelsize=7, colors="0.5")
-            ax.set_title(f"{axle} axle, {side}", fontsize=9)
-            ax.grid(alpha=0.3)
-            if col == 0:
-                ax.set_ylabel("force (kN)")
-            if row_ == 0 and col == 1:
-                ax.legend(fontsize=7, loc="upper right")
-    for ax in axes[-1]:
-        ax.set_xlabel("time (s)   (grey, right axis: z_road in mm)")
-    fig.suptitle(title, fontsize=10)
+    cases = list(dict.fromkeys((r["road"], r["speed"]) for r in rows))
+    fig, axes = plt.subplots(1, len(cases), figsize=(4.2 * len(cases), 4.2))
+    markers = dict(zip(SETTINGS, ("o", "s", "^", "D"), strict=True))
+    for ax, case in zip(np.atleast_1d(axes), cases, strict=True):
+        of_case = [r for r in rows if (r["road"], r["speed"]) == case]
+        passive = [r for r in of_case if r["passive"]]
+        ax.plot([r["DLC"] for r in passive], [r["a_seat_wk_rms"] for r in passive], "-", color="0.5", marker=".",
+                label="passive, c 5-60 kN s/m")
+        for family, colour in zip(LAW_SEARCH, ("tab:green", "tab:red"), strict=True):
+            found = [r for r in of_case if r["setting"].startswith(family)]
+            ax.plot([r["DLC"] for r in found], [r["a_seat_wk_rms"] for r in found], "x", color=colour, ms=5,
+                    label=f"{family}, {len(found)} laws")
+        for r in of_case:
+            if r["setting"] in SETTINGS:
+                ax.plot(r["DLC"], r["a_seat_wk_rms"], markers[r["setting"]], ms=7, label=r["setting"])
+        ax.set_title(f"{Case(*case).label}, {case[1]:g} m/s", fontsize=10)
+        ax.set_xlabel("DLC, mean of six tyres")
+        ax.grid(alpha=0.3)
+    np.atleast_1d(axes)[0].set_ylabel("driver's seat, Wk-weighted RMS (m/s²)")
+    np.atleast_1d(axes)[0].legend(fontsize=7)
+    fig.suptitle("Three-axle truck with pitch and roll (FullTruck.fmu): ride against road holding", fontsize=11)
     fig.tight_layout()
     fig.savefig(path, dpi=100)
     plt.close(fig)
@@ -135,52 +432,34 @@ def plot(path: Path, results: list[dict[str, np.ndarray]], cars: list[cosim.Car]
 
 def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--truck-fmu", type=Path, default=cosim.TRUCK_FMU)
+    parser.add_argument("--full-truck-fmu", type=Path, default=FULL_TRUCK_FMU)
     parser.add_argument("--damper-fmu", type=Path, default=cosim.DAMPER_FMU)
-    parser.add_argument("--road", default="minor")
-    parser.add_argument("--speed", type=float, default=14.0)
-    parser.add_argument("--seed", type=int, default=5)
-    parser.add_argument("--duration", type=float, default=5.0)
-    parser.add_argument("--step", type=float, default=1e-3)
+    parser.add_argument("--quick", action="store_true",
+                        help=f"{QUICK_DURATION:g} s records, three passive dampers, three laws")
+    parser.add_argument("--docs", action="store_true", help="copy the table and figure into docs/")
     parser.add_argument("--out", type=Path, default=OUT)
     args = parser.parse_args(argv)
-    kw = {"truck_fmu": args.truck_fmu, "damper_fmu": args.damper_fmu}
-
-    wheels, n_steps = wheel_roads(args.road, args.speed, args.duration, args.seed, args.step)
-    cars = full_truck_cars(wheels)
-    results, same = independence(cars, args.step, n_steps, **kw)
-    front_l = dict(zip([c.name for c in cars], results, strict=True))["front_left"]
-    rear_l = dict(zip([c.name for c in cars], results, strict=True))["drive2_left"]
-    delay_s = dict(AXLES)["drive2"] / args.speed
-    t = front_l["time"]
-    later = t >= delay_s
-    # the front road at t - delay, interpolated between samples (the delay is not a whole number of steps)
-    mismatch = np.max(np.abs(rear_l["z_road"][later] - np.interp(t[later] - delay_s, t, front_l["z_road"])))
-    delayed_ok = bool(mismatch < 0.02 * np.std(front_l["z_road"]))
-    print(f"full_truck: {len(cars)} quarter trucks with {len(cars)} damper FMU instances, {args.road} road, "
-          f"{args.speed:g} m/s, {n_steps} steps of {args.step:g} s")
-    for name, ok in same.items():
-        print(f"  {name:13s} together == alone, bit for bit: {ok}")
-    print(f"  rear axle sees the front axle's road {delay_s * 1e3:.1f} ms later: {delayed_ok} (largest difference "
-          f"{1e6 * mismatch:.1f} um, interpolation between samples; road std {1e3 * np.std(front_l['z_road']):.2f} mm)")
-    rows, slope, intercept = scaling(cars, args.step, n_steps, **kw)
-    print("  pairs | wall time (s) | per pair (s) | per pair and step (us)")
-    for r in rows:
-        print(f"  {r['pairs']:5d} | {r['wall_s']:13.3f} | {r['per_pair_s']:12.3f} | {r['per_pair_per_step_us']:.1f}")
-    print(f"  linear fit: {slope:.3f} s per pair + {intercept:.3f} s "
-          f"({1e6 * slope / n_steps:.1f} us per pair and step; {args.duration / slope:.0f}x real time per pair)")
-
+    fmus = {"full_truck": args.full_truck_fmu, "damper": args.damper_fmu}
+    duration = QUICK_DURATION if args.quick else DURATION
+    c_passive = C_PASSIVE[1::4] if args.quick else C_PASSIVE
+    laws = LAW_GRID[::5] if args.quick else LAW_GRID
+    p = parameters(FmuUnit.load(fmus["full_truck"]))
+    print("full_truck: natural frequencies (Hz) " + ", ".join(f"{f:.2f}" for f in natural_frequencies(p)))
+    rows = []
+    for case in CASES:
+        rows += run_case(case, fmus, duration, c_passive, laws)
+        print(f"full_truck: {case.label}, {case.speed:g} m/s done")
+    rows = with_benefits(rows)
     args.out.mkdir(parents=True, exist_ok=True)
-    plot(args.out / "full_truck.png", results, cars, results[0]["time"],
-         f"Three-axle truck as six quarter trucks + six damper FMUs ({args.road} road, {args.speed:g} m/s, "
-         f"left/right correlation {TRACK_CORRELATION:g})")
-    summary = {"road": args.road, "speed": args.speed, "seed": args.seed, "step": args.step, "n_steps": n_steps,
-               "axles_m_behind_front": dict(AXLES), "track_correlation": TRACK_CORRELATION,
-               "independent_bit_for_bit": same, "rear_sees_front_road_delayed": bool(delayed_ok),
-               "scaling": rows, "seconds_per_pair": slope, "seconds_fixed": intercept,
-               "F_damper_rms_kN": {c.name: float(np.std(r["damper.F_damper"]) / 1e3)
-                                   for c, r in zip(cars, results, strict=True)}}
-    (args.out / "results.json").write_text(json.dumps(summary, indent=1), encoding="utf-8")
+    (args.out / "results.json").write_text(json.dumps(rows, indent=1), encoding="utf-8")
+    text = table(rows)
+    (args.out / "table.md").write_text(text, encoding="utf-8")
+    plot(args.out / "full_truck.png", rows)
+    print(text)
+    if args.docs:
+        (REPO / "docs" / "full-truck-table.md").write_text(
+            "<!-- generated by `python -m damper_tools.full_truck --docs`; do not edit -->\n" + text, encoding="utf-8")
+        shutil.copy(args.out / "full_truck.png", REPO / "docs" / "figures" / "full_truck.png")
     print(f"full_truck: wrote {args.out}")
 
 

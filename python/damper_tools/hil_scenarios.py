@@ -137,23 +137,30 @@ def spectral_peaks(f: np.ndarray, p: np.ndarray) -> dict[str, float]:
             "peak_wheel_hop_band": float(f[band][np.argmax(p[band])])}
 
 
-def pareto_front(sweep: list[dict[str, Any]]) -> list[dict[str, Any]]:
-    """The passive settings not dominated in (DLC, a_body_rms), sorted by DLC."""
-    pts = sorted(sweep, key=lambda s: (s["DLC"], s["a_body_rms"]))
-    front, best_a = [], math.inf
-    for s in pts:
-        if s["a_body_rms"] < best_a:
-            front.append(s)
-            best_a = s["a_body_rms"]
-    return front
+def pareto_mask(x: np.ndarray, y: np.ndarray) -> np.ndarray:
+    """True for the points not dominated when both x and y are to be small."""
+    order = np.lexsort((y, x))
+    mask = np.zeros(x.size, bool)
+    best = math.inf
+    for i in order:
+        if y[i] < best:
+            mask[i] = True
+            best = y[i]
+    return mask
 
 
-def passive_ride_at_dlc(sweep: list[dict[str, Any]], dlc: float) -> float | None:
-    """RMS a_body of the passive Pareto front interpolated at a DLC (linear in DLC), or None if the
+def pareto_front(sweep: list[dict[str, Any]], ride: str = "a_body_rms") -> list[dict[str, Any]]:
+    """The settings not dominated in (DLC, `ride`), sorted by DLC."""
+    mask = pareto_mask(np.array([s["DLC"] for s in sweep]), np.array([s[ride] for s in sweep]))
+    return sorted((s for s, m in zip(sweep, mask, strict=True) if m), key=lambda s: (s["DLC"], s[ride]))
+
+
+def passive_ride_at_dlc(sweep: list[dict[str, Any]], dlc: float, ride: str = "a_body_rms") -> float | None:
+    """`ride` of the passive Pareto front interpolated at a DLC (linear in DLC), or None if the
     DLC is outside the front's range."""
-    front = pareto_front(sweep)
+    front = pareto_front(sweep, ride)
     d = np.array([s["DLC"] for s in front])
-    a = np.array([s["a_body_rms"] for s in front])
+    a = np.array([s[ride] for s in front])
     if not d[0] <= dlc <= d[-1]:
         return None
     return float(np.interp(dlc, d, a))

@@ -7,7 +7,7 @@ serially in this process or as Dask tasks (dask.distributed) on a local or remot
 A sweep is a TOML file (docs/sweeps.md):
 
     name = "hil_small"
-    scenario = "hil"               # hil (quarter truck), full_truck (six dampers), rig (Fig. 6 force steps)
+    scenario = "hil"               # hil (quarter truck), full_truck (FullTruck.fmu), rig (Fig. 6 force steps)
     seed = 7                       # the sweep seed: every run's seed derives from it and the point
     metrics = ["a_body_rms", "DLC"]   # optional: the metric columns to keep (default: all)
     [fixed]                        # held over the sweep
@@ -67,10 +67,13 @@ SCENARIO_KEYS: dict[str, dict[str, Any]] = {
     "hil": {"road": "minor", "speed": 14.0, "mode": "fmu", "duration": 15.0, "settle": 3.0, "step": 1e-3,
             "fade_in": hil_scenarios.FADE_IN, "replicate": 0,
             "tracking_delay": 0.0, "tracking_bandwidth": math.inf, "tracking_direction": "both"},
-    "full_truck": {"road": "minor", "speed": 14.0, "duration": 15.0, "settle": 3.0, "step": 1e-3,
-                   "correlation": full_truck.TRACK_CORRELATION, "replicate": 0},
+    "full_truck": {"road": "minor", "speed": 14.0, "mode": "fmu", "duration": 15.0, "settle": 3.0, "step": 1e-3,
+                   "correlation": full_truck.TRACK_CORRELATION, "replicate": 0,
+                   "tracking_delay": 0.0, "tracking_bandwidth": math.inf, "tracking_direction": "both"},
     "rig": {"output_interval": rig_tests.OUTPUT_INTERVAL, "replicate": 0},
 }
+# The truck FMU of each scenario (the rig has none).
+TRUCK_FMUS = {"hil": cosim.TRUCK_FMU, "full_truck": full_truck.FULL_TRUCK_FMU, "rig": cosim.TRUCK_FMU}
 MODES = {"fmu": cosim.MODE_EXTERNAL, "ideal": cosim.MODE_IDEAL, "passive": cosim.MODE_PASSIVE,
          "tracking": cosim.MODE_TRACKING}
 TRACKING_DIRECTIONS = ("both", "extension", "compression")
@@ -88,8 +91,9 @@ HIL_METRICS = ("a_body_rms", "a_body_wk_rms", "DLC", "road_stress", "x_damper_rm
                "force_peak_wheel_hop_hz", "tracking_delay_extension", "tracking_bandwidth_extension",
                "tracking_fit_error_extension", "tracking_delay_compression", "tracking_bandwidth_compression",
                "tracking_fit_error_compression")
-FULL_TRUCK_METRICS = ("a_body_rms", "a_body_rms_max", "DLC", "DLC_max", "x_damper_rms", "x_damper_peak",
-                      "force_error_rms", "extension_bias", "compression_bias")
+FULL_TRUCK_METRICS = ("a_seat_wk_rms", "a_seat_rms", "a_body_rms", "a_pitch_rms", "a_roll_rms", "DLC", "DLC_max",
+                      "road_stress", "x_damper_rms", "x_damper_peak", "force_error_rms", "extension_bias",
+                      "compression_bias")
 RIG_METRICS = ("extension_t90", "extension_t100", "extension_overshoot_pct", "compression_t90",
                "compression_t100", "compression_overshoot_pct", "compression_to_extension_t90")
 METRICS = {"hil": HIL_METRICS, "full_truck": FULL_TRUCK_METRICS, "rig": RIG_METRICS}
@@ -349,30 +353,37 @@ def lag_time_constant(bandwidth: float) -> float:
 
 
 def run_full_truck(point: dict[str, Any], seed: int, truck_fmu: Path, damper_fmu: Path) -> dict[str, float]:
-    """Six quarter trucks with their damper FMUs (damper_tools.full_truck); means and maxima over the
-    six wheels after the settling time."""
-    truck_unit, damper_unit = FmuUnit.load(truck_fmu), FmuUnit.load(damper_fmu)
-    s, truck, damper = split_parameters("full_truck", point, truck_unit.variables, damper_unit.variables)
+    """The three-axle truck (FullTruck.fmu, the sweep's truck FMU) with six damper FMUs or a damper
+    mode of the truck (damper_tools.full_truck's roads and metrics), after the settling time or, on
+    the Belgian block, while a wheel is on it."""
+    truck_unit = FmuUnit.load(truck_fmu)
+    s, truck, damper = split_parameters("full_truck", point, truck_unit.variables,
+                                        FmuUnit.load(damper_fmu).variables)
+    if s["mode"] not in MODES:
+        raise SweepError(f"mode must be one of {tuple(MODES)}, not {s['mode']!r}")
     step = float(s["step"])
-    wheels, n = full_truck.wheel_roads(s["road"], float(s["speed"]), float(s["settle"]) + float(s["duration"]),
-                                       seed, step, correlation=float(s["correlation"]))
-    cars = full_truck.full_truck_cars(wheels, {**cosim.HIL_DAMPER_PARAMETERS, **damper})
-    for car in cars:
-        car.truck_parameters.update(truck)
-    results = cosim.simulate(cars, step, n, truck_fmu=truck_fmu, damper_fmu=damper_fmu)
-    window = slice(int(round(float(s["settle"]) / step)), None)
-    load = _static_load(truck_unit, truck)
-    vm = [hil_scenarios.vehicle_metrics(r, window, load) for r in results]
-    tr = [hil_scenarios.tracking_metrics(r["damper.F_damper"][window], r["F_demand"][window],
-                                         r["v_damper"][window]) for r in results]
-    return {"a_body_rms": float(np.mean([m["a_body_rms"] for m in vm])),
-            "a_body_rms_max": float(np.max([m["a_body_rms"] for m in vm])),
-            "DLC": float(np.mean([m["DLC"] for m in vm])), "DLC_max": float(np.max([m["DLC"] for m in vm])),
-            "x_damper_rms": float(np.mean([m["x_damper_rms"] for m in vm])),
-            "x_damper_peak": float(np.max([m["x_damper_peak"] for m in vm])),
-            "force_error_rms": float(np.mean([t["error_rms"] for t in tr])),
-            "extension_bias": float(np.nanmean([t["extension"]["mean_error"] for t in tr])),
-            "compression_bias": float(np.nanmean([t["compression"]["mean_error"] for t in tr]))}
+    p = full_truck.parameters(truck_unit, truck)
+    axle_x = full_truck.axle_positions(p)
+    if s["road"] == CRG_ROAD:
+        wheels, n, window = full_truck.crg_wheel_roads(float(s["speed"]), step, axle_x, float(p["tyre_track"]))
+    else:
+        length = float(s["settle"]) + float(s["duration"])
+        wheels, n = full_truck.random_wheel_roads(s["road"], float(s["speed"]), length, seed, step, axle_x,
+                                                  correlation=float(s["correlation"]))
+        window = slice(int(round(float(s["settle"]) / step)), None)
+    if s["mode"] == "tracking":
+        truck = {**tracking_parameters(s), **truck}
+    res = full_truck.simulate(wheels, step, n, {"damper_mode": MODES[s["mode"]], **truck},
+                              {**cosim.HIL_DAMPER_PARAMETERS, **damper}, full_truck_fmu=truck_fmu,
+                              damper_fmu=damper_fmu)
+    out = full_truck.metrics(res, window, full_truck.static_tyre_loads(p))
+    if s["mode"] == "fmu":
+        tr = [hil_scenarios.tracking_metrics(res[f"{c}.damper.F_damper"][window], res[f"{c}.F_demand"][window],
+                                             res[f"{c}.v_damper"][window]) for c in full_truck.CORNERS]
+        out.update(force_error_rms=float(np.mean([t["error_rms"] for t in tr])),
+                   extension_bias=float(np.nanmean([t["extension"]["mean_error"] for t in tr])),
+                   compression_bias=float(np.nanmean([t["compression"]["mean_error"] for t in tr])))
+    return out
 
 
 def run_rig(point: dict[str, Any], seed: int, truck_fmu: Path, damper_fmu: Path) -> dict[str, float]:

@@ -36,7 +36,7 @@ from typing import Any
 
 import numpy as np
 
-from damper_tools import REPO, cosim, sweep
+from damper_tools import REPO, cosim, hil_scenarios, sweep
 
 OUT = REPO / "out" / "sweeps"
 RANK_BINS = 10
@@ -64,18 +64,6 @@ def _numeric(df: Any, name: str) -> bool:
 
 
 # --------------------------------------------------------------------------- numbers
-
-def pareto_mask(x: np.ndarray, y: np.ndarray) -> np.ndarray:
-    """True for the points not dominated when both x and y are to be small."""
-    order = np.lexsort((y, x))
-    mask = np.zeros(x.size, bool)
-    best = math.inf
-    for i in order:
-        if y[i] < best:
-            mask[i] = True
-            best = y[i]
-    return mask
-
 
 def first_order_index(x: Any, y: np.ndarray) -> tuple[float, float]:
     """(S, no-effect level): S = Var(E[y | x]) / Var(y) (module docstring), grouping by x's values or
@@ -160,7 +148,7 @@ def plot_tradeoff(df: Any, path: Path, x: str = "DLC", y: str = "a_body_rms", co
             else:
                 ax.scatter(xs, ys, color="tab:blue", s=s, edgecolors="none")
             if xs.size:
-                front = pareto_mask(xs, ys)
+                front = hil_scenarios.pareto_mask(xs, ys)
                 order = np.argsort(xs[front])
                 ax.plot(xs[front][order], ys[front][order], "-", color="tab:red", lw=1.0,
                         label=f"Pareto front ({int(front.sum())})")
@@ -334,7 +322,8 @@ def main(argv: list[str] | None = None) -> int:
     where.add_argument("--workers", type=int, default=None,
                        help="workers of the LocalCluster (default: one per core)")
     where.add_argument("--serial", action="store_true", help="no Dask: every point in this process")
-    parser.add_argument("--truck-fmu", type=Path, default=cosim.TRUCK_FMU)
+    parser.add_argument("--truck-fmu", type=Path, default=None,
+                        help="the scenario's truck FMU (default: QuarterTruck.fmu, FullTruck.fmu for full_truck)")
     parser.add_argument("--damper-fmu", type=Path, default=cosim.DAMPER_FMU)
     parser.add_argument("--retries", type=int, default=3, help="retries of a task that raised")
     parser.add_argument("--no-plots", action="store_true")
@@ -347,11 +336,12 @@ def main(argv: list[str] | None = None) -> int:
         print(f"sweep: {e}", file=sys.stderr)
         return 2
     out = args.out or OUT / spec.name
-    fmus = {"truck": args.truck_fmu.resolve(), "damper": args.damper_fmu.resolve()}
+    truck_fmu = args.truck_fmu or sweep.TRUCK_FMUS[spec.scenario]
+    fmus = {"truck": truck_fmu.resolve(), "damper": args.damper_fmu.resolve()}
     for path in fmus.values():
         if not path.is_file():
-            print(f"sweep: {path}: no such FMU (python3 scripts/package_fmu.py, scripts/package_truck.py)",
-                  file=sys.stderr)
+            print(f"sweep: {path}: no such FMU (python3 scripts/package_fmu.py, scripts/package_truck.py, "
+                  "scripts/package_full_truck.py)", file=sys.stderr)
             return 2
     from tqdm import tqdm
 

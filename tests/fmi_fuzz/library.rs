@@ -63,7 +63,8 @@ fn build() -> PathBuf {
     let exe = std::env::current_exe().unwrap();
     let profile_dir = exe.parent().and_then(|d| d.parent()).unwrap().to_path_buf();
     let mut cargo = std::process::Command::new(std::env::var("CARGO").unwrap_or_else(|_| "cargo".into()));
-    cargo.args(["build", "--lib", "-p", "semi_active_damper", "-p", "quarter_truck", "--manifest-path"]);
+    cargo.args(["build", "--lib", "-p", "semi_active_damper", "-p", "quarter_truck", "-p", "full_truck"]);
+    cargo.arg("--manifest-path");
     cargo.arg(concat!(env!("CARGO_MANIFEST_DIR"), "/Cargo.toml"));
     if profile_dir.ends_with("release") {
         cargo.arg("--release");
@@ -114,11 +115,15 @@ fn open(name: &'static str, library: PathBuf, xml: &str) -> Fmu {
     Fmu { name, api, info: ModelInfo::read(xml), _library: lib }
 }
 
-/// The damper (index 0) and the quarter truck (index 1), loaded once per test binary.
-pub fn fmus() -> &'static [Fmu; 2] {
-    static FMUS: OnceLock<[Fmu; 2]> = OnceLock::new();
-    FMUS.get_or_init(|| {
-        // CALL_SEQUENCES_LIBS: a directory with other builds of the two binaries (e.g. an older
+/// How many FMUs the tests load.
+pub const FMUS: usize = 3;
+
+/// The damper (index 0), the quarter truck (index 1) and the full truck (index 2), loaded once per
+/// test binary.
+pub fn fmus() -> &'static [Fmu; FMUS] {
+    static FMUS_LOADED: OnceLock<[Fmu; FMUS]> = OnceLock::new();
+    FMUS_LOADED.get_or_init(|| {
+        // CALL_SEQUENCES_LIBS: a directory with other builds of the binaries (e.g. an older
         // commit's, to see what this test finds there); by default this profile's, rebuilt
         let dir = std::env::var_os("CALL_SEQUENCES_LIBS").map_or_else(build, PathBuf::from);
         let root = env!("CARGO_MANIFEST_DIR");
@@ -129,6 +134,7 @@ pub fn fmus() -> &'static [Fmu; 2] {
                 dir.join("libquarter_truck.so"),
                 &format!("{root}/crates/quarter_truck/modelDescription.xml"),
             ),
+            open("full_truck", dir.join("libfull_truck.so"), &format!("{root}/crates/full_truck/modelDescription.xml")),
         ]
     })
 }

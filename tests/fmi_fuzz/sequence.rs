@@ -2,7 +2,7 @@
 //! [`MAX_LIVE`]), FMU states and serialized blobs (shared between instances and, on purpose,
 //! between the two FMUs), each call's status checked against the mirror of the state table.
 
-use super::library::{callbacks, fmus, Fmu};
+use super::library::{callbacks, fmus, Fmu, FMUS};
 use super::mirror::{may_succeed, Call, Phase};
 use super::report::{name, Report};
 use super::rng::Rng;
@@ -167,7 +167,7 @@ impl<'a> Fuzzer<'a> {
     }
 
     fn instantiate(&mut self) {
-        let fmu = self.rng.below(2);
+        let fmu = self.rng.below(FMUS);
         let guid = std::ffi::CString::new(api(fmu).info.guid.clone()).unwrap();
         let cb = callbacks();
         let logging = self.rng.below(2) as i32;
@@ -197,9 +197,9 @@ impl<'a> Fuzzer<'a> {
 
     /// NULL or empty name, wrong or NULL GUID, Model Exchange: must give NULL.
     fn bad_instantiate(&mut self) {
-        let fmu = self.rng.below(2);
+        let fmu = self.rng.below(FMUS);
         let guid = std::ffi::CString::new(api(fmu).info.guid.clone()).unwrap();
-        let other = std::ffi::CString::new(api(1 - fmu).info.guid.clone()).unwrap();
+        let other = std::ffi::CString::new(api((fmu + 1) % FMUS).info.guid.clone()).unwrap();
         let cb = callbacks();
         let (name, ty, g) = match self.rng.below(5) {
             0 => (null(), fmi2Type_fmi2CoSimulation, guid.as_ptr()),

@@ -1,13 +1,13 @@
 """Session fixtures of the Python suite.
 
-The FMUs under test are built (cargo build --release of the two FMU packages) and packaged
-once per session into tests/python/work/ by the packaging commands a user runs
-(python3 scripts/package_fmu.py, scripts/package_truck.py), or taken from `--fmu PATH` (the damper)
-and `--truck-fmu PATH` (the quarter truck). The tests import the scenario and metric code of the
-scripts from the installed package damper_tools (scripts/setup.sh installs it). `damper` is the
-`damper` program (target/release/damper, built by cargo; `damper_exe` its Windows build, from
-scripts/build_cli.py), `dask_client` a Dask client of a real
-LocalCluster of two single-threaded worker processes (the sweep and campaign tests).
+The FMUs under test are built (cargo build --release of the three FMU packages) and packaged once
+per session into tests/python/work/ by the packaging commands a user runs (python3
+scripts/package_fmu.py, scripts/package_truck.py, scripts/package_full_truck.py), or taken from
+`--fmu PATH` (the damper), `--truck-fmu PATH` (the quarter truck) and `--full-truck-fmu PATH` (the
+full truck). The tests import the scenario and metric code of the scripts from the installed package
+damper_tools (scripts/setup.sh installs it). `damper` is the `damper` program (target/release/damper,
+built by cargo; `damper_exe` its Windows build, from scripts/build_cli.py), `dask_client` a Dask
+client of a real LocalCluster of two single-threaded worker processes (the sweep and campaign tests).
 """
 
 import importlib.util
@@ -40,6 +40,8 @@ def pytest_addoption(parser):
                      help="test this FMU instead of building and packaging target/release's library")
     parser.addoption("--truck-fmu", action="store", default=None,
                      help="use this quarter-truck FMU instead of packaging target/release/libquarter_truck.so")
+    parser.addoption("--full-truck-fmu", action="store", default=None,
+                     help="use this full-truck FMU instead of packaging target/release/libfull_truck.so")
 
 
 @pytest.fixture(scope="session")
@@ -68,6 +70,20 @@ def truck_fmu(request, fmu):
     WORK.mkdir(exist_ok=True)
     # With --fmu given, nothing has been built yet in this session: package_truck.py runs cargo build.
     return package("package_truck.py", WORK / "QuarterTruck.fmu", build=request.config.getoption("--fmu") is not None)
+
+
+@pytest.fixture(scope="session")
+def full_truck_fmu(request, fmu):
+    """Path of the packaged full-truck FMU (its library built by the same cargo build as the damper's)."""
+    given = request.config.getoption("--full-truck-fmu")
+    if given:
+        path = Path(given).resolve()
+        if not path.is_file():
+            pytest.exit(f"--full-truck-fmu {given}: no such file", returncode=4)
+        return path
+    WORK.mkdir(exist_ok=True)
+    return package("package_full_truck.py", WORK / "FullTruck.fmu",
+                   build=request.config.getoption("--fmu") is not None)
 
 
 @pytest.fixture(scope="session")

@@ -90,12 +90,15 @@ def windows_exports_and_imports(library):
     return exports, imports
 
 
+FIXTURES = {"damper": "fmu", "truck": "truck_fmu", "full_truck": "full_truck_fmu"}
+
+
 @pytest.mark.parametrize("platform", ["linux64", "win64"])
-@pytest.mark.parametrize("which", ["damper", "truck"])
-def test_the_binary_exports_exactly_the_fmi2_co_simulation_functions(which, platform, fmus, work_dir, request):
+@pytest.mark.parametrize("which", FIXTURES)
+def test_the_binary_exports_exactly_the_fmi2_co_simulation_functions(which, platform, work_dir, request):
     if platform == "win64":
         request.getfixturevalue("win64")
-    library = extract_binary(fmus["damper_fmu" if which == "damper" else "truck_fmu"], platform, work_dir)
+    library = extract_binary(request.getfixturevalue(FIXTURES[which]), platform, work_dir)
     if platform == "linux64":
         symbols = linux_exports(library)
         assert newest_glibc(library) <= (2, 34), "the docs promise glibc 2.34 or later"
@@ -128,6 +131,16 @@ TRUCK_PROBES = [
     for mode in (0, 1, 2) for c_tyre in (0.0, 2e3)
 ]
 TRUCK_DELTA = {"z_road": 0.01, "v_road": 0.1, "F_damper": 2e3}
+CORNERS = ("front_left", "front_right", "drive1_left", "drive1_right", "drive2_left", "drive2_right")
+FULL_TRUCK_PROBES = [
+    ({"damper_mode": mode, "c_tyre": c_tyre},
+     {f"{c}.{name}": value * (1 + 0.1 * k) for k, c in enumerate(CORNERS)
+      for name, value in (("z_road", 0.012), ("v_road", 0.08), ("F_damper", 1.5e3))})
+    for mode in (0, 1, 2) for c_tyre in (0.0, 2e3)
+]
+FULL_TRUCK_DELTA = {f"{c}.{name}": TRUCK_DELTA[name] for c in CORNERS for name in TRUCK_DELTA}
+PROBES = {"damper": (DAMPER_PROBES, DAMPER_DELTA), "truck": (TRUCK_PROBES, TRUCK_DELTA),
+          "full_truck": (FULL_TRUCK_PROBES, FULL_TRUCK_DELTA)}
 
 
 def observed_feedthrough(unit, start_values, inputs, delta):
@@ -157,10 +170,10 @@ def declared_feedthrough(md):
     return {u.variable.name: {v.name for v in (u.dependencies or [])} for u in md.outputs}
 
 
-@pytest.mark.parametrize("which", ["damper", "truck"])
-def test_declared_output_dependencies_match_the_probed_feedthrough(which, fmus):
-    path = fmus["damper_fmu" if which == "damper" else "truck_fmu"]
-    probes, delta = (DAMPER_PROBES, DAMPER_DELTA) if which == "damper" else (TRUCK_PROBES, TRUCK_DELTA)
+@pytest.mark.parametrize("which", FIXTURES)
+def test_declared_output_dependencies_match_the_probed_feedthrough(which, request):
+    path = request.getfixturevalue(FIXTURES[which])
+    probes, delta = PROBES[which]
     unit = FmuUnit.load(path)
     declared = declared_feedthrough(unit.md)
     # Every output's dependencies are declared explicitly (no attribute means "depends on all").

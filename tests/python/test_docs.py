@@ -2,10 +2,10 @@
 
 - No tracked file refers to the team's brief outside the repository or to another path outside it:
   a clone and an FMU user could not open it.
-- Its parameter tables (§5.1 damper, §5.2 quarter truck) list exactly the parameters of the two
-  modelDescription.xml files, with the XML's unit, start value and source tags.
+- Its parameter tables (§5.1 damper, §5.2 quarter truck, §5.4 full truck) list exactly the parameters
+  of the modelDescription.xml files, with the XML's unit, start value and source tags.
 - Every "physics.md §x" citation names a section that exists.
-- Both packaged FMUs carry it as documentation/physics.md, linked from documentation/index.html.
+- The three packaged FMUs carry it as documentation/physics.md, linked from documentation/index.html.
 """
 
 import math
@@ -18,12 +18,14 @@ from pathlib import Path
 
 import pytest
 
+from damper_tools import full_truck
 from test_readme import LINK, relative_files
 
 REPO = Path(__file__).resolve().parents[2]
 PHYSICS = REPO / "docs" / "physics.md"
 DAMPER_XML = REPO / "modelDescription.xml"
 TRUCK_XML = REPO / "crates" / "quarter_truck" / "modelDescription.xml"
+FULL_TRUCK_XML = REPO / "crates" / "full_truck" / "modelDescription.xml"
 
 # Built from pieces so that this file does not match itself.
 OUTSIDE_REFERENCES = [
@@ -126,7 +128,8 @@ def test_the_outside_reference_patterns_match_what_they_should():
         assert not any(p.search(text) for _, p in OUTSIDE_REFERENCES), text
 
 
-@pytest.mark.parametrize("number, xml_path", [("5.1", DAMPER_XML), ("5.2", TRUCK_XML)], ids=["damper", "truck"])
+@pytest.mark.parametrize("number, xml_path", [("5.1", DAMPER_XML), ("5.2", TRUCK_XML), ("5.4", FULL_TRUCK_XML)],
+                         ids=["damper", "truck", "full_truck"])
 def test_parameter_table_matches_model_description(number, xml_path):
     rows = table(PHYSICS.read_text(encoding="utf-8"), number)
     xml = parameters(xml_path)
@@ -169,7 +172,7 @@ def test_every_citation_names_an_existing_section():
     assert missing == [], "\n".join(missing)
 
 
-@pytest.mark.parametrize("which", ["fmu", "truck_fmu"])
+@pytest.mark.parametrize("which", ["fmu", "truck_fmu", "full_truck_fmu"])
 def test_fmu_ships_the_physics_document(which, request):
     fmu = request.getfixturevalue(which)
     with zipfile.ZipFile(fmu) as z:
@@ -194,6 +197,9 @@ def test_hand_checked_numbers_in_the_document():
     body, hop = (math.sqrt((b + s * root) / (2 * ms * mu)) / (2 * math.pi) for s in (-1, 1))
     markdown = PHYSICS.read_text(encoding="utf-8")
     assert f"body **{body:.3f} Hz**, wheel hop **{hop:.3f} Hz**" in markdown
+    full = {n: float(v[1]) for n, v in parameters(FULL_TRUCK_XML).items() if v[2] == "Real"}
+    roll, pitch, heave = full_truck.natural_frequencies(full)[:3]
+    assert f"roll **{roll:.3f} Hz**, pitch **{pitch:.3f} Hz**, heave **{heave:.3f} Hz**" in markdown
 
     damper = {n: float(v[1]) for n, v in parameters(DAMPER_XML).items() if v[2] in ("Real", "Integer")}
     a_rod = math.pi * damper["D_rod"] ** 2 / 4

@@ -13,7 +13,7 @@ import pytest
 
 from damper_tools import REPO
 
-CRATES = {"damper_fmu": "semi_active_damper", "truck_fmu": "quarter_truck"}
+CRATES = {"fmu": "semi_active_damper", "truck_fmu": "quarter_truck", "full_truck_fmu": "full_truck"}
 # a phrase that each licence's text carries
 LICENCE_TEXTS = {
     "MIT": "Permission is hereby granted, free of charge",
@@ -25,8 +25,8 @@ SECTION = re.compile(r"^={78}\n(\S+) (\S+): ([^\n,]+)(?:, \S+)?\n={78}\n(.*?)(?=
 
 
 @pytest.mark.parametrize("which", CRATES)
-def test_the_fmu_carries_the_licences_of_what_its_binaries_contain(fmus, which, crates_compiled_in):
-    with zipfile.ZipFile(fmus[which]) as fmu:
+def test_the_fmu_carries_the_licences_of_what_its_binaries_contain(request, which, crates_compiled_in):
+    with zipfile.ZipFile(request.getfixturevalue(which)) as fmu:
         platforms = sorted({n.split("/")[1] for n in fmu.namelist() if n.startswith("binaries/")})
         licences = {n.removeprefix("documentation/licenses/"): fmu.read(n) for n in fmu.namelist()
                     if n.startswith("documentation/licenses/")}
@@ -46,7 +46,7 @@ def test_the_fmu_carries_the_licences_of_what_its_binaries_contain(fmus, which, 
     sections = third_party_sections(licences["THIRD-PARTY.txt"].decode("utf-8"))
     assert set(sections) == set().union(*(crates_compiled_in(CRATES[which], p) for p in platforms))
     # the damper's linear algebra: an empty list from cargo tree would make the check above hollow
-    assert which != "damper_fmu" or any(name == "nalgebra" for name, _ in sections)
+    assert which != "fmu" or any(name == "nalgebra" for name, _ in sections)
 
 
 def third_party_sections(notice):

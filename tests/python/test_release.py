@@ -1,4 +1,4 @@
-"""The release archive (scripts/release.py): both FMUs and the `damper` program for Linux and
+"""The release archive (scripts/release.py): the three FMUs and the `damper` program for Linux and
 Windows in one zip, as a user unpacks it. The program from the archive diagnoses the example record
 through the FMU from the archive; the program's THIRD-PARTY.txt lists every crate compiled into it;
 the same inputs give the same archive, byte for byte."""
@@ -36,14 +36,14 @@ def unpack(archive, into):
     return folder
 
 
-def test_the_archive_holds_both_fmus_and_both_programs(archive):
+def test_the_archive_holds_the_fmus_and_both_programs(archive):
     folder = archive.stem + "/"  # semi-active-damper-<version>/
     with zipfile.ZipFile(archive) as z:
         modes = {info.filename.removeprefix(folder): info.external_attr >> 16 for info in z.infolist()}
     assert set(modes) == {
         "README.txt", "LICENSE-MIT", "LICENSE-APACHE", "fmu/SemiActiveDamper.fmu", "fmu/QuarterTruck.fmu",
-        "bin/linux64/damper", "bin/win64/damper.exe", "bin/THIRD-PARTY.txt", "bin/FMI-2.0-headers.txt",
-        "bin/rust-standard-library.html",
+        "fmu/FullTruck.fmu", "bin/linux64/damper", "bin/win64/damper.exe", "bin/THIRD-PARTY.txt",
+        "bin/FMI-2.0-headers.txt", "bin/rust-standard-library.html",
         "bin/mingw-w64-runtime.txt", "examples/rig_valve_test.csv",
         "docs/cli.md", "docs/physics.md"}
     assert {name for name, mode in modes.items() if mode & 0o111} == {"bin/linux64/damper", "bin/win64/damper.exe"}

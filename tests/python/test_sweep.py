@@ -147,10 +147,10 @@ def test_a_bad_sweep_is_refused_or_reported(paths, tmp_path):
     assert not list((tmp_path / "w" / "points").glob("*.json"))  # not kept: a rerun tries it again
 
 
-def test_the_full_truck_and_rig_scenarios(paths, tmp_path):
+def test_the_full_truck_and_rig_scenarios(paths, full_truck_fmu, tmp_path):
     truck = sweep.from_dict({"scenario": "full_truck", "seed": 3, "fixed": {"duration": 1.0, "settle": 0.5},
                              "grid": {"Cm": [12e3, 24e3]}})
-    rows = sweep.run_sweep(truck, tmp_path / "truck", paths).rows
+    rows = sweep.run_sweep(truck, tmp_path / "truck", {**paths, "truck": full_truck_fmu}).rows
     assert all(not r["error"] and 0 < r["DLC"] <= r["DLC_max"] for r in rows)
     assert rows[1]["DLC"] < rows[0]["DLC"]  # the stronger skyhook gain holds the road better
     rig = sweep.from_dict({"scenario": "rig", "seed": 3, "grid": {"air_fraction": [0.01, 0.04]}})

@@ -21,10 +21,8 @@ impl Params {
     pub fn eigenvalue_bound(&self) -> f64 {
         let c = self.c_susp
             + match self.damper_mode {
-                MODE_IDEAL | MODE_TRACKING => (self.cm + self.c_ground).max(self.c_min),
-                MODE_PASSIVE => {
-                    self.c_passive * self.passive_compression_ratio.max(1.0) * self.passive_high_speed_ratio.max(1.0)
-                }
+                MODE_IDEAL | MODE_TRACKING => self.demand_law().largest_coefficient(),
+                MODE_PASSIVE => self.passive_damper().largest_coefficient(),
                 _ => 0.0,
             };
         let k = (2.0 * self.k_susp / self.m_body).max((2.0 * self.k_susp + self.k_tyre) / self.m_axle);

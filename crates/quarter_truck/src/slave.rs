@@ -58,13 +58,10 @@ impl Slave {
         }
         let mode = IntegerVar::DamperMode;
         check_integer(mode.name(), self.params.damper_mode, mode.min(), mode.max())?;
-        let past = self.past.time.iter().chain(&self.past.demand);
-        if !self.y.iter().chain([&self.time]).chain(past).all(|x| x.is_finite()) {
+        if !self.y.iter().chain([&self.time]).all(|x| x.is_finite()) {
             return Err("a state or the time is not finite".into());
         }
-        if self.past.len > crate::tracking::HISTORY || self.past.newest >= crate::tracking::HISTORY {
-            return Err("the demand's past has an index beyond its ring".into());
-        }
+        self.past.check()?;
         if self.initialized {
             self.params.validate()?;
         }

@@ -11,7 +11,8 @@
 //! force input is held. The tracking damper (`damper_mode` 3, [`crate::tracking`]) adds two lag
 //! states and the demand's past. Integration: classical RK4 with equal steps ≤ `h_max`.
 
-use crate::tracking::{dissipative, DemandHistory, Tracking, COMPRESSION, EXTENSION};
+pub use suspension::laws::{DemandLaw, PassiveDamper};
+use suspension::tracking::{DemandHistory, Tracking, COMPRESSION, EXTENSION};
 
 /// Parameters (SI): generated from `modelDescription.xml`, which documents them, one field per
 /// parameter (its name in lower case); `Default` gives the XML's start values.
@@ -36,28 +37,6 @@ pub type State = [f64; 6];
 pub const MODE_IDEAL: i32 = 1;
 pub const MODE_PASSIVE: i32 = 2;
 pub const MODE_TRACKING: i32 = 3;
-
-/// The demand law: the paper's Modified Skyhook, with an optional groundhook term and floor.
-#[derive(Clone, Copy, Debug)]
-pub struct DemandLaw {
-    /// Skyhook coefficient C_m (N·s/m) and blend α (1).
-    pub cm: f64,
-    pub alpha: f64,
-    /// Groundhook coefficient (N·s/m) on the axle velocity.
-    pub c_ground: f64,
-    /// Floor of the clip (N·s/m).
-    pub c_min: f64,
-}
-
-impl DemandLaw {
-    /// The clipped demand (N, tension positive) at relative velocity `v_rel`, body velocity
-    /// `v_body` and axle velocity `v_axle` (m/s): C_m [α v_rel + (1 − α) v_body] − C_g v_axle, kept
-    /// dissipative and at least `c_min·v_rel`.
-    pub fn demand(&self, v_rel: f64, v_body: f64, v_axle: f64) -> f64 {
-        let f = self.cm * (self.alpha * v_rel + (1.0 - self.alpha) * v_body) - self.c_ground * v_axle;
-        dissipative(f, v_rel, self.c_min)
-    }
-}
 
 /// Everything evaluated at one state and time.
 #[derive(Clone, Copy, Debug, Default)]
@@ -90,15 +69,16 @@ impl Params {
         }
     }
 
-    /// The passive damper's force (N, tension positive) at damper speed `v` (m/s, extension
-    /// positive): slope `c_passive` in extension and `passive_compression_ratio` times it in
-    /// compression, each changing by `passive_high_speed_ratio` beyond ±`passive_v_knee`.
-    pub fn passive_force(&self, v: f64) -> f64 {
-        let knee = self.passive_v_knee;
-        let low = v.max(-knee).min(knee);
-        let shaped = low + self.passive_high_speed_ratio * (v - low);
-        let c = if v < 0.0 { self.c_passive * self.passive_compression_ratio } else { self.c_passive };
-        c * shaped
+    /// The passive damper (`damper_mode` 2): slope `c_passive` in extension and
+    /// `passive_compression_ratio` times it in compression, each changing by
+    /// `passive_high_speed_ratio` beyond ±`passive_v_knee`.
+    pub fn passive_damper(&self) -> PassiveDamper {
+        PassiveDamper {
+            c: self.c_passive,
+            compression_ratio: self.passive_compression_ratio,
+            v_knee: self.passive_v_knee,
+            high_speed_ratio: self.passive_high_speed_ratio,
+        }
     }
 
     /// The demand law of the parameters.
@@ -119,7 +99,7 @@ impl Params {
         let mut lag_rates = [0.0; 2];
         let f_suspension = match self.damper_mode {
             MODE_IDEAL => f_demand,
-            MODE_PASSIVE => self.passive_force(v_rel),
+            MODE_PASSIVE => self.passive_damper().force(v_rel),
             MODE_TRACKING => {
                 let tracking = self.tracking();
                 let delayed = tracking.delayed(at.past, at.step_start + at.since_step, f_demand);
@@ -177,6 +157,7 @@ impl Params {
 )]
 mod tests {
     use super::*;
+    use suspension::tracking::dissipative;
 
     fn table1() -> Params {
         Params {
@@ -256,39 +237,6 @@ mod tests {
             compression += (v < 0.0 && force < 0.0) as usize;
         }
         assert!(extension > 100 && compression > 100, "{extension} {compression}");
-    }
-
-    #[test]
-    fn the_passive_damper_is_linear_by_default_and_shaped_on_request() {
-        let linear = Params { c_passive: 20e3, ..table1() };
-        for v in [-0.7, -0.05, 0.0, 0.05, 0.7] {
-            assert_eq!(linear.passive_force(v), 20e3 * v);
-        }
-        let shaped =
-            Params { passive_compression_ratio: 0.4, passive_v_knee: 0.1, passive_high_speed_ratio: 0.25, ..linear };
-        // extension: 20 kNs/m to 0.1 m/s (2 kN), then 5 kNs/m
-        assert!((shaped.passive_force(0.3) - (2000.0 + 5000.0 * 0.2)).abs() < 1e-9);
-        assert!((shaped.passive_force(0.05) - 1000.0).abs() < 1e-9);
-        // compression: 8 kNs/m to -0.1 m/s (-0.8 kN), then 2 kNs/m
-        assert!((shaped.passive_force(-0.3) - (-800.0 - 2000.0 * 0.2)).abs() < 1e-9);
-    }
-
-    #[test]
-    fn msd_is_clipped_to_dissipation() {
-        let msd = |c_min, v_rel, v_body| {
-            DemandLaw { cm: 24e3, alpha: 0.8, c_ground: 0.0, c_min }.demand(v_rel, v_body, v_body - v_rel)
-        };
-        assert!((msd(0.0, 0.1, 0.0) - 1920.0).abs() < 1e-9);
-        // body moving up fast while the damper compresses slowly: demand would push, so 0
-        assert_eq!(msd(0.0, -0.01, 0.5), 0.0);
-        assert_eq!(msd(0.0, 0.0, 0.3), 0.0);
-        // with a floor: the floor where the law asks for less or pushes
-        assert_eq!(msd(5e3, -0.01, 0.5), -50.0);
-        assert!((msd(5e3, 0.1, -0.3) - 500.0).abs() < 1e-9);
-        // groundhook: the axle moving down while the damper extends asks for C_g |v_axle|
-        let ground = DemandLaw { cm: 0.0, alpha: 0.8, c_ground: 10e3, c_min: 0.0 };
-        assert!((ground.demand(0.1, 0.0, -0.1) - 1000.0).abs() < 1e-9);
-        assert_eq!(ground.demand(0.1, 0.2, 0.1), 0.0, "the axle moving up: it would push");
     }
 
     #[test]

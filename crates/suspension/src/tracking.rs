@@ -19,11 +19,12 @@ pub const HISTORY: usize = 512;
 #[derive(Clone, Copy, Debug)]
 pub struct DemandHistory {
     /// Times (s) and demands (N), oldest overwritten first.
-    pub(crate) time: [f64; HISTORY],
-    pub(crate) demand: [f64; HISTORY],
-    /// Index of the newest sample, and how many are held.
-    pub(crate) newest: usize,
-    pub(crate) len: usize,
+    pub time: [f64; HISTORY],
+    pub demand: [f64; HISTORY],
+    /// Index of the newest sample, and how many are held (public for the FMU state's bytes;
+    /// [`DemandHistory::check`] tells a restored one apart from a corrupt one).
+    pub newest: usize,
+    pub len: usize,
 }
 
 impl Default for DemandHistory {
@@ -39,6 +40,18 @@ impl DemandHistory {
         self.len = (self.len + 1).min(HISTORY);
         self.time[self.newest] = t;
         self.demand[self.newest] = f;
+    }
+
+    /// Whether a restored history is one [`DemandHistory::push`] could have made: finite numbers,
+    /// indices inside the ring.
+    pub fn check(&self) -> Result<(), &'static str> {
+        if !self.time.iter().chain(&self.demand).all(|x| x.is_finite()) {
+            return Err("the demand's past holds a number that is not finite");
+        }
+        if self.len > HISTORY || self.newest >= HISTORY {
+            return Err("the demand's past has an index beyond its ring");
+        }
+        Ok(())
     }
 
     /// The span of time (s) the history covers once full, at internal steps of `dt` (s).
