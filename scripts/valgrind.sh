@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The FMUs' lifecycles under valgrind's memcheck: the randomized call-sequence test
-# (tests/call_sequences.rs: both FMU binaries, instantiate ... free in every order, FMU states,
+# (tests/call_sequences.rs: the three FMU binaries, instantiate ... free in every order, FMU states,
 # corrupted and foreign serialized states, many live instances) fails on any invalid read or write
 # and on any definite leak. About 50 times slower than natively, hence the few sequences and the
 # raised hang limit.

@@ -9,7 +9,7 @@ use crate::snapshot::{check_restored, MAGIC};
 use crate::step_error::StepError;
 use crate::variables::{default_inputs, real_input, real_output};
 use fmi2_slave::snapshot::{self, Visit, Visitor};
-use fmi2_slave::{check_integer, check_real, Model, ToleranceNote, VarInfo};
+use fmi2_slave::{check_real, Model, ToleranceNote};
 
 /// Everything that defines a slave's present condition (the FMU state).
 #[derive(Clone, Copy, Debug)]
@@ -61,17 +61,7 @@ impl Model for Slave {
     type StepError = StepError;
     type StepWarning = BeyondStroke;
 
-    fn real_info(vr: u32) -> Option<VarInfo> {
-        RealVar::from_vr(vr).map(RealVar::info)
-    }
-
-    fn integer_info(vr: u32) -> Option<VarInfo> {
-        IntegerVar::from_vr(vr).map(IntegerVar::info)
-    }
-
-    fn boolean_info(vr: u32) -> Option<VarInfo> {
-        BooleanVar::from_vr(vr).map(BooleanVar::info)
-    }
+    fmi2_slave::parameter_access!();
 
     /// Outputs before initialisation are those of the damper at rest with the present parameters
     /// (initial values of the "calculated" outputs).
@@ -86,18 +76,6 @@ impl Model for Slave {
             return Err(format!("{} = {x} is not finite (inputs out of the model's reach)", v.name()));
         }
         Ok(x)
-    }
-
-    fn get_integer(&self, vr: u32) -> Result<i32, String> {
-        let v = IntegerVar::from_vr(vr).ok_or_else(|| unknown(vr))?;
-        let mut params = self.params;
-        params.integer_mut(v).map(|x| *x).ok_or_else(|| unknown(vr))
-    }
-
-    fn get_boolean(&self, vr: u32) -> Result<bool, String> {
-        let v = BooleanVar::from_vr(vr).ok_or_else(|| unknown(vr))?;
-        let mut params = self.params;
-        params.boolean_mut(v).map(|x| *x).ok_or_else(|| unknown(vr))
     }
 
     type Settable = (Parameters, Inputs, bool);
@@ -121,19 +99,6 @@ impl Model for Slave {
         };
         *field.ok_or_else(|| format!("{} is an output and cannot be set", v.name()))? = value;
         self.rtol_set |= v == RealVar::Rtol;
-        Ok(())
-    }
-
-    fn set_integer(&mut self, vr: u32, value: i32) -> Result<(), String> {
-        let v = IntegerVar::from_vr(vr).ok_or_else(|| unknown(vr))?;
-        check_integer(v.name(), value, v.min(), v.max())?;
-        *self.params.integer_mut(v).ok_or_else(|| format!("{} cannot be set", v.name()))? = value;
-        Ok(())
-    }
-
-    fn set_boolean(&mut self, vr: u32, value: bool) -> Result<(), String> {
-        let v = BooleanVar::from_vr(vr).ok_or_else(|| unknown(vr))?;
-        *self.params.boolean_mut(v).ok_or_else(|| format!("{} cannot be set", v.name()))? = value;
         Ok(())
     }
 

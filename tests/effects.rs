@@ -316,3 +316,51 @@ fn quantities_are_shown_in_the_readers_units() {
     assert_eq!(range(50.0, 600.0, "N"), "50–600 N");
     assert_eq!(range(0.001, 0.006, "s"), "1–6 ms");
 }
+
+/// The model's sources outside their test modules (everything before a file's `#[cfg(test)]`).
+fn model_sources() -> Vec<(std::path::PathBuf, String)> {
+    fn walk(dir: &std::path::Path, out: &mut Vec<(std::path::PathBuf, String)>) {
+        for entry in std::fs::read_dir(dir).unwrap() {
+            let path = entry.unwrap().path();
+            if path.is_dir() {
+                walk(&path, out);
+            } else if path.extension().is_some_and(|e| e == "rs") {
+                let src = std::fs::read_to_string(&path).unwrap();
+                let code = src.split("#[cfg(test)]").next().unwrap_or("").to_string();
+                out.push((path, code));
+            }
+        }
+    }
+    let mut out = vec![];
+    walk(&std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("src"), &mut out);
+    out
+}
+
+/// Whether `code` calls the function `name` (`name(` or `.name(` not in its `fn` line).
+fn calls(code: &str, name: &str) -> bool {
+    code.lines().any(|line| {
+        let line = line.split("//").next().unwrap_or("");
+        line.match_indices(&format!("{name}(")).any(|(i, _)| {
+            let before = &line[..i];
+            let word_start = !before.ends_with(|c: char| c.is_alphanumeric() || c == '_');
+            word_start && !before.trim_end().ends_with("fn")
+        })
+    })
+}
+
+#[test]
+fn the_model_runs_the_function_each_effect_names() {
+    // the catalog's reference is where a reader finds the equation: the model must run that very
+    // function, not a copy of its formula (the flow force was once written out again in the plant)
+    let sources = model_sources();
+    assert!(sources.len() > 20, "the model's sources: {}", sources.len());
+    for e in CATALOG {
+        let info = e.info();
+        let name = info.code.function.rsplit("::").next().unwrap();
+        let callers: Vec<_> = sources.iter().filter(|(_, code)| calls(code, name)).map(|(p, _)| p).collect();
+        assert!(!callers.is_empty(), "{}: nothing in src/ calls {}", info.key, info.code.function);
+    }
+    assert!(calls("let f = flow_force(g, a, dp);", "flow_force"));
+    assert!(calls("x.push(1.0)", "push") && !calls("pub fn flow_force(g: f64) -> f64 {", "flow_force"));
+    assert!(!calls("let g = flow_force_gain(a, b, c);", "flow_force") && !calls("// flow_force(a)", "flow_force"));
+}

@@ -20,6 +20,12 @@ import numpy as np
 # The repository the package is installed from (editable install): the FMUs are built under its
 # target/, the outputs go to its out/ and the road data are in its data/.
 REPO = Path(__file__).resolve().parents[2]
+# The FMUs as the packaging commands write them (scripts/package_fmu.py, package_truck.py,
+# package_full_truck.py): every command's default.
+FMU_DIR = REPO / "target" / "fmu"
+DAMPER_FMU = FMU_DIR / "SemiActiveDamper.fmu"
+TRUCK_FMU = FMU_DIR / "QuarterTruck.fmu"
+FULL_TRUCK_FMU = FMU_DIR / "FullTruck.fmu"
 # The `damper` program as `cargo build --release -p damper_cli` writes it.
 DAMPER = REPO / "target" / "release" / "damper"
 
@@ -37,3 +43,13 @@ def jsonable(x: Any, drop: Collection[str] = ()) -> Any:
     if isinstance(x, float) and not math.isfinite(x):
         return None if math.isnan(x) else ("inf" if x > 0 else "-inf")
     return x
+
+
+def pyplot() -> Any:
+    """matplotlib.pyplot on the Agg backend: the plots are files, no display is needed."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    return plt

@@ -33,11 +33,8 @@ from typing import Any
 import numpy as np
 from fmpy.fmi1 import FMICallException
 
-from damper_tools import REPO, roads
+from damper_tools import DAMPER_FMU, TRUCK_FMU, roads
 from damper_tools.fmu import FmuUnit, Slave, Value
-
-TRUCK_FMU = REPO / "target" / "fmu" / "QuarterTruck.fmu"
-DAMPER_FMU = REPO / "target" / "fmu" / "SemiActiveDamper.fmu"
 
 TRUCK_OUTPUTS = ("v_damper", "F_demand", "x_damper", "v_body", "a_body", "a_axle", "z_body", "z_axle",
                  "F_tyre", "F_suspension")

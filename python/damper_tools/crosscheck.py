@@ -21,10 +21,9 @@ from types import SimpleNamespace
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from damper_tools import REPO
+from damper_tools import DAMPER_FMU, pyplot
 from damper_tools.fmu import FmuUnit, Slave
 
-DAMPER_FMU = REPO / "target" / "fmu" / "SemiActiveDamper.fmu"
 P_ATM = 101_325.0  # standard atmosphere (Pa): the gauge-pressure reference of src/physics/fluid.rs
 # Typical size of each state (p_A, p_B, V_g, x_s, v_s, i, x): the absolute tolerance is rtol times it.
 STATE_SCALE = np.array([1e6, 1e6, 1e-4, 1e-3, 0.1, 1.0, 1e-3])
@@ -238,9 +237,7 @@ max {r['max_diff']:.3g} N |"""
 
 
 def plot(path: Path, r: dict) -> None:
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
     fig, ax = plt.subplots(3, 1, sharex=True, figsize=(10, 8), height_ratios=(1, 2, 1))
     ax[0].plot(r["t"], r["v"], "k", lw=0.8, label="v_damper (m/s)")
     ax[0].plot(r["t"], r["x_dem"] * 1e2, "tab:green", lw=0.8, label="x_spool_demand (cm)")

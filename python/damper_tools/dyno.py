@@ -62,7 +62,9 @@ from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 from scipy.signal import butter, filtfilt
 
-from damper_tools.independent import lowpass_fine, quantise
+from damper_tools import pyplot
+from damper_tools.independent import lowpass_fine
+from damper_tools.sensors import quantise
 
 P_ATM = 101325.0  # Pa
 T_ZERO = 273.15  # K at 0 degC
@@ -947,9 +949,7 @@ def fv_table(seed: int = 1) -> dict[str, dict[str, list[float]]]:
 def plot_fv(path: str | Path, seed: int = 1) -> Path:
     """The three presets' steady F-v curves (nominal, truth of `seed`, and the nominal at +40 K), with
     the dyno's peak-velocity loops of the truth (a quick simulated program) over them."""
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
 
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)

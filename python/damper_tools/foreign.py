@@ -22,17 +22,17 @@ import math
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from damper_tools import independent as ind
+from damper_tools import sensors
 
 
 def _sample_inputs(case, rig, noise_v):
-    m = ind.steps_per_sample(case.rate)
+    m = sensors.steps_per_sample(case.rate)
     n_samples = int(round(case.duration * case.rate)) + 1
     n_fine = (n_samples - 1) * m
-    t_fine = ind.FINE_STEP * np.arange(n_fine + 1)
+    t_fine = sensors.FINE_STEP * np.arange(n_fine + 1)
     v_true = rig.velocity(t_fine)
     t_rec = t_fine[::m]
-    v_meas = ind.quantise(v_true[::m] + noise_v[:n_samples], ind.SENSORS["v_damper"][1])
+    v_meas = sensors.quantise(v_true[::m] + noise_v[:n_samples], sensors.SENSORS["v_damper"][1])
     return m, t_fine, v_true, t_rec, v_meas, rig.demand(t_rec, v_meas)
 
 
@@ -44,14 +44,14 @@ def mr(case, rig, noise_v, rng):
     span = p["F_ymax"] - p["F_y0"]
     f_y_cmd = np.clip(np.abs(demand) - p["c0"] * np.abs(v_meas) - p["F_y0"], 0.0, 0.97 * span)
     i_cmd = np.repeat(np.arctanh(f_y_cmd / span)[:-1], m)
-    decay = math.exp(-ind.FINE_STEP / p["tau_I"])
+    decay = math.exp(-sensors.FINE_STEP / p["tau_I"])
     current = np.empty(t_fine.size)
     current[0] = 0.0
     for j in range(t_fine.size - 1):  # exact for a command held over the step
         current[j + 1] = i_cmd[j] + (current[j] - i_cmd[j]) * decay
     f_y = p["F_y0"] + span * np.tanh(current)
     force = p["c0"] * v_true + f_y * np.tanh(v_true / p["v0"]) - p["F_gas"]
-    x = np.concatenate([[0.0], np.cumsum(v_true[:-1]) * ind.FINE_STEP])
+    x = np.concatenate([[0.0], np.cumsum(v_true[:-1]) * sensors.FINE_STEP])
     sig = {"t_fine": t_fine, "force_fine": force, "t": t_rec, "v_measured": v_meas, "demand": demand,
            "v_true": v_true[::m], "max_abs_stroke": float(np.max(np.abs(x)))}
     desc = ("foreign MR (Bingham) damper: F = c0 v + F_y(I) tanh(v/v0) - F_gas, F_y(I) = F_y0 + (F_ymax - F_y0) "

@@ -38,10 +38,9 @@ from typing import Any
 import numpy as np
 from fmpy.fmi1 import FMICallException
 
-from damper_tools import REPO, cosim, hil_scenarios, ride, roads
+from damper_tools import FULL_TRUCK_FMU, REPO, cosim, hil_scenarios, pyplot, ride, roads
 from damper_tools.fmu import FmuUnit, Slave, Value
 
-FULL_TRUCK_FMU = REPO / "target" / "fmu" / "FullTruck.fmu"
 OUT = REPO / "out" / "full_truck"
 AXLES = ("front", "drive1", "drive2")
 SIDES = ("left", "right")
@@ -399,10 +398,7 @@ def _equal_dlc(r: dict[str, Any]) -> str:
 
 def plot(path: Path, rows: list[dict[str, Any]]) -> None:
     """Seat ride against DLC per case: the passive family and each setting."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
 
     cases = list(dict.fromkeys((r["road"], r["speed"]) for r in rows))
     fig, axes = plt.subplots(1, len(cases), figsize=(4.2 * len(cases), 4.2))

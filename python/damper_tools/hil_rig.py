@@ -37,7 +37,7 @@ from typing import Any
 
 import numpy as np
 
-from damper_tools import REPO, cosim, jsonable, roads
+from damper_tools import REPO, cosim, jsonable, pyplot, roads
 from damper_tools.hil_scenarios import FADE_IN, SETTLE, STEP, force_spectrum, spectral_peaks, tracking_metrics
 
 OUT = REPO / "out" / "rig"
@@ -82,11 +82,6 @@ class RigParameters:
     f_load_cell: float = math.inf
     load_cell_delay: float = 0.0
     rt_period: float | None = None
-
-    @property
-    def is_ideal(self) -> bool:
-        return (self.actuator_delay == 0 and math.isinf(self.f_actuator) and math.isinf(self.f_load_cell)
-                and self.load_cell_delay == 0 and self.rt_period is None)
 
 
 # The rig parts held fixed in the sweep: a 1 kHz real-time computer (the communication step) and a
@@ -396,10 +391,7 @@ def robustness_table(rows: Sequence[dict[str, Any]]) -> str:
 
 
 def _plt() -> Any:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
 
     return plt
 

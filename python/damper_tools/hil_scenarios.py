@@ -45,7 +45,7 @@ from typing import Any
 
 import numpy as np
 
-from damper_tools import REPO, cosim, jsonable, ride, roads
+from damper_tools import REPO, cosim, jsonable, pyplot, ride, roads
 from damper_tools.fmu import FmuUnit
 
 OUT = REPO / "out" / "hil"
@@ -276,10 +276,7 @@ def run_crg(path: str | Path = CRG, speed: float = CRG_SPEED, step: float = STEP
 # --------------------------------------------------------------------------- plots
 
 def _plt() -> Any:  # the matplotlib.pyplot module, imported on first use
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
 
     return plt
 

@@ -42,19 +42,14 @@ from pathlib import Path
 import numpy as np
 from scipy.signal import butter, filtfilt, lfilter, lfilter_zi
 
-from damper_tools import DAMPER, REPO, cosim, roads
+from damper_tools import DAMPER, DAMPER_FMU, TRUCK_FMU, cosim, foreign, roads
 from damper_tools.fmu import FmuUnit, Slave
+from damper_tools.sensors import FINE_STEP, SENSORS, quantise, steps_per_sample
 
-DAMPER_FMU = REPO / "target" / "fmu" / "SemiActiveDamper.fmu"
-TRUCK_FMU = REPO / "target" / "fmu" / "QuarterTruck.fmu"
-
-FINE_STEP = 1e-4  # s: communication step of the truth
 RTOL = 1e-7  # the FMU's step-size control tolerance for the truth
 LOWPASS_HZ = 400.0  # load-cell corner
 RATES = (500.0, 1000.0, 2000.0)  # Hz
 SPLIT = 0.7  # the diagnosis validates on the last 30 %
-# Sensor (noise standard deviation, quantum), SI.
-SENSORS = {"F_damper": (20.0, 1.0), "v_damper": (1e-4, 1e-5)}
 DEMAND_QUANTUM = 0.1  # N: the demand is digital
 KINDS = ("rig", "hil", "foreign_mr", "foreign_passive")
 MOTIONS = ("continuous", "sample_hold")
@@ -191,10 +186,6 @@ def lowpass_fine(u: np.ndarray, h: float, corner_hz: float) -> np.ndarray:
     return y
 
 
-def quantise(x: np.ndarray, quantum: float) -> np.ndarray:
-    return np.round(x / quantum) * quantum
-
-
 def measure(x: np.ndarray, sensor: str | tuple[float, float], rng: np.random.Generator) -> np.ndarray:
     sigma, q = SENSORS[sensor] if isinstance(sensor, str) else sensor
     return quantise(x + sigma * rng.standard_normal(x.size), q)
@@ -207,13 +198,6 @@ def lvdt_velocity(x_true: np.ndarray, rate: float, rng: np.random.Generator) -> 
     order, corner = LOGGER_FILTER
     b, a = butter(order, corner / (rate / 2.0))
     return x, filtfilt(b, a, np.gradient(x, 1.0 / rate))
-
-
-def steps_per_sample(rate: float) -> int:
-    m = round(1.0 / (rate * FINE_STEP))
-    if abs(m * FINE_STEP * rate - 1) > 1e-9:
-        raise ValueError(f"rate {rate} Hz is not a whole number of {FINE_STEP:g} s steps")
-    return m
 
 
 # --------------------------------------------------------------------------- rig inputs
@@ -429,8 +413,6 @@ def make(case: Case, out: str | Path, truth_path: str | Path, damper_fmu: str | 
          truck_fmu: str | Path = TRUCK_FMU, keep: dict | None = None) -> dict:
     """Writes the record `out` and its truth `truth_path` (JSON); returns the truth. `keep`, a dict,
     receives the fine-step force and the sampled signals (for tests)."""
-    from damper_tools import foreign  # the foreign dampers use this module's inputs and sensors
-
     out, truth_path = Path(out), Path(truth_path)
     rng = streams(case)
     n_samples = int(round(case.duration * case.rate)) + 1

@@ -23,7 +23,7 @@ from typing import Any
 
 import numpy as np
 
-from damper_tools import REPO, cosim, full_truck
+from damper_tools import REPO, cosim, full_truck, pyplot
 from damper_tools.fmu import Value
 
 OUT = REPO / "out" / "instances"
@@ -78,10 +78,7 @@ def scaling(cars: list[cosim.Car], step: float, n_steps: int, pairs: tuple[int, 
 
 
 def plot(path: Path, results: list[dict[str, np.ndarray]], cars: list[cosim.Car], t: np.ndarray, title: str) -> None:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
 
     fig, axes = plt.subplots(3, 2, figsize=(11, 8), sharex=True, sharey="row")
     m = t >= t[-1] - 2.0

@@ -26,7 +26,7 @@ import matplotlib
 import matplotlib.pyplot as plt
 from fmpy import extract, read_model_description
 
-from damper_tools import REPO
+from damper_tools import DAMPER_FMU, REPO
 from damper_tools import rig_tests as rt
 
 BAR = 1e5
@@ -255,7 +255,7 @@ def plot_force_step_zoom(rig: dict[str, Any], path: Path) -> None:
 
 def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--fmu", type=Path, default=REPO / "target" / "fmu" / "SemiActiveDamper.fmu")
+    parser.add_argument("--fmu", type=Path, default=DAMPER_FMU)
     parser.add_argument("--out", type=Path, default=REPO / "out" / "paper")
     parser.add_argument("--output-interval", type=float, default=rt.OUTPUT_INTERVAL,
                         help=f"communication step [s] (default {rt.OUTPUT_INTERVAL})")

@@ -36,7 +36,7 @@ from typing import Any
 
 import numpy as np
 
-from damper_tools import REPO, cosim, hil_scenarios, sweep
+from damper_tools import REPO, cosim, hil_scenarios, pyplot, sweep
 
 OUT = REPO / "out" / "sweeps"
 RANK_BINS = 10
@@ -44,10 +44,7 @@ MAX_GROUP_LEVELS = 12
 
 
 def _plt() -> Any:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
 
     return plt
 

@@ -48,7 +48,7 @@ from typing import Any
 
 import numpy as np
 
-from damper_tools import jsonable
+from damper_tools import DAMPER_FMU, jsonable, pyplot
 from damper_tools.fmu import FmuUnit, Slave
 
 # ----------------------------------------------------------------------------- parameters
@@ -416,10 +416,7 @@ def load(fmu: str | Path) -> FmuUnit:
 # ----------------------------------------------------------------------------- report (plots, tables)
 
 def _plt() -> Any:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
 
     return plt
 
@@ -428,22 +425,6 @@ def _bode(axes: Any, frf: Frf, label: str, scale: float = 1.0, **style: Any) -> 
     a0, a1 = axes
     a0.loglog(frf.f, scale * frf.magnitude, marker="o", ms=2.5, lw=1, label=label, **style)
     a1.semilogx(frf.f, frf.phase_deg, marker="o", ms=2.5, lw=1, **style)
-
-
-def _finish_bode(fig: Any, axes: Any, ylabel: str, title: str, path: Path) -> None:
-    for row in axes.T if axes.ndim == 2 else [axes]:
-        a0, a1 = row
-        a0.set_ylabel(ylabel)
-        a0.grid(alpha=0.3, which="both")
-        a1.grid(alpha=0.3, which="both")
-        a1.axhline(-90, color="0.4", lw=0.7, ls=":")
-        a1.set_ylabel("phase (deg)")
-        a1.set_xlabel("frequency (Hz)")
-        a0.legend(fontsize=7, loc="lower left")
-    fig.suptitle(title, fontsize=10)
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt_close(fig)
 
 
 def plt_close(fig: Any) -> None:
@@ -605,7 +586,7 @@ def main(argv: list[str] | None = None) -> None:
     from damper_tools import REPO
 
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--fmu", type=Path, default=REPO / "target" / "fmu" / "SemiActiveDamper.fmu")
+    parser.add_argument("--fmu", type=Path, default=DAMPER_FMU)
     parser.add_argument("--out", type=Path, default=REPO / "out" / "valve")
     args = parser.parse_args(argv)
     t0 = time.perf_counter()

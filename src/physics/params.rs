@@ -85,6 +85,10 @@ pub struct Derived {
     pub effects: ActiveEffects,
 }
 
+/// How far below its stop `x_spool_max` the force loops' spool demand ends (m; docs/physics.md
+/// §4.3): the largest demanded opening is one the spool loop can hold off the stop.
+pub const DEMAND_MARGIN_BELOW_STOP: f64 = 0.5e-3;
+
 impl Parameters {
     /// Checks the relations between parameters that single-variable ranges cannot express.
     pub fn validate(&self) -> Result<(), String> {
@@ -93,7 +97,7 @@ impl Parameters {
             (self.p_cv_full > self.p_cv_crack, "p_cv_full must exceed p_cv_crack"),
             (self.x_spool_max > self.x_spool_min, "x_spool_max must exceed x_spool_min"),
             (
-                self.x_spool_max - 0.5e-3 > self.x_lap,
+                self.x_spool_max - DEMAND_MARGIN_BELOW_STOP > self.x_lap,
                 "x_spool_max - 0.5 mm must exceed x_lap (the valve must be able to open)",
             ),
             (
@@ -111,7 +115,7 @@ impl Parameters {
         }
         // the force loop works between a floor and the largest demanded area: both must fit
         let a_max = ValvePorts { n_ports: self.n_ports as f64, r_port: self.r_port, x_lap: self.x_lap }
-            .area(self.x_spool_max - 0.5e-3);
+            .area(self.x_spool_max - DEMAND_MARGIN_BELOW_STOP);
         if a_max.is_nan() || a_max < 2.0 * A_FEEDFORWARD_MIN {
             return Err(format!(
                 "the valve's largest demanded area ({a_max:.3e} m² from n_ports, r_port, x_lap and x_spool_max - 0.5 mm) \
@@ -130,7 +134,7 @@ impl Parameters {
     pub fn derive(&self) -> Derived {
         let cylinder = Cylinder::new(self.d_piston, self.d_rod, self.l_half_stroke, self.l_dead, self.v_hose);
         let ports = ValvePorts { n_ports: self.n_ports as f64, r_port: self.r_port, x_lap: self.x_lap };
-        let x_demand_max = self.x_spool_max - 0.5e-3;
+        let x_demand_max = self.x_spool_max - DEMAND_MARGIN_BELOW_STOP;
         Derived {
             cylinder,
             ports,

@@ -21,7 +21,7 @@ use super::fluid::{
 };
 use super::hydraulics::{check_valve_area, check_valve_area_slope, reservoir_pressure_and_slope};
 use super::params::{Derived, Parameters};
-use super::valve::solenoid_force;
+use super::valve::{flow_force, solenoid_force};
 use crate::effects::{numeric_gradient, PlantSignals};
 use nalgebra::{SMatrix, SVector};
 
@@ -340,7 +340,7 @@ impl Plant<'_> {
         let d_v_piston = grad::<JAC>(|| plus(-d_delta_rate, G_DV, 1.0));
 
         let flow_force_on = p.effect_flow_forces && dp_valve > 0.0;
-        let f_flow = if flow_force_on { d.flow_force_gain * a_valve * dp_valve } else { 0.0 };
+        let f_flow = if flow_force_on { flow_force(d.flow_force_gain, a_valve, dp_valve) } else { 0.0 };
         let d_f_flow = grad::<JAC>(|| {
             if flow_force_on {
                 (d_a_valve * dp_valve + d_dp_valve * a_valve) * d.flow_force_gain

@@ -142,9 +142,10 @@ pub fn solenoid_force(k_sol: f64, kappa: f64, x_max: f64, i: f64, x_spool: f64) 
 }
 
 /// Steady flow force (N) on the spool, acting to close the valve: jet momentum through the open
-/// area `area` (m²) under the pressure drop `dp` (Pa) (only positive drops drive the jet).
-pub fn flow_force(cd: f64, cv: f64, theta_jet: f64, area: f64, dp: f64) -> f64 {
-    flow_force_gain(cd, cv, theta_jet) * area * dp.max(0.0)
+/// area `area` (m²) under the pressure drop `dp` (Pa) (only positive drops drive the jet), with
+/// `gain` = [`flow_force_gain`] (computed once per parameter set: it holds a cosine).
+pub fn flow_force(gain: f64, area: f64, dp: f64) -> f64 {
+    gain * area * dp.max(0.0)
 }
 
 /// The flow-force gain 2 C_d C_v cos θ (-): [`flow_force`] = gain · A · max(Δp, 0).
@@ -279,8 +280,8 @@ mod tests {
     #[test]
     fn flow_force_matches_merritt_coefficient() {
         // 2 Cd Cv cos 69° ≈ 0.4566 with Cd 0.65, Cv 0.98: 10 mm² at 50 bar → 22.8 N.
-        let f = flow_force(0.65, 0.98, 69f64.to_radians(), 10e-6, 50e5);
+        let f = flow_force(flow_force_gain(0.65, 0.98, 69f64.to_radians()), 10e-6, 50e5);
         assert!((f - 0.4566 * 10e-6 * 50e5).abs() < 0.01, "{f}");
-        assert_eq!(flow_force(0.65, 0.98, 1.2, 10e-6, -50e5), 0.0);
+        assert_eq!(flow_force(flow_force_gain(0.65, 0.98, 1.2), 10e-6, -50e5), 0.0);
     }
 }

@@ -3,7 +3,7 @@
 
 use crate::describe::describe_model;
 use crate::svg::{esc, Axis, Plot, Series, ACCENT, GREEN, MEASURED, MODEL, ORANGE, RESIDUAL};
-use damper_engine::analysis::{lag_ms, observations, Analysis, V_REVERSAL};
+use damper_engine::analysis::{lag_ms, observations, V_REVERSAL};
 use damper_engine::comparison::Comparison;
 use damper_engine::model::Demand;
 use damper_engine::residual_signature;
@@ -439,21 +439,4 @@ fn signature_section(c: &Comparison) -> String {
 
 fn index_at(t: &[f64], x: f64) -> usize {
     t.partition_point(|&v| v < x).min(t.len() - 1)
-}
-
-/// Regime rows as text (for tests and logs).
-pub fn regime_text(a: &Analysis) -> String {
-    a.regimes
-        .iter()
-        .map(|r| {
-            format!(
-                "{:<11} {:<40} {:>6.1}% {:>6.1}% x{:.2}\n",
-                r.group,
-                r.name,
-                100.0 * r.time_share,
-                100.0 * r.error_share,
-                r.concentration
-            )
-        })
-        .collect()
 }

@@ -59,10 +59,11 @@ pub struct CompareOptions {
     pub calibration: Option<(PathBuf, Option<String>)>,
 }
 
-/// The tolerance `diagnose` and `calibrate` run the model at, unless the user sets one: the FMU's
-/// default, 1e-3, leaves a numerical error of about 0.3 load-cell noise sigmas at fast transients
-/// (a candidate fitted it and was named); 3e-5 leaves 1.5 N RMS against a converged run, 0.08 of
-/// the rig's 20 N sigma (`cargo bench --bench realtime`, docs/performance.md).
+/// The tolerance `diagnose` and `calibrate` run the model at, unless the user sets one: the
+/// FMU's default (3e-4) leaves a numerical error at fast transients that a diagnosis can fit (at
+/// 1e-3 it was about 0.3 load-cell noise sigmas, and a candidate fitted it and was named); 3e-5
+/// leaves 1.5 N RMS against a converged run, 0.08 of the rig's 20 N sigma (`cargo bench --bench
+/// realtime`, docs/performance.md).
 pub const ANALYSIS_RTOL: f64 = 3e-5;
 
 impl CompareOptions {

@@ -106,6 +106,53 @@ pub trait Model: Default {
     fn deserialize(bytes: &[u8]) -> Result<Self::State, String>;
 }
 
+/// Inside an `impl Model for …` whose Integer and Boolean variables are all parameters: the
+/// `*_info` lookups and the Integer and Boolean get and set, through the enums and the `Parameters`
+/// accessors that `fmi2_codegen` generates (`RealVar`, `IntegerVar`, `BooleanVar` in scope; the
+/// parameters in `self.params`). Every FMU of this workspace has the same; Reals differ (inputs,
+/// outputs) and stay with each model.
+#[macro_export]
+macro_rules! parameter_access {
+    () => {
+        fn real_info(vr: u32) -> Option<$crate::VarInfo> {
+            RealVar::from_vr(vr).map(RealVar::info)
+        }
+
+        fn integer_info(vr: u32) -> Option<$crate::VarInfo> {
+            IntegerVar::from_vr(vr).map(IntegerVar::info)
+        }
+
+        fn boolean_info(vr: u32) -> Option<$crate::VarInfo> {
+            BooleanVar::from_vr(vr).map(BooleanVar::info)
+        }
+
+        fn get_integer(&self, vr: u32) -> Result<i32, String> {
+            IntegerVar::from_vr(vr)
+                .and_then(|v| self.params.integer(v))
+                .ok_or_else(|| format!("unknown value reference {vr}"))
+        }
+
+        fn get_boolean(&self, vr: u32) -> Result<bool, String> {
+            BooleanVar::from_vr(vr)
+                .and_then(|v| self.params.boolean(v))
+                .ok_or_else(|| format!("unknown value reference {vr}"))
+        }
+
+        fn set_integer(&mut self, vr: u32, value: i32) -> Result<(), String> {
+            let v = IntegerVar::from_vr(vr).ok_or_else(|| format!("unknown value reference {vr}"))?;
+            $crate::check_integer(v.name(), value, v.min(), v.max())?;
+            *self.params.integer_mut(v).ok_or_else(|| format!("{} cannot be set", v.name()))? = value;
+            Ok(())
+        }
+
+        fn set_boolean(&mut self, vr: u32, value: bool) -> Result<(), String> {
+            let v = BooleanVar::from_vr(vr).ok_or_else(|| format!("unknown value reference {vr}"))?;
+            *self.params.boolean_mut(v).ok_or_else(|| format!("{} cannot be set", v.name()))? = value;
+            Ok(())
+        }
+    };
+}
+
 /// Emits the FMI 2.0 Co-Simulation C API for the [`Model`] type `$model`: call once, at the crate
 /// root or in a module of the FMU crate.
 // Neither rustc's unsafe_code nor Clippy's undocumented_unsafe_blocks looks at the expansion in

@@ -2,10 +2,8 @@
 
 use crate::body::{Params, State, CORNERS, DOF, MODE_IDEAL, MODE_PASSIVE, MODE_TRACKING};
 
-/// Most RK4 steps in one communication step: 2500 s at the default h_max of 0.25 ms.
-pub const MAX_SUBSTEPS: f64 = 1e7;
-/// Largest h_max·|λ| allowed: RK4 is stable on the left half-disk of this radius (|R(z)| ≤ 0.88).
-pub const RK4_STABLE_RADIUS: f64 = 2.5;
+use suspension::integration::{eigenvalue_bound, substeps};
+pub use suspension::integration::{MAX_SUBSTEPS, RK4_STABLE_RADIUS};
 
 /// The row-sum norm of a 9×9 matrix given by its columns.
 fn row_sum_norm(columns: &[[f64; DOF]; DOF]) -> f64 {
@@ -15,7 +13,7 @@ fn row_sum_norm(columns: &[[f64; DOF]; DOF]) -> f64 {
 impl Params {
     /// RK4 steps for a communication step of `h` (s): equal steps of at most `h_max`.
     pub fn substeps(&self, h: f64) -> f64 {
-        ((h / self.h_max) - 1e-9).ceil().max(1.0)
+        substeps(h, self.h_max)
     }
 
     /// The largest damping coefficient (N·s/m) a damper puts between body and axle, by mode (an
@@ -50,7 +48,7 @@ impl Params {
         let (k, c) = self.stiffness_and_damping();
         let (k, c) = (row_sum_norm(&k), row_sum_norm(&c));
         let lag = if self.damper_mode == MODE_TRACKING { self.tracking().fastest_rate() } else { 0.0 };
-        (0.5 * (c + (c * c + 4.0 * k).sqrt())).max(lag)
+        eigenvalue_bound(k, c).max(lag)
     }
 
     /// Refuses parameters for which RK4 with steps of `h_max` could be unstable.

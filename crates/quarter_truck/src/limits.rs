@@ -1,16 +1,13 @@
 //! What keeps the truck's steps bounded and its explicit integration stable (docs/robustness.md).
 
 use crate::truck::{Params, MODE_IDEAL, MODE_PASSIVE, MODE_TRACKING};
-
-/// Most RK4 steps in one communication step: 2500 s at the default h_max of 0.25 ms.
-pub const MAX_SUBSTEPS: f64 = 1e7;
-/// Largest h_max·|λ| allowed: RK4 is stable on the left half-disk of this radius (|R(z)| ≤ 0.88).
-pub const RK4_STABLE_RADIUS: f64 = 2.5;
+use suspension::integration::{eigenvalue_bound, substeps};
+pub use suspension::integration::{MAX_SUBSTEPS, RK4_STABLE_RADIUS};
 
 impl Params {
     /// RK4 steps for a communication step of `h` (s): equal steps of at most `h_max`.
     pub fn substeps(&self, h: f64) -> f64 {
-        ((h / self.h_max) - 1e-9).ceil().max(1.0)
+        substeps(h, self.h_max)
     }
 
     /// A bound on the largest |eigenvalue| (1/s) of the truck with its damper law: with
@@ -28,7 +25,7 @@ impl Params {
         let k = (2.0 * self.k_susp / self.m_body).max((2.0 * self.k_susp + self.k_tyre) / self.m_axle);
         let c = (2.0 * c / self.m_body).max((2.0 * c + self.c_tyre) / self.m_axle);
         let lag = if self.damper_mode == MODE_TRACKING { self.tracking().fastest_rate() } else { 0.0 };
-        (0.5 * (c + (c * c + 4.0 * k).sqrt())).max(lag)
+        eigenvalue_bound(k, c).max(lag)
     }
 
     /// Refuses parameters for which RK4 with steps of `h_max` could be unstable.

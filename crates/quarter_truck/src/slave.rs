@@ -10,7 +10,7 @@ use crate::tracking::DemandHistory;
 use crate::truck::{At, Evaluation, Inputs, Params, State, MODE_TRACKING};
 use crate::variables::{real_input, real_output};
 use fmi2_slave::snapshot;
-use fmi2_slave::{check_integer, check_real, Model, ToleranceNote, VarInfo};
+use fmi2_slave::{check_integer, check_real, Model, ToleranceNote};
 
 /// The FMU state: parameters, inputs, and once initialised the states and time.
 #[derive(Clone, Copy, Debug, Default)]
@@ -76,17 +76,7 @@ impl Model for Slave {
     type StepError = &'static str;
     type StepWarning = std::convert::Infallible;
 
-    fn real_info(vr: u32) -> Option<VarInfo> {
-        RealVar::from_vr(vr).map(RealVar::info)
-    }
-
-    fn integer_info(vr: u32) -> Option<VarInfo> {
-        IntegerVar::from_vr(vr).map(IntegerVar::info)
-    }
-
-    fn boolean_info(vr: u32) -> Option<VarInfo> {
-        BooleanVar::from_vr(vr).map(BooleanVar::info)
-    }
+    fmi2_slave::parameter_access!();
 
     fn get_real(&self, vr: u32) -> Result<f64, String> {
         let v = RealVar::from_vr(vr).ok_or_else(|| unknown(vr))?;
@@ -100,16 +90,6 @@ impl Model for Slave {
             return Err(format!("{} = {x} is not finite (inputs out of the model's reach)", v.name()));
         }
         Ok(x)
-    }
-
-    fn get_integer(&self, vr: u32) -> Result<i32, String> {
-        match IntegerVar::from_vr(vr).ok_or_else(|| unknown(vr))? {
-            IntegerVar::DamperMode => Ok(self.params.damper_mode),
-        }
-    }
-
-    fn get_boolean(&self, vr: u32) -> Result<bool, String> {
-        Err(unknown(vr))
     }
 
     type Settable = (Params, Inputs);
@@ -132,19 +112,6 @@ impl Model for Slave {
         };
         *field.ok_or_else(|| format!("{} is an output and cannot be set", v.name()))? = value;
         Ok(())
-    }
-
-    fn set_integer(&mut self, vr: u32, value: i32) -> Result<(), String> {
-        let v = IntegerVar::from_vr(vr).ok_or_else(|| unknown(vr))?;
-        check_integer(v.name(), value, v.min(), v.max())?;
-        match v {
-            IntegerVar::DamperMode => self.params.damper_mode = value,
-        }
-        Ok(())
-    }
-
-    fn set_boolean(&mut self, vr: u32, _value: bool) -> Result<(), String> {
-        Err(unknown(vr))
     }
 
     /// The truck integrates with fixed RK4 steps: a tolerance has nothing to control.

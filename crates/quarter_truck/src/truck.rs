@@ -11,6 +11,7 @@
 //! force input is held. The tracking damper (`damper_mode` 3, [`crate::tracking`]) adds two lag
 //! states and the demand's past. Integration: classical RK4 with equal steps ≤ `h_max`.
 
+use suspension::integration::rk4_step;
 pub use suspension::laws::{DemandLaw, PassiveDamper};
 use suspension::tracking::{DemandHistory, Tracking, COMPRESSION, EXTENSION};
 
@@ -133,19 +134,13 @@ impl Params {
     pub fn advance(&self, u: &Inputs, y: &mut State, h: f64, step_start: f64, past: &mut DemandHistory) {
         let n = self.substeps(h).min(crate::limits::MAX_SUBSTEPS) as usize;
         let dt = h / n as f64;
-        let add = |y: &State, k: &State, s: f64| -> State { std::array::from_fn(|i| y[i] + s * k[i]) };
         for step in 0..n {
             let t = step as f64 * dt;
             if self.damper_mode == MODE_TRACKING {
                 past.push(step_start + t, self.demand(y));
             }
             let past = &*past;
-            let at = |since_step| At { step_start, since_step, past };
-            let k1 = self.evaluate(u, y, at(t)).dydt;
-            let k2 = self.evaluate(u, &add(y, &k1, 0.5 * dt), at(t + 0.5 * dt)).dydt;
-            let k3 = self.evaluate(u, &add(y, &k2, 0.5 * dt), at(t + 0.5 * dt)).dydt;
-            let k4 = self.evaluate(u, &add(y, &k3, dt), at(t + dt)).dydt;
-            *y = std::array::from_fn(|i| y[i] + dt / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]));
+            *y = rk4_step(y, dt, |y, s| self.evaluate(u, y, At { step_start, since_step: t + s, past }).dydt);
         }
     }
 }

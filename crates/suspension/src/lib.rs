@@ -4,7 +4,8 @@
 //! - [`laws`]: the clipped demand law (the paper's Modified Skyhook with an optional groundhook
 //!   term and floor) and the passive damper (linear, or asymmetric with a knee);
 //! - [`tracking`]: the idealised tracking damper (a delay and a lag per direction) and the demand's
-//!   past it needs.
+//!   past it needs;
+//! - [`integration`]: classical RK4 in equal substeps and its stability bound.
 //!
 //! ```
 //! use suspension::laws::{DemandLaw, PassiveDamper};
@@ -15,5 +16,6 @@
 //! let passive = PassiveDamper::linear(20e3);
 //! assert_eq!(passive.force(-0.05), -1000.0);
 //! ```
+pub mod integration;
 pub mod laws;
 pub mod tracking;
