@@ -29,7 +29,7 @@ from typing import Any
 
 import numpy as np
 
-from damper_tools import REPO, cosim, hil_scenarios, jsonable, sweep
+from damper_tools import REPO, cosim, hil_scenarios, jsonable, pyplot, sweep
 
 OUT = REPO / "out" / "benefit_map"
 DOCS = REPO / "docs"
@@ -267,7 +267,7 @@ def road_friendly_table(laws: Any) -> str:
 def plot_laws(path: Path, laws: Any, passive: Any) -> None:
     """The ride-DLC plane of the first case: the passive family, and every demand law ideal and with
     the FMU."""
-    plt = hil_scenarios._plt()
+    plt = pyplot()
     road, speed = laws.iloc[0]["road"], laws.iloc[0]["speed"]
     p = of_case(passive, road, speed)
     lin = p[p["family"] == "linear"].sort_values("c_passive")
@@ -301,7 +301,7 @@ def plot_fronts(path: Path, passive: Any, laws: Any, controller: Any) -> None:
     """The ride-DLC plane of every case: the Pareto fronts (least RMS a_body for a DLC) of the linear
     and the non-linear passive families, of the ideal damper over the laws, and of the FMU over the
     laws with its default gains and with the gains swept."""
-    plt = hil_scenarios._plt()
+    plt = pyplot()
     cases = list(passive.groupby(["road", "speed"], sort=False).groups)
     cols = 3
     rows = -(-len(cases) // cols)
@@ -341,7 +341,7 @@ def plot_fronts(path: Path, passive: Any, laws: Any, controller: Any) -> None:
 def plot_maps(path: Path, m: Any, fmu: Any, road: str, speed: float, metric: str = "benefit") -> None:
     """Heat maps of `metric` over delay and bandwidth for one case, one panel per direction, with the
     FMU's fitted tracking marked."""
-    plt = hil_scenarios._plt()
+    plt = pyplot()
     g = of_case(m, road, speed)
     delays = sorted(g["tracking_delay"].unique())
     bws = sorted(g["tracking_bandwidth"].unique())
@@ -395,7 +395,7 @@ def plot_all_cases(path: Path, m: Any, fmu: Any, grid: Grid) -> None:
     """The ride benefit with the lag in both directions, over delay (rows of each panel) for the
     infinite and two finite bandwidths, one panel per road and speed, with the FMU's and the passive
     zero."""
-    plt = hil_scenarios._plt()
+    plt = pyplot()
     fig, axes = plt.subplots(len(grid.roads), len(grid.speeds), figsize=(4.2 * len(grid.speeds), 3.2 * len(grid.roads)),
                              sharex=True, sharey=True, squeeze=False)
     for i, road in enumerate(grid.roads):

@@ -280,7 +280,7 @@ class Case:
         return "Belgian block" if self.road == CRG_ROAD else f"{self.road} road"
 
 
-CRG_ROAD = "belgian_block"
+CRG_ROAD = hil_scenarios.CRG_ROAD
 CASES = (Case("minor", 14.0), Case("major", 20.0), Case("motorway", 25.0), Case(CRG_ROAD, hil_scenarios.CRG_SPEED))
 C_PASSIVE = tuple(float(c) for c in np.arange(5e3, 60e3 + 1, 5e3))  # N s/m per damper
 # The laws and gains: the paper's (the FMU's defaults), and docs/benefit-map.md's best for the FMU in
@@ -308,14 +308,16 @@ DURATION, SETTLE = 15.0, 3.0  # s: the quarter truck's HiL record (docs/hil.md)
 QUICK_DURATION = 4.0
 
 
-def case_roads(case: Case, p: dict[str, Value], duration: float = DURATION,
-               settle: float = SETTLE) -> tuple[Wheels, int, slice]:
-    """The wheels' roads of a case, the steps, and the window the metrics use."""
+def case_roads(case: Case, p: dict[str, Value], duration: float = DURATION, settle: float = SETTLE,
+               step: float = STEP, seed: int = SEED,
+               correlation: float = TRACK_CORRELATION) -> tuple[Wheels, int, slice]:
+    """The wheels' roads of a case (with the truck's parameters `p`), the steps, and the window the
+    metrics use: after `settle` on a random road, while a wheel is on the Belgian block."""
     axle_x = axle_positions(p)
     if case.road == CRG_ROAD:
-        return crg_wheel_roads(case.speed, STEP, axle_x, float(p["tyre_track"]))
-    wheels, n = random_wheel_roads(case.road, case.speed, settle + duration, SEED, STEP, axle_x)
-    return wheels, n, slice(int(round(settle / STEP)), None)
+        return crg_wheel_roads(case.speed, step, axle_x, float(p["tyre_track"]))
+    wheels, n = random_wheel_roads(case.road, case.speed, settle + duration, seed, step, axle_x, correlation)
+    return wheels, n, slice(int(round(settle / step)), None)
 
 
 def run_case(case: Case, fmus: dict[str, Path], duration: float = DURATION, c_passive: Sequence[float] = C_PASSIVE,

@@ -390,15 +390,9 @@ def robustness_table(rows: Sequence[dict[str, Any]]) -> str:
     return "\n".join(out)
 
 
-def _plt() -> Any:
-    plt = pyplot()
-
-    return plt
-
-
 def plot_sweep(path: Path, base: dict[str, Any], points: Sequence[SweepPoint]) -> None:
     """Heat map of the force peak over latency x bandwidth, cells marked with the sign pattern."""
-    plt = _plt()
+    plt = pyplot()
     lats = sorted({p.actuator_delay for p in points})
     bws = sorted({p.f_actuator for p in points})
     grid = np.full((len(lats), len(bws)), np.nan)
@@ -436,7 +430,7 @@ def plot_sweep(path: Path, base: dict[str, Any], points: Sequence[SweepPoint]) -
 
 def plot_spectra(path: Path, base: dict[str, Any], curves: Sequence[tuple[str, dict[str, Any]]]) -> None:
     """The logged force's PSD without a rig and for the (label, metrics) curves, 0-40 Hz."""
-    plt = _plt()
+    plt = pyplot()
     fig, ax = plt.subplots(figsize=(8, 4.6))
     f, p = base["psd"]
     shown = (f > 0.5) & (f <= 40)

@@ -50,6 +50,7 @@ from damper_tools.fmu import FmuUnit
 
 OUT = REPO / "out" / "hil"
 CRG = REPO / "data" / "roads" / "belgian_block.crg"
+CRG_ROAD = "belgian_block"  # the road name of the measured track, where a road name is asked for
 
 # (road, speed m/s): the three headline cases first, then the rest of the grid
 HEADLINE = [("minor", 14.0), ("major", 20.0), ("motorway", 25.0)]
@@ -275,14 +276,8 @@ def run_crg(path: str | Path = CRG, speed: float = CRG_SPEED, step: float = STEP
 
 # --------------------------------------------------------------------------- plots
 
-def _plt() -> Any:  # the matplotlib.pyplot module, imported on first use
-    plt = pyplot()
-
-    return plt
-
-
 def plot_fig7(path: Path, summary: dict[str, Any], series: dict[str, Any], start: float | None = None) -> None:
-    plt = _plt()
+    plt = pyplot()
     t = series["time"]
     fmu = series["fmu"]
     t0 = start if start is not None else t[series["first"]] + 5.0
@@ -317,7 +312,7 @@ def plot_fig7(path: Path, summary: dict[str, Any], series: dict[str, Any], start
 
 
 def plot_spectra(path: Path, cases: list[tuple[dict[str, Any], dict[str, Any]]], nat_hz: float) -> None:
-    plt = _plt()
+    plt = pyplot()
     fig, axes = plt.subplots(1, len(cases), figsize=(5 * len(cases), 4.2), squeeze=False)
     for ax, (summary, series) in zip(axes[0], cases, strict=True):
         psd = series["psd"]
@@ -342,7 +337,7 @@ def plot_spectra(path: Path, cases: list[tuple[dict[str, Any], dict[str, Any]]],
 
 
 def plot_tradeoff(path: Path, summaries: list[dict[str, Any]]) -> None:
-    plt = _plt()
+    plt = pyplot()
     fig, axes = plt.subplots(1, len(summaries), figsize=(5 * len(summaries), 4.4), squeeze=False)
     for ax, s in zip(axes[0], summaries, strict=True):
         sw = s["passive_sweep"]
@@ -373,7 +368,7 @@ def plot_tradeoff(path: Path, summaries: list[dict[str, Any]]) -> None:
 
 
 def plot_crg(path: Path, summary: dict[str, Any], series: dict[str, Any]) -> None:
-    plt = _plt()
+    plt = pyplot()
     t = series["time"]
     fig, (a0, a1, a2) = plt.subplots(3, 1, figsize=(10, 8), sharex=True)
     a0.plot(t, 1e3 * series["z_road"], color="k", lw=1)

@@ -79,7 +79,7 @@ MODES = {"fmu": cosim.MODE_EXTERNAL, "ideal": cosim.MODE_IDEAL, "passive": cosim
 TRACKING_DIRECTIONS = ("both", "extension", "compression")
 # the `road` of the measured Belgian block (data/roads/belgian_block.crg, docs/hil.md); `duration`,
 # `settle` and `fade_in` do not apply to it
-CRG_ROAD = "belgian_block"
+CRG_ROAD = hil_scenarios.CRG_ROAD
 DISTRIBUTIONS = ("uniform", "loguniform", "normal", "choice")
 DEFAULT_SEED_FROM = ("road", "replicate")
 PLUGIN_NAME = "damper-sweep-fmus"
@@ -363,14 +363,9 @@ def run_full_truck(point: dict[str, Any], seed: int, truck_fmu: Path, damper_fmu
         raise SweepError(f"mode must be one of {tuple(MODES)}, not {s['mode']!r}")
     step = float(s["step"])
     p = full_truck.parameters(truck_unit, truck)
-    axle_x = full_truck.axle_positions(p)
-    if s["road"] == CRG_ROAD:
-        wheels, n, window = full_truck.crg_wheel_roads(float(s["speed"]), step, axle_x, float(p["tyre_track"]))
-    else:
-        length = float(s["settle"]) + float(s["duration"])
-        wheels, n = full_truck.random_wheel_roads(s["road"], float(s["speed"]), length, seed, step, axle_x,
-                                                  correlation=float(s["correlation"]))
-        window = slice(int(round(float(s["settle"]) / step)), None)
+    case = full_truck.Case(s["road"], float(s["speed"]))
+    wheels, n, window = full_truck.case_roads(case, p, float(s["duration"]), float(s["settle"]), step, seed,
+                                              float(s["correlation"]))
     if s["mode"] == "tracking":
         truck = {**tracking_parameters(s), **truck}
     res = full_truck.simulate(wheels, step, n, {"damper_mode": MODES[s["mode"]], **truck},

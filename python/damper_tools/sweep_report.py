@@ -43,12 +43,6 @@ RANK_BINS = 10
 MAX_GROUP_LEVELS = 12
 
 
-def _plt() -> Any:
-    plt = pyplot()
-
-    return plt
-
-
 def varying(df: Any, names: list[str]) -> list[str]:
     """The names among `names` whose column takes more than one value."""
     return [n for n in names if n in df and df[n].nunique(dropna=False) > 1]
@@ -122,7 +116,7 @@ def plot_tradeoff(df: Any, path: Path, x: str = "DLC", y: str = "a_body_rms", co
                   facet: str | Sequence[str] | None = "road", size: str | None = None) -> Path:
     """y against x for every point, coloured by a parameter (and sized by another), the Pareto front
     (both small) of each panel as a line."""
-    plt = _plt()
+    plt = pyplot()
     grid = _facets(df, facet)
     nrow, ncol = len(grid), len(grid[0])
     fig, axes = plt.subplots(nrow, ncol, figsize=(3.9 * ncol + 1.2, 3.3 * nrow + 0.6), squeeze=False)
@@ -171,7 +165,7 @@ def plot_heatmap(df: Any, path: Path, x: str, y: str, metric: str, facet: str | 
                  others: list[str] | None = None) -> Path:
     """The mean of `metric` over the points sharing (x, y) (so over the parameters `others`), one
     panel per facet value, one colour scale."""
-    plt = _plt()
+    plt = pyplot()
     panels = [p for row in _facets(df, facet) for p in row]
     facets = [facet] if isinstance(facet, str) else list(facet or [])
     others = [o for o in (others or []) if o not in (x, y, *facets)]
@@ -202,7 +196,7 @@ def plot_heatmap(df: Any, path: Path, x: str, y: str, metric: str, facet: str | 
 
 def plot_sensitivity(sens: Any, path: Path) -> Path:
     """Tornado chart: per metric, the parameters by their first-order index, largest on top."""
-    plt = _plt()
+    plt = pyplot()
     metrics = list(dict.fromkeys(sens["metric"]))
     ncol = min(3, len(metrics))
     nrow = math.ceil(len(metrics) / ncol)

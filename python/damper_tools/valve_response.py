@@ -415,12 +415,6 @@ def load(fmu: str | Path) -> FmuUnit:
 
 # ----------------------------------------------------------------------------- report (plots, tables)
 
-def _plt() -> Any:
-    plt = pyplot()
-
-    return plt
-
-
 def _bode(axes: Any, frf: Frf, label: str, scale: float = 1.0, **style: Any) -> None:
     a0, a1 = axes
     a0.loglog(frf.f, scale * frf.magnitude, marker="o", ms=2.5, lw=1, label=label, **style)
@@ -428,11 +422,11 @@ def _bode(axes: Any, frf: Frf, label: str, scale: float = 1.0, **style: Any) -> 
 
 
 def plt_close(fig: Any) -> None:
-    _plt().close(fig)
+    pyplot().close(fig)
 
 
 def plot_valve_bode(path: Path, cases: Sequence[ValveCase]) -> None:
-    plt = _plt()
+    plt = pyplot()
     fig, axes = plt.subplots(2, 2, figsize=(12, 7.5), sharex=True)
     for i, c in enumerate(cases):
         style = {"color": f"C{i}", "ls": "--" if "large" in c.label else "-"}
@@ -463,7 +457,7 @@ def plot_valve_bode(path: Path, cases: Sequence[ValveCase]) -> None:
 
 
 def plot_force_bode(path: Path, cases: Sequence[ForceCase]) -> None:
-    plt = _plt()
+    plt = pyplot()
     fig, axes = plt.subplots(2, 1, figsize=(8.5, 7.5), sharex=True)
     big = [c for c in cases if c.amplitude == max(x.amplitude for x in cases)]
     speeds = sorted({abs(c.velocity) for c in big})
@@ -491,7 +485,7 @@ def plot_force_bode(path: Path, cases: Sequence[ForceCase]) -> None:
 
 
 def plot_flow_map(path: Path, points: Sequence[dict[str, float]], p: dict[str, float]) -> None:
-    plt = _plt()
+    plt = pyplot()
     fig, ax = plt.subplots(figsize=(8.5, 5.5))
     spools = sorted({q["x_spool_demand"] for q in points})
     dp = np.geomspace(1e3, 2e7, 200)
@@ -519,7 +513,7 @@ def plot_flow_map(path: Path, points: Sequence[dict[str, float]], p: dict[str, f
 
 
 def plot_force_velocity(path: Path, points: Sequence[dict[str, float]]) -> None:
-    plt = _plt()
+    plt = pyplot()
     fig, ax = plt.subplots(figsize=(8.5, 5.5))
     spools = sorted({q["x_spool_demand"] for q in points})
     for i, x in enumerate(spools):

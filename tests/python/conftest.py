@@ -44,46 +44,48 @@ def pytest_addoption(parser):
                      help="use this full-truck FMU instead of packaging target/release/libfull_truck.so")
 
 
+def given(request, option):
+    """The FMU named by a command-line option, resolved; None if the option is not given."""
+    value = request.config.getoption(option)
+    if not value:
+        return None
+    path = Path(value).resolve()
+    if not path.is_file():
+        pytest.exit(f"{option} {value}: no such file", returncode=4)
+    return path
+
+
 @pytest.fixture(scope="session")
 def fmu(request):
     """Path of the packaged FMU."""
-    given = request.config.getoption("--fmu")
-    if given:
-        path = Path(given).resolve()
-        if not path.is_file():
-            pytest.exit(f"--fmu {given}: no such file", returncode=4)
+    path = given(request, "--fmu")
+    if path:
         return path
     WORK.mkdir(exist_ok=True)
-    # Builds both FMUs' libraries (one cargo build), so the truck is packaged without building.
+    # Builds the three FMUs' libraries (one cargo build), so the trucks are packaged without building.
     return package("package_fmu.py", WORK / "SemiActiveDamper.fmu", build=True)
+
+
+def truck(request, option, script, name):
+    """A truck FMU: the option's, or packaged from the library the damper's cargo build made (with
+    --fmu given nothing has been built in this session: the packaging script runs cargo build)."""
+    path = given(request, option)
+    if path:
+        return path
+    WORK.mkdir(exist_ok=True)
+    return package(script, WORK / name, build=request.config.getoption("--fmu") is not None)
 
 
 @pytest.fixture(scope="session")
 def truck_fmu(request, fmu):
-    """Path of the packaged quarter-truck FMU (its library built by the same cargo build as the damper's)."""
-    given = request.config.getoption("--truck-fmu")
-    if given:
-        path = Path(given).resolve()
-        if not path.is_file():
-            pytest.exit(f"--truck-fmu {given}: no such file", returncode=4)
-        return path
-    WORK.mkdir(exist_ok=True)
-    # With --fmu given, nothing has been built yet in this session: package_truck.py runs cargo build.
-    return package("package_truck.py", WORK / "QuarterTruck.fmu", build=request.config.getoption("--fmu") is not None)
+    """Path of the packaged quarter-truck FMU."""
+    return truck(request, "--truck-fmu", "package_truck.py", "QuarterTruck.fmu")
 
 
 @pytest.fixture(scope="session")
 def full_truck_fmu(request, fmu):
-    """Path of the packaged full-truck FMU (its library built by the same cargo build as the damper's)."""
-    given = request.config.getoption("--full-truck-fmu")
-    if given:
-        path = Path(given).resolve()
-        if not path.is_file():
-            pytest.exit(f"--full-truck-fmu {given}: no such file", returncode=4)
-        return path
-    WORK.mkdir(exist_ok=True)
-    return package("package_full_truck.py", WORK / "FullTruck.fmu",
-                   build=request.config.getoption("--fmu") is not None)
+    """Path of the packaged full-truck FMU."""
+    return truck(request, "--full-truck-fmu", "package_full_truck.py", "FullTruck.fmu")
 
 
 @pytest.fixture(scope="session")
