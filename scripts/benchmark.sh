@@ -2,7 +2,7 @@
 # The speed benchmark of docs/performance.md, side by side in one run:
 #   1. cargo bench --bench realtime: real-time factor, doStep mean/p99/worst, page faults and the
 #      RMS force error against a converged run at each tolerance; one against six dampers;
-#   2. the FMU against the plain-Python cross-check on the same input (scripts/crosscheck.py);
+#   2. the FMU against the plain-Python cross-check on the same input (damper-crosscheck);
 #   3. the diagnosis of a 60 s, 1 kHz record (damper generate, then damper diagnose), timed.
 # Writes out/benchmark/benchmark.md (and prints it). About 3 minutes on 2 cores.
 #
@@ -24,10 +24,10 @@ cargo bench --bench realtime 2>/dev/null | tee -a "$report"
 python3 scripts/package_fmu.py >/dev/null
 {
     echo
-    echo "## 2. FMU against the Python cross-check (scripts/crosscheck.py --duration 1)"
+    echo "## 2. FMU against the Python cross-check (damper-crosscheck --duration 1)"
     echo
 } >>"$report"
-.venv/bin/python scripts/crosscheck.py --duration 1 --out "$out/crosscheck" | tee -a "$report"
+.venv/bin/damper-crosscheck --duration 1 --out "$out/crosscheck" | tee -a "$report"
 cargo build --release -p damper_cli 2>/dev/null
 damper=target/release/damper
 $damper generate --effect mount_compliance --seed 5 --duration 60 --minimal \

@@ -4,7 +4,7 @@
 # valve and force-loop transfer functions, flow map and force-velocity map into out/valve/ (about 10 s) and
 # the HiL rig model sweep and the Fig. 7 robustness table into out/rig/ (about 1–2 min).
 #
-#   bash scripts/main.sh [paper_tests.py options, e.g. --out DIR]
+#   bash scripts/main.sh [damper-paper-tests options, e.g. --out DIR]
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -15,11 +15,11 @@ python3 scripts/package_fmu.py
 echo "+ python3 scripts/package_truck.py --no-build && python3 scripts/package_full_truck.py --no-build"
 python3 scripts/package_truck.py --no-build
 python3 scripts/package_full_truck.py --no-build
-echo "+ .venv/bin/python scripts/paper_tests.py $*"
-.venv/bin/python scripts/paper_tests.py "$@"
-echo "+ .venv/bin/python scripts/hil_scenarios.py"
-.venv/bin/python scripts/hil_scenarios.py
-echo "+ .venv/bin/python scripts/valve_response.py"
-.venv/bin/python scripts/valve_response.py
-echo "+ .venv/bin/python scripts/hil_rig.py"
-.venv/bin/python scripts/hil_rig.py
+echo "+ .venv/bin/damper-paper-tests $*"
+.venv/bin/damper-paper-tests "$@"
+echo "+ .venv/bin/damper-hil-scenarios"
+.venv/bin/damper-hil-scenarios
+echo "+ .venv/bin/damper-valve-response"
+.venv/bin/damper-valve-response
+echo "+ .venv/bin/damper-hil-rig"
+.venv/bin/damper-hil-rig

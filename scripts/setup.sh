@@ -18,13 +18,14 @@
 # stops with the one command to run. Then .venv is filled from the pinned
 # tests/python/requirements.txt, and the project's own package, damper_tools (pyproject.toml,
 # python/damper_tools/), is installed into it, editable and without dependencies or build isolation
-# (its build needs only the pinned setuptools), so that nothing unpinned is fetched.
+# (its build needs only the pinned setuptools), so that nothing unpinned is fetched; that install
+# also writes its commands, .venv/bin/damper-* (pyproject.toml's [project.scripts]).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 PYTHON=${PYTHON:-python3}
 REQUIREMENTS=tests/python/requirements.txt
-IMPORTS="import fmpy, fmu_manipulation_toolbox, libcosimpy, numpy, scipy, matplotlib, pytest, ruff, setuptools, dask, distributed, pandas, pyarrow, tqdm"
+IMPORTS="import fmpy, fmu_manipulation_toolbox, libcosimpy, numpy, scipy, matplotlib, pytest, ruff, mypy, setuptools, dask, distributed, pandas, pyarrow, tqdm"
 importer=false
 for arg in "$@"; do
     case "$arg" in
@@ -87,7 +88,13 @@ elif ! .venv/bin/python -c "$IMPORTS" 2>/dev/null; then
     echo "+ .venv/bin/pip install -r $REQUIREMENTS (packages missing)"
     .venv/bin/python -m pip install --quiet -r "$REQUIREMENTS"
 fi
-if ! .venv/bin/python -c "import damper_tools" 2>/dev/null; then
+# Installed again when the package or one of its commands (pyproject.toml's [project.scripts],
+# .venv/bin/damper-*) is missing, e.g. after a command was added.
+missing_command=false
+for command in $(sed -n 's/^\(damper-[a-z-]*\) = .*/\1/p' pyproject.toml); do
+    [ -x ".venv/bin/$command" ] || missing_command=true
+done
+if $missing_command || ! .venv/bin/python -c "import damper_tools" 2>/dev/null; then
     echo "+ .venv/bin/pip install --no-deps --no-build-isolation -e ."
     .venv/bin/python -m pip install --quiet --no-deps --no-build-isolation -e .
 fi

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Runs every test: formatting, lints and the API docs' links, the Rust tests (cargo test --release;
-# the FMI layer's also as a Windows program under Wine), then the Python lint (ruff, configured in
-# pyproject.toml) and suite on the packaged FMUs.
+# the FMI layer's also as a Windows program under Wine), then the Python lint (ruff), the type check
+# (mypy --strict on damper_tools; both configured in pyproject.toml) and suite on the packaged FMUs.
 #
 #   bash scripts/test.sh [extra pytest options]
 set -euo pipefail
@@ -35,6 +35,8 @@ echo "+ python3 scripts/build_cli.py (the damper program; for Windows too where 
 python3 scripts/build_cli.py
 echo "+ .venv/bin/ruff check python scripts tests/python"
 .venv/bin/ruff check python scripts tests/python
+echo "+ .venv/bin/mypy (strict, on python/damper_tools: pyproject.toml's [tool.mypy])"
+.venv/bin/mypy
 FMUS=(--fmu target/fmu/SemiActiveDamper.fmu --truck-fmu target/fmu/QuarterTruck.fmu --full-truck-fmu target/fmu/FullTruck.fmu)
 echo "+ .venv/bin/python -m pytest tests/python -q ${FMUS[*]} $*"
 .venv/bin/python -m pytest tests/python -q "${FMUS[@]}" "$@"

@@ -6,20 +6,43 @@ libcosim), `rig_tests` and `paper_tests` (the paper's rig tests), `valve_respons
 transfer functions, flow map), `hil_scenarios` (the HiL runs), `hil_rig` (the HiL rig as a model),
 `full_truck` (the three-axle truck with six dampers), `instances` (six quarter trucks in one
 master), `ride`, `tracking_quality` and `benefit_map` (the semi-active benefit), `sweep` and
-`sweep_report` (sweeps on Dask) and `campaign` (`damper diagnose` over a folder on Dask). The
-commands in scripts/ run their `main`.
+`sweep_report` (sweeps on Dask), `campaign` (`damper diagnose` over a folder on Dask) and `verdicts`
+(the diagnosis verdicts and the one rule of a right one, for the scorers). The
+commands .venv/bin/damper-* (pyproject.toml's [project.scripts]) run their `main`.
 """
 
 import math
+import os
 from collections.abc import Collection
 from pathlib import Path
 from typing import Any
 
 import numpy as np
+import numpy.typing as npt
 
-# The repository the package is installed from (editable install): the FMUs are built under its
-# target/, the outputs go to its out/ and the road data are in its data/.
-REPO = Path(__file__).resolve().parents[2]
+# The arrays the package passes around (time series, road samples, results): float64 throughout.
+FloatArray = npt.NDArray[np.float64]
+# A table as a numpy structured array, one float64 field per column (fmpy.simulate_fmu's inputs and
+# results, a road CSV as roads.read_road_csv reads it).
+Records = npt.NDArray[np.void]
+
+
+def _repository() -> Path:
+    """The source checkout the commands work in: the FMUs are built under its target/, the outputs go
+    to its out/ and the road data are in its data/. DAMPER_REPO (an environment variable) names it;
+    without it, the checkout the package is installed from (scripts/setup.sh's editable install:
+    python/damper_tools/ in it); for a package installed elsewhere (a wheel in site-packages), the
+    current directory."""
+    named = os.environ.get("DAMPER_REPO")
+    if named:
+        return Path(named).resolve()
+    checkout = Path(__file__).resolve().parents[2]
+    if (checkout / "pyproject.toml").is_file() and (checkout / "python" / "damper_tools").is_dir():
+        return checkout
+    return Path.cwd()
+
+
+REPO = _repository()
 # The FMUs as the packaging commands write them (scripts/package_fmu.py, package_truck.py,
 # package_full_truck.py): every command's default.
 FMU_DIR = REPO / "target" / "fmu"

@@ -29,7 +29,7 @@ from typing import Any
 
 import numpy as np
 
-from damper_tools import REPO, cosim, hil_scenarios, jsonable, pyplot, sweep
+from damper_tools import DAMPER_FMU, REPO, TRUCK_FMU, hil_scenarios, jsonable, pyplot, sweep
 
 OUT = REPO / "out" / "benefit_map"
 DOCS = REPO / "docs"
@@ -90,9 +90,9 @@ def sweeps(grid: Grid, cases: dict[str, list[Any]], suffix: str = "") -> dict[st
     road): the tracking map, the linear and the non-linear passive dampers, the damper FMU, the demand
     laws (Cm, alpha) and the hybrid sky-groundhook laws (C_ground), ideal and with the FMU, and the FMU's
     force-loop gains with the laws that suit it. Each is named by its kind and `suffix`."""
-    common = {"seed": SEED, "seed_from": ["road"], "scenario": "hil"}
-    fixed = {"duration": grid.duration, "alpha": grid.alpha}
-    grids = {
+    common: dict[str, Any] = {"seed": SEED, "seed_from": ["road"], "scenario": "hil"}
+    fixed: dict[str, Any] = {"duration": grid.duration, "alpha": grid.alpha}
+    grids: dict[str, tuple[dict[str, Any], dict[str, list[Any]]]] = {
         "map": ({**fixed, "mode": "tracking"}, {"tracking_direction": list(sweep.TRACKING_DIRECTIONS),
                                                 "tracking_delay": list(grid.delays),
                                                 "tracking_bandwidth": list(grid.bandwidths)}),
@@ -113,7 +113,7 @@ def sweeps(grid: Grid, cases: dict[str, list[Any]], suffix: str = "") -> dict[st
 def case_sets(grid: Grid) -> dict[str, dict[str, list[Any]]]:
     """The random roads at their speeds, and the measured Belgian block at its speed (if any), by the
     suffix of their sweeps."""
-    sets = {"": {"road": list(grid.roads), "speed": list(grid.speeds)}}
+    sets: dict[str, dict[str, list[Any]]] = {"": {"road": list(grid.roads), "speed": list(grid.speeds)}}
     if grid.crg_speed:
         sets["_crg"] = {"road": [sweep.CRG_ROAD], "speed": [grid.crg_speed]}
     return sets
@@ -484,8 +484,8 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--out", type=Path, default=OUT)
     parser.add_argument("--quick", action="store_true", help="the headline case on a coarse grid, 8 s records")
     parser.add_argument("--alpha", type=float, default=0.8, help="the Modified Skyhook blend (paper: 0.8)")
-    parser.add_argument("--truck-fmu", type=Path, default=cosim.TRUCK_FMU)
-    parser.add_argument("--damper-fmu", type=Path, default=cosim.DAMPER_FMU)
+    parser.add_argument("--truck-fmu", type=Path, default=TRUCK_FMU)
+    parser.add_argument("--damper-fmu", type=Path, default=DAMPER_FMU)
     parser.add_argument("--scheduler", help="address of a running Dask scheduler (default: a local cluster)")
     parser.add_argument("--workers", type=int, help="local workers (default: one per core)")
     parser.add_argument("--serial", action="store_true", help="run in this process, without Dask")

@@ -1,7 +1,7 @@
 """Blind score of `damper diagnose` on records it did not make (damper_tools.independent, .foreign).
 
-    .venv/bin/python scripts/blind_score.py --quick            # 7 cases, about 1-2 min on 2 cores
-    .venv/bin/python scripts/blind_score.py --jobs 1 --out out/blind
+    .venv/bin/damper-blind-score --quick            # 7 cases, about 1-2 min on 2 cores
+    .venv/bin/damper-blind-score --jobs 1 --out out/blind
 
 Builds a case set (every catalog effect alone on rig and HiL inputs at several seeds, pairs of
 effects, clean records, foreign dampers), writes each record and its truth, runs
@@ -14,7 +14,8 @@ passed), reads DIR/summary.json and scores:
 - foreign: fails only when the verdict is `effect` while the validation NRMSE after the named
   effects is above 2x the noise floor (an effect "explained" that does not explain the record).
 
-Verdicts the program may add later (`partial`, `does_not_fit`) count as not `effect`. Writes
+The first three are damper_tools.verdicts.right, which the campaign's table applies too. Verdicts
+other than `effect` and `none` (`partial`, `does_not_fit`, `unexplained`) count as not `effect`. Writes
 OUT/blind_score.md (the table) and OUT/blind_score.json (every case: truth, verdict, effects,
 NRMSE baseline / after / floor, times).
 """
@@ -24,13 +25,16 @@ import json
 import platform
 import subprocess
 import time
+from collections.abc import Sequence
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import asdict
 from datetime import date
 from pathlib import Path
+from typing import Any
 
-from damper_tools import DAMPER, REPO
+from damper_tools import DAMPER, DAMPER_FMU, REPO, TRUCK_FMU
 from damper_tools import independent as ind
+from damper_tools.verdicts import Verdict, right
 
 PAIRS = (("seal_friction", "check_valve_cracking"), ("piston_leakage", "check_valve_cracking"),
          ("seal_friction", "amplifier_delay"))
@@ -47,7 +51,7 @@ def cases(quick: bool = False, seeds: int = 3, clean_seeds: int = 20, foreign_se
           motion: str = "continuous", chain: str = "transducer") -> list[ind.Case]:
     """The case set. Sample rates cycle through 500, 1000 and 2000 Hz, formats through ms/mm/s/kN and SI.
     With the LVDT chain (the velocity differentiated by the logger), rig records only."""
-    def case(kind, seed, effects=(), k=0):
+    def case(kind: str, seed: int, effects: Sequence[str] = (), k: int = 0) -> ind.Case:
         rate = ind.RATES[(seed + k) % len(ind.RATES)]
         fmt = "ms" if (seed + k) % 2 else "si"
         return ind.Case(kind, seed, tuple(effects), rate, fmt=fmt, motion=motion, chain=chain)
@@ -61,7 +65,7 @@ def cases(quick: bool = False, seeds: int = 3, clean_seeds: int = 20, foreign_se
                 case("hil", 2, ("amplifier_delay",)), case("rig", 2, PAIRS[1]),
                 case("foreign_mr", 1), case("foreign_passive", 1)]
     cat = {key: e for key, e in ind.catalog().items() if e.hideable}
-    out = []
+    out: list[ind.Case] = []
     for k, key in enumerate(cat):
         for seed in range(1, seeds + 1):
             out += [case("rig", seed, (key,), k), case("hil", seed, (key,), k)]
@@ -74,7 +78,8 @@ def cases(quick: bool = False, seeds: int = 3, clean_seeds: int = 20, foreign_se
     return out
 
 
-def diagnose(damper: Path, record: Path, out: Path, tared: bool, threads: int) -> tuple[dict | None, str, float]:
+def diagnose(damper: Path, record: Path, out: Path, tared: bool,
+             threads: int) -> tuple[dict[str, Any] | None, str, float]:
     command = [str(damper), "--threads", str(threads), "-q", "diagnose", str(record), "--out", str(out),
                "--load-cell-lowpass", "400"] + (["--tare-load-cell"] if tared else [])
     start = time.perf_counter()
@@ -86,7 +91,7 @@ def diagnose(damper: Path, record: Path, out: Path, tared: bool, threads: int) -
     return json.loads(summary_path.read_text(encoding="utf-8")), "", seconds
 
 
-def score(case: ind.Case, summary: dict | None) -> tuple[bool, str]:
+def score(case: ind.Case, summary: dict[str, Any] | None) -> tuple[bool, str]:
     """(passed, why) for one case from its summary.json."""
     if summary is None:
         return False, "diagnose failed"
@@ -95,17 +100,19 @@ def score(case: ind.Case, summary: dict | None) -> tuple[bool, str]:
     cat = category(case)
     if cat in ("single", "pair"):
         missing = [e for e in case.effects if e not in named]
-        ok = verdict == "effect" and not missing
-        return ok, "" if ok else (f"verdict {verdict}" if verdict != "effect" else f"missed {', '.join(missing)}")
+        ok = right(case.effects, verdict, named)
+        return ok, "" if ok else (f"verdict {verdict}" if verdict != Verdict.EFFECT else f"missed {', '.join(missing)}")
     if cat == "clean":
-        ok = verdict == "none" and not named
+        ok = right((), verdict, named)
         return ok, "" if ok else f"verdict {verdict}" + (f" ({', '.join(named)})" if named else "")
     after, floor = summary.get("nrmse_after_ladder"), summary.get("nrmse_noise_floor")
-    explained_badly = verdict == "effect" and after is not None and floor and after > FOREIGN_FACTOR * floor
-    return not explained_badly, f"effect named with NRMSE {after / floor:.1f}x the floor" if explained_badly else ""
+    if verdict == Verdict.EFFECT and after is not None and floor and after > FOREIGN_FACTOR * floor:
+        return False, f"effect named with NRMSE {after / floor:.1f}x the floor"
+    return True, ""
 
 
-def run_case(case: ind.Case, out: Path, damper: Path, threads: int, damper_fmu: Path, truck_fmu: Path) -> dict:
+def run_case(case: ind.Case, out: Path, damper: Path, threads: int, damper_fmu: Path,
+             truck_fmu: Path) -> dict[str, Any]:
     record, truth_path = out / "records" / f"{case.name}.csv", out / "truth" / f"{case.name}.json"
     start = time.perf_counter()
     truth = ind.make(case, record, truth_path, damper_fmu, truck_fmu)
@@ -128,7 +135,7 @@ def _num(x: float | None) -> str:
     return "–" if x is None else f"{x:.4f}"
 
 
-def table(rows: list[dict]) -> str:
+def table(rows: list[dict[str, Any]]) -> str:
     lines = ["| case | truth | verdict | effects named | NRMSE baseline | after | floor | pass | diagnose [s] |",
              "|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
@@ -150,8 +157,8 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--damper", type=Path, default=DAMPER,
                         help="the damper program (default target/release/damper)")
-    parser.add_argument("--damper-fmu", type=Path, default=ind.DAMPER_FMU)
-    parser.add_argument("--truck-fmu", type=Path, default=ind.TRUCK_FMU)
+    parser.add_argument("--damper-fmu", type=Path, default=DAMPER_FMU)
+    parser.add_argument("--truck-fmu", type=Path, default=TRUCK_FMU)
     parser.add_argument("--out", type=Path, default=REPO / "out" / "blind")
     parser.add_argument("--quick", action="store_true", help="7 cases: clean rig and HiL, one effect on each, "
                         "an overlapping pair, both foreign dampers")

@@ -1,8 +1,8 @@
 """Campaign diagnosis: `damper diagnose` on every record of a folder, one Dask task per record, one
 table at the end.
 
-    .venv/bin/python scripts/campaign.py diagnose RECORDS_DIR --out out/campaign [--truth TRUTH_DIR]
-    .venv/bin/python scripts/campaign.py generate --out out/campaign_demo      # records with known effects
+    .venv/bin/damper-campaign diagnose RECORDS_DIR --out out/campaign [--truth TRUTH_DIR]
+    .venv/bin/damper-campaign generate --out out/campaign_demo      # records with known effects
 
 Each task gets the record's bytes and runs the `damper` program (shipped to the workers by a worker
 plugin, like the sweep's FMUs: a worker needs no shared file system and no Rust) as
@@ -18,10 +18,11 @@ OUT/campaign.csv, OUT/campaign.md and OUT/index.html (each record linked to its 
 whose row is in OUT/rows/ with the same bytes is not diagnosed again (resume).
 
 With truth files (`damper generate --truth`, one <record>.json per record) each row also gets the
-expected effects, their hidden values and whether the verdict is right: a hidden effect must be named with the verdict
-`effect`; a clean record must get `none` with nothing named (the rules of scripts/blind_score.py).
+expected effects, their hidden values and whether the verdict is right (damper_tools.verdicts, the
+rule damper-blind-score applies too): a hidden effect must be named with the verdict `effect`; a
+clean record must get `none` with nothing named.
 
-Nothing here prints; scripts/campaign.py is the command.
+Nothing here prints; damper-campaign is the command.
 """
 
 import argparse
@@ -38,12 +39,13 @@ import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import Any, cast
 
 from distributed.diagnostics.plugin import WorkerPlugin
 
 from damper_tools import DAMPER, REPO
 from damper_tools.sweep import dask_client
+from damper_tools.verdicts import right
 
 PLUGIN_NAME = "damper-campaign-program"
 OUT = REPO / "out" / "campaign"
@@ -127,12 +129,8 @@ def hidden_values(truth: dict[str, Any]) -> str:
 
 
 def judge(expected: list[str] | None, verdict: str | None, named: list[str]) -> bool | None:
-    """Right or not (module docstring); None when there is no truth."""
-    if expected is None:
-        return None
-    if not expected:
-        return verdict == "none" and not named
-    return verdict == "effect" and all(e in named for e in expected)
+    """Right or not (verdicts.right); None when there is no truth."""
+    return None if expected is None else right(expected, verdict, named)
 
 
 def row_of(result: dict[str, Any], truth: dict[str, Any] | None = None) -> dict[str, Any]:
@@ -185,7 +183,9 @@ class ShipProgram(WorkerPlugin):
 def worker_program() -> Path:
     from distributed import get_worker
 
-    return get_worker().plugins[PLUGIN_NAME].path
+    path = cast(ShipProgram, get_worker().plugins[PLUGIN_NAME]).path
+    assert path is not None, "ShipProgram.setup has run on every worker"
+    return path
 
 
 # --------------------------------------------------------------------------- the campaign
@@ -223,7 +223,7 @@ class Outcome:
 
 def run_campaign(records: Sequence[Path], out: str | Path, options: Options | None = None, client: Any = None,
                  damper: str | Path = DAMPER, truth_dir: str | Path | None = None,
-                 on_row: Callable[[dict[str, Any]], None] | None = None, retries: int = 2) -> Outcome:
+                 on_row: Callable[[dict[str, Any]], object] | None = None, retries: int = 2) -> Outcome:
     """Diagnoses every record (serially here when client is None, else one Dask task each); writes
     the reports and one row file per record as they arrive; returns the rows in record order."""
     options = options or Options()

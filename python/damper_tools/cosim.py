@@ -1,6 +1,6 @@
 """A Python co-simulation master for QuarterTruck.fmu and SemiActiveDamper.fmu (fmpy's FMU2Slave).
 
-    .venv/bin/python scripts/cosim.py --road minor --speed 14 --duration 5 --step 1e-3 \
+    .venv/bin/damper-cosim --road minor --speed 14 --duration 5 --step 1e-3 \
         --mode fmu --output out/cosim/minor_14.csv
 
 One quarter truck and its damper are coupled output to input:
@@ -33,7 +33,7 @@ from typing import Any
 import numpy as np
 from fmpy.fmi1 import FMICallException
 
-from damper_tools import DAMPER_FMU, TRUCK_FMU, roads
+from damper_tools import DAMPER_FMU, TRUCK_FMU, FloatArray, roads
 from damper_tools.fmu import FmuUnit, Slave, Value
 
 TRUCK_OUTPUTS = ("v_damper", "F_demand", "x_damper", "v_body", "a_body", "a_axle", "z_body", "z_axle",
@@ -41,7 +41,7 @@ TRUCK_OUTPUTS = ("v_damper", "F_demand", "x_damper", "v_body", "a_body", "a_axle
 DAMPER_OUTPUTS = ("F_damper", "F_demand_clipped", "x_spool", "x_damper")
 MODE_EXTERNAL, MODE_IDEAL, MODE_PASSIVE, MODE_TRACKING = 0, 1, 2, 3
 # A damper in a HiL loop is tared: the gas force at rest is removed from F_damper.
-HIL_DAMPER_PARAMETERS = {"tare_load_cell": True}
+HIL_DAMPER_PARAMETERS: dict[str, Value] = {"tare_load_cell": True}
 
 
 @dataclass
@@ -49,8 +49,8 @@ class Car:
     """One quarter truck in the master: its road samples at t_k (k = 0..n), its truck parameters
     (damper_mode etc.) and, for damper_mode 0, the parameters of its damper FMU instance."""
     name: str
-    z_road: np.ndarray
-    v_road: np.ndarray
+    z_road: FloatArray
+    v_road: FloatArray
     truck_parameters: dict[str, Value] = field(default_factory=dict)
     damper_parameters: dict[str, Value] = field(default_factory=lambda: dict(HIL_DAMPER_PARAMETERS))
     # What the damper is given at step k from the truck's (v_damper, F_demand): by default the truck's
@@ -80,7 +80,7 @@ class Refused(RuntimeError):
 def simulate(cars: Sequence[Car], step: float, n_steps: int, truck_fmu: str | Path = TRUCK_FMU,
              damper_fmu: str | Path = DAMPER_FMU, start_time: float = 0.0,
              damper_outputs: Sequence[str] = ("F_damper",), logging_on: bool = False,
-             echo: bool = True) -> list[dict[str, np.ndarray]]:
+             echo: bool = True) -> list[dict[str, FloatArray]]:
     """Runs the cars (one truck instance each, plus a damper instance for damper_mode 0) for n_steps
     Jacobi steps of `step` seconds. Returns one dict per car: 'time' (n_steps + 1 points), the road,
     the truck outputs (TRUCK_OUTPUTS) and the damper outputs (damper_outputs), each at the
@@ -97,7 +97,8 @@ def simulate(cars: Sequence[Car], step: float, n_steps: int, truck_fmu: str | Pa
     stop_time = start_time + n_steps * step
     times = start_time + step * np.arange(n_steps + 1)
 
-    trucks, dampers = [], []
+    trucks: list[Slave] = []
+    dampers: list[Slave | None] = []
     t = start_time
     try:
         for car in cars:
@@ -106,12 +107,14 @@ def simulate(cars: Sequence[Car], step: float, n_steps: int, truck_fmu: str | Pa
             truck.initialize(start_time, stop_time, **car.truck_parameters)
             damper = None
             if car.has_damper:
+                assert damper_unit is not None  # loaded above when any car has a damper
                 damper = Slave(damper_unit, f"{car.name}.damper", logging_on, echo)
                 damper.initialize(start_time, stop_time, **car.damper_parameters)
             dampers.append(damper)
 
         rec_t = [np.empty((n_steps + 1, len(TRUCK_OUTPUTS))) for _ in cars]
-        rec_d = [np.empty((n_steps + 1, len(damper_outputs))) if d else None for d in dampers]
+        rec_d: list[FloatArray | None] = [np.empty((n_steps + 1, len(damper_outputs))) if d else None
+                                          for d in dampers]
         i_v, i_fd = TRUCK_OUTPUTS.index("v_damper"), TRUCK_OUTPUTS.index("F_demand")
         i_f = damper_outputs.index("F_damper") if "F_damper" in damper_outputs else None
         if i_f is None and damper_unit is not None:
@@ -120,28 +123,32 @@ def simulate(cars: Sequence[Car], step: float, n_steps: int, truck_fmu: str | Pa
         def record(k: int) -> None:
             for j, truck in enumerate(trucks):
                 rec_t[j][k] = truck.get(TRUCK_OUTPUTS)
-                if dampers[j]:
-                    rec_d[j][k] = dampers[j].get(damper_outputs)
+                damper, rec = dampers[j], rec_d[j]
+                if damper is not None and rec is not None:
+                    rec[k] = damper.get(damper_outputs)
 
         record(0)
         for k in range(n_steps):
             t = times[k]
             for j, car in enumerate(cars):
-                force = rec_d[j][k, i_f] if dampers[j] else 0.0
-                if dampers[j] and car.truck_force is not None:
+                damper, rec = dampers[j], rec_d[j]
+                force: float = rec[k, i_f] if damper is not None and rec is not None and i_f is not None else 0.0
+                if damper is not None and car.truck_force is not None:
                     force = car.truck_force(k, force)
                 trucks[j].set(z_road=car.z_road[k], v_road=car.v_road[k], F_damper=force)
-                if dampers[j]:
-                    v_in, f_in = rec_t[j][k, i_v], rec_t[j][k, i_fd]
+                if damper is not None:
+                    v_in: float = rec_t[j][k, i_v]
+                    f_in: float = rec_t[j][k, i_fd]
                     a_in = 0.0
                     if car.damper_inputs is not None:
                         v_in, f_in, *ramp = car.damper_inputs(k, v_in, f_in)
                         a_in = ramp[0] if ramp else 0.0
-                    dampers[j].set(v_damper=v_in, F_demand=f_in, a_damper=a_in)
+                    damper.set(v_damper=v_in, F_demand=f_in, a_damper=a_in)
             for j in range(len(cars)):
                 trucks[j].step(step, t)
-                if dampers[j]:
-                    dampers[j].step(step, t)
+                damper = dampers[j]
+                if damper is not None:
+                    damper.step(step, t)
             record(k + 1)
     except FMICallException as e:
         # the one instance with an error is the one that refused (a master stops at its first error)
@@ -153,27 +160,28 @@ def simulate(cars: Sequence[Car], step: float, n_steps: int, truck_fmu: str | Pa
         for inst in trucks + [d for d in dampers if d]:
             inst.free()
 
-    results = []
+    results: list[dict[str, FloatArray]] = []
     for j, car in enumerate(cars):
         res = {"time": times, "z_road": np.asarray(car.z_road[:n_steps + 1], float),
                "v_road": np.asarray(car.v_road[:n_steps + 1], float)}
         res.update({name: rec_t[j][:, i] for i, name in enumerate(TRUCK_OUTPUTS)})
-        if rec_d[j] is not None:
-            res.update({f"damper.{name}": rec_d[j][:, i] for i, name in enumerate(damper_outputs)})
+        rec = rec_d[j]
+        if rec is not None:
+            res.update({f"damper.{name}": rec[:, i] for i, name in enumerate(damper_outputs)})
         results.append(res)
     return results
 
 
-def simulate_one(z_road: np.ndarray, v_road: np.ndarray, step: float, n_steps: int, mode: int = MODE_EXTERNAL,
+def simulate_one(z_road: FloatArray, v_road: FloatArray, step: float, n_steps: int, mode: int = MODE_EXTERNAL,
                  truck_parameters: dict[str, Value] | None = None, damper_parameters: dict[str, Value] | None = None,
-                 **kwargs: Any) -> dict[str, np.ndarray]:
+                 **kwargs: Any) -> dict[str, FloatArray]:
     """One quarter truck (with its damper FMU if mode is 0); returns the result dict."""
     tp = {"damper_mode": mode, **(truck_parameters or {})}
     dp = dict(HIL_DAMPER_PARAMETERS) if damper_parameters is None else damper_parameters
     return simulate([Car("qt", z_road, v_road, tp, dp)], step, n_steps, **kwargs)[0]
 
 
-def write_result_csv(path: str | Path, result: dict[str, np.ndarray], header_comment: str = "") -> Path:
+def write_result_csv(path: str | Path, result: dict[str, FloatArray], header_comment: str = "") -> Path:
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     names = list(result)
@@ -204,8 +212,8 @@ def main(argv: list[str] | None = None) -> None:
 
     case = roads.road_case(args.road, args.speed, args.duration, args.seed, step=args.step)
     mode = {"fmu": MODE_EXTERNAL, "ideal": MODE_IDEAL, "passive": MODE_PASSIVE}[args.mode]
-    tp = {} if args.c_passive is None else {"c_passive": args.c_passive}
-    dp = {"tare_load_cell": not args.no_tare}
+    tp: dict[str, Value] = {} if args.c_passive is None else {"c_passive": args.c_passive}
+    dp: dict[str, Value] = {"tare_load_cell": not args.no_tare}
     n = case.t.size - 1
     res = simulate_one(case.z_road, case.v_road, args.step, n, mode, tp, dp,
                        truck_fmu=args.truck_fmu, damper_fmu=args.damper_fmu)

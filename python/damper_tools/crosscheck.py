@@ -1,6 +1,6 @@
 """Python cross-check: the damper's physics in plain Python (numpy + scipy) against the packaged FMU.
 
-    .venv/bin/python scripts/crosscheck.py --duration 1.0 --out out/crosscheck/
+    .venv/bin/damper-crosscheck --duration 1.0 --out out/crosscheck/
 
 Both run one input in spool-position control (control_mode 1): a velocity that is a sum of sines,
 held over each 1 ms communication step, and a spool demand stepping every 50 ms. The Python model is
@@ -15,14 +15,16 @@ import argparse
 import math
 import time
 from collections import deque
+from collections.abc import Mapping
 from pathlib import Path
 from types import SimpleNamespace
+from typing import Any
 
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from damper_tools import DAMPER_FMU, pyplot
-from damper_tools.fmu import FmuUnit, Slave
+from damper_tools import DAMPER_FMU, FloatArray, pyplot
+from damper_tools.fmu import FmuUnit, Slave, Value
 
 P_ATM = 101_325.0  # standard atmosphere (Pa): the gauge-pressure reference of src/physics/fluid.rs
 # Typical size of each state (p_A, p_B, V_g, x_s, v_s, i, x): the absolute tolerance is rtol times it.
@@ -54,8 +56,9 @@ class Plant:
 
     def __init__(self, p: SimpleNamespace) -> None:
         self.p = p
-        self.A_p, self.A_r = math.pi / 4 * p.D_piston ** 2, math.pi / 4 * p.D_rod ** 2
-        self.A_a = self.A_p - self.A_r
+        self.A_p: float = math.pi / 4 * p.D_piston ** 2
+        self.A_r: float = math.pi / 4 * p.D_rod ** 2
+        self.A_a: float = self.A_p - self.A_r
         self.V_A0 = self.A_a * (p.L_half_stroke + p.L_dead) + p.V_hose
         self.V_B0 = self.A_p * (p.L_half_stroke + p.L_dead)
         self.air = p.air_fraction if p.effect_compressibility else 0.0
@@ -63,21 +66,21 @@ class Plant:
 
     def reservoir(self, V_g: float) -> float:  # §3.5 polytropic gas
         p = self.p
-        return (p.p_reservoir0 + P_ATM) * (p.V_gas0 / max(V_g, 1e-9)) ** p.n_polytropic - P_ATM
+        return float((p.p_reservoir0 + P_ATM) * (p.V_gas0 / max(V_g, 1e-9)) ** p.n_polytropic - P_ATM)
 
     def beta(self, pr: float) -> float:  # §3.2 oil with entrained air
         p, n, p_abs = self.p, self.p.n_polytropic, max(pr + P_ATM, 0.02 * P_ATM)
         r = (P_ATM / p_abs) ** (1.0 / n)
-        return (1.0 + self.air * r) / (1.0 / p.beta_oil + self.air * r / (n * p_abs))
+        return float((1.0 + self.air * r) / (1.0 / p.beta_oil + self.air * r / (n * p_abs)))
 
     def orifice(self, cd: float, area: float, dp: float) -> float:  # §3.3 with its laminar region
-        return cd * area * math.sqrt(2.0 / self.p.rho) * dp / (dp * dp + self.p.p_transition ** 2) ** 0.25
+        return float(cd * area * math.sqrt(2.0 / self.p.rho) * dp / (dp * dp + self.p.p_transition ** 2) ** 0.25)
 
     def port_area(self, x_s: float) -> float:  # §3.3 circular ports uncovered by the spool
         r, h = self.p.r_port, x_s - self.p.x_lap
         if h <= 0.0 or h >= 2 * r:
-            return self.p.n_ports * (0.0 if h <= 0.0 else math.pi * r * r)
-        return self.p.n_ports * (r * r * math.acos((r - h) / r) - (r - h) * math.sqrt(2 * r * h - h * h))
+            return float(self.p.n_ports * (0.0 if h <= 0.0 else math.pi * r * r))
+        return float(self.p.n_ports * (r * r * math.acos((r - h) / r) - (r - h) * math.sqrt(2 * r * h - h * h)))
 
     def check_valve(self, dp: float) -> float:  # §3.3
         p = self.p
@@ -85,17 +88,18 @@ class Plant:
         return self.orifice(p.Cd_cv, area, dp)
 
     def deflection(self, F: float) -> float:  # §3.4 the cubic mount inverted in closed form
-        k1, k3 = self.p.k1_mount, self.p.k3_mount
+        k1: float = self.p.k1_mount
+        k3: float = self.p.k3_mount
         if not self.p.effect_mount_compliance or k3 == 0.0:
             return F / k1 if self.p.effect_mount_compliance else 0.0
         s = math.sqrt(k1 / k3 / 3.0)
         return -2.0 * s * math.sinh(math.asinh(-1.5 * F / k1 / s) / 3.0)
 
-    def force(self, y: np.ndarray) -> float:
+    def force(self, y: FloatArray) -> float:
         """Load-cell force F_damper (N), tension positive (no friction effect on, not tared)."""
         return float(y[0]) * self.A_a - float(y[1]) * self.A_p
 
-    def rhs(self, t: float, y: np.ndarray, v: float, i_cmd: float) -> list[float]:
+    def rhs(self, t: float, y: FloatArray, v: float, i_cmd: float) -> list[float]:
         p, (A_a, A_p) = self.p, (self.A_a, self.A_p)
         p_A, p_B, V_g, x_s, v_s, i, x = y.tolist()
         p_r, delta = self.reservoir(V_g), self.deflection(p_A * A_a - p_B * A_p)
@@ -119,7 +123,7 @@ class Plant:
         return [a * (A_a * v_p + R_A), b * (-A_p * v_p + R_B), Q_cv2 - Q_v - Q_rv, v_s,
                 (F_sol - p.k_spool * x_s - p.c_spool * v_s - F_flow - F_stop) / p.m_spool, (i_cmd - i) / p.tau_coil, v]
 
-    def rest(self) -> tuple[np.ndarray, float]:
+    def rest(self) -> tuple[FloatArray, float]:
         """Rest state at x_damper_start, both chambers at the reservoir's pressure, and the coil current
         that holds the spool at x_spool_start (Plant::rest_state, rest_current)."""
         p, x, x_s = self.p, self.p.x_damper_start, self.p.x_spool_start
@@ -133,7 +137,8 @@ class SpoolController:
     line (§4.2, §4.4), sampled every T_sample."""
 
     def __init__(self, p: SimpleNamespace, plant: Plant, i0: float) -> None:
-        self.p, self.plant, self.integral, self.previous, self.rate = p, plant, i0, None, 0.0
+        self.p, self.plant, self.integral, self.rate = p, plant, i0, 0.0
+        self.previous: float | None = None
         self.delay = deque([i0] * (math.floor(p.tau_amp / p.T_sample + 0.5) if p.effect_amplifier_delay else 0))
 
     def sample(self, F: float, x_s: float, v: float, x_dem: float) -> float:
@@ -160,16 +165,18 @@ class SpoolController:
         return self.delay.popleft()
 
 
-def make_input(duration: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
+def make_input(duration: float) -> tuple[FloatArray, FloatArray, FloatArray, float]:
     """Times of the steps' starts, the velocity (m/s) and spool demand (m) held over each step, and the
     start stroke that centres the motion (the sines start at 0, so the stroke is Σ A/ω (1 − cos ωt))."""
-    t = np.arange(round(duration / STEP)) * STEP
-    v = sum(A * np.sin(2 * np.pi * f * t) for A, f in SINES)
+    t = np.arange(round(duration / STEP), dtype=float) * STEP
+    v = np.zeros(t.size)
+    for A, f in SINES:
+        v = v + A * np.sin(2 * np.pi * f * t)
     x_dem = np.array(LEVELS)[(t / LEVEL_TIME + 1e-9).astype(int) % len(LEVELS)]
-    return t, v, x_dem, -sum(A / (2 * np.pi * f) for A, f in SINES)
+    return t, v, x_dem, float(-sum(A / (2 * np.pi * f) for A, f in SINES))
 
 
-def run_python(p: SimpleNamespace, v: np.ndarray, x_dem: np.ndarray, rtol: float) -> tuple[np.ndarray, float]:
+def run_python(p: SimpleNamespace, v: FloatArray, x_dem: FloatArray, rtol: float) -> tuple[FloatArray, float]:
     """Force at the end of every communication step, and the wall time (s)."""
     plant = Plant(p)
     y, i0 = plant.rest()
@@ -190,7 +197,8 @@ def run_python(p: SimpleNamespace, v: np.ndarray, x_dem: np.ndarray, rtol: float
     return F, time.perf_counter() - start
 
 
-def run_fmu(fmu: Path, overrides: dict, v: np.ndarray, x_dem: np.ndarray) -> tuple[np.ndarray, float, float]:
+def run_fmu(fmu: Path, overrides: Mapping[str, Value], v: FloatArray,
+            x_dem: FloatArray) -> tuple[FloatArray, float, float]:
     """Force after every step, the wall time of the whole fmpy loop and of fmi2DoStep alone (s)."""
     slave = Slave(FmuUnit.load(fmu), "crosscheck")
     slave.initialize(0.0, **overrides)
@@ -208,7 +216,7 @@ def run_fmu(fmu: Path, overrides: dict, v: np.ndarray, x_dem: np.ndarray) -> tup
 
 
 def crosscheck(fmu: Path = DAMPER_FMU, duration: float = 1.0, rtol: float = 1e-7,
-               fmu_rtol: float | None = None) -> dict:
+               fmu_rtol: float | None = None) -> dict[str, Any]:
     """Runs both on the same input; returns the input, both forces and the figures of the table."""
     t, v, x_dem, x0 = make_input(duration)
     overrides = {"control_mode": 1, "x_damper_start": x0} | ({} if fmu_rtol is None else {"rtol": fmu_rtol})
@@ -223,7 +231,7 @@ def crosscheck(fmu: Path = DAMPER_FMU, duration: float = 1.0, rtol: float = 1e-7
     return r | {"ratio": wall_py / wall_fmu, "rms_diff_percent": 100 * r["rms_diff"] / r["rms_force"]}
 
 
-def table(r: dict) -> str:
+def table(r: dict[str, Any]) -> str:
     """The figures as a Markdown table."""
     return f"""| {r['simulated']:g} s simulated | Python (scipy Radau) | FMU (Rosenbrock, through fmpy) |
 |---|---|---|
@@ -236,7 +244,7 @@ def table(r: dict) -> str:
 max {r['max_diff']:.3g} N |"""
 
 
-def plot(path: Path, r: dict) -> None:
+def plot(path: Path, r: dict[str, Any]) -> None:
     plt = pyplot()
     fig, ax = plt.subplots(3, 1, sharex=True, figsize=(10, 8), height_ratios=(1, 2, 1))
     ax[0].plot(r["t"], r["v"], "k", lw=0.8, label="v_damper (m/s)")

@@ -56,20 +56,24 @@ from collections.abc import Callable
 from dataclasses import asdict, dataclass, field
 from datetime import datetime, timedelta
 from pathlib import Path
+from typing import Any, Literal
 
 import numpy as np
 from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 from scipy.signal import butter, filtfilt
 
-from damper_tools import pyplot
+from damper_tools import FloatArray, pyplot
+from damper_tools.fmu import Value
 from damper_tools.independent import lowpass_fine
 from damper_tools.sensors import quantise
 
 P_ATM = 101325.0  # Pa
 T_ZERO = 273.15  # K at 0 degC
 FINE_STEP = 1e-4  # s: the truth's output step
-METHOD = "LSODA"  # scipy solve_ivp method (stiff switching); "Radau" gives the same forces within 1e-4 N
+# scipy solve_ivp's methods.
+Method = Literal["RK23", "RK45", "DOP853", "Radau", "BDF", "LSODA"]
+METHOD: Method = "LSODA"  # scipy solve_ivp method (stiff switching); "Radau" gives the same forces within 1e-4 N
 RTOL = 1e-9  # relative tolerance
 MAX_STEP = 1e-3  # s: the largest step
 ATOL = (1e-3, 1e-3, 1e-15)  # Pa, Pa, m3
@@ -192,7 +196,8 @@ class Circuit:
 
     def orifice(self, cd_area: float, dp: float) -> float:
         """Q = Cd A sqrt(2/rho) dp / (dp^2 + p_transition^2)^(1/4): turbulent, laminar near dp = 0 (§3.3)."""
-        return cd_area * self.k_orifice * dp / (dp * dp + self.pt2) ** 0.25
+        q: float = cd_area * self.k_orifice * dp / (dp * dp + self.pt2) ** 0.25
+        return q
 
     def check_valve(self, dp: float) -> float:
         """CV1 or CV2 passing forwards at dp > 0: leakage area plus the smoothstep opening between
@@ -216,14 +221,16 @@ class Circuit:
         p = self.p
         p_abs = max(pressure + P_ATM, P_ABS_FLOOR)
         alpha_r = p["air_fraction"] * (P_ATM / p_abs) ** (1.0 / p["n_polytropic"])
-        return (1.0 + alpha_r) / (1.0 / p["beta_oil"] + alpha_r / (p["n_polytropic"] * p_abs))
+        beta: float = (1.0 + alpha_r) / (1.0 / p["beta_oil"] + alpha_r / (p["n_polytropic"] * p_abs))
+        return beta
 
     def gas_pressure(self, v_gas: float, temperature: float) -> float:
         """Reservoir pressure (gauge): polytropic from the pre-charge at V_gas0, its absolute value
         scaled with T/T_ref (§3.5, §3.9)."""
         p = self.p
-        return ((p["p_reservoir0"] + P_ATM) * (p["V_gas0"] / v_gas) ** p["n_polytropic"]
-                * temperature / p["T_ref"] - P_ATM)
+        pressure: float = ((p["p_reservoir0"] + P_ATM) * (p["V_gas0"] / v_gas) ** p["n_polytropic"]
+                           * temperature / p["T_ref"] - P_ATM)
+        return pressure
 
     def viscosity_ratio(self, temperature: float) -> float:
         """mu(T)/mu(T_ref) = exp(-b (T - T_ref)) (§3.9)."""
@@ -253,7 +260,7 @@ class Circuit:
         v_b = self.a_p * (p["L_half_stroke"] + p["L_dead"] + x_piston)
         return max(v_a, 1e-7), max(v_b, 1e-7)
 
-    def rhs(self, y: np.ndarray, x: float, v: float, a: float, temperature: float) -> list[float]:
+    def rhs(self, y: FloatArray, x: float, v: float, a: float, temperature: float) -> list[float]:
         """d/dt [p_A, p_B, V_g] (§3.4, §3.5, §3.8) for the stroke x, its velocity v and acceleration a."""
         p_a, p_b, v_gas = float(y[0]), float(y[1]), float(y[2])
         mu_r = self.viscosity_ratio(temperature)
@@ -390,7 +397,7 @@ class Segment:
         return (u ** 3 * (10 - 15 * u + 6 * u * u), sign * 30 * u * u * (1 - u) ** 2 / tf,
                 60 * u * (1 - u) * (1 - 2 * u) / tf ** 2)
 
-    def arrays(self, tau: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    def arrays(self, tau: FloatArray) -> tuple[FloatArray, FloatArray]:
         """(x, v) at many tau (vectorised `state`)."""
         tau = np.asarray(tau, dtype=float)
         if self.kind == "hold":
@@ -449,7 +456,7 @@ class Motion:
         i = min(bisect_right(self.starts, t) - 1, len(self.segments) - 1)
         return self.segments[i].state(t - self.starts[i])
 
-    def arrays(self, t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    def arrays(self, t: FloatArray) -> tuple[FloatArray, FloatArray]:
         """(x, v) at many times t (increasing)."""
         t = np.asarray(t, dtype=float)
         i = np.clip(np.searchsorted(self.starts, t, side="right") - 1, 0, len(self.segments) - 1)
@@ -492,10 +499,10 @@ def peak_velocity_program(rng: np.random.Generator, size: str, p: dict[str, floa
         w = vp / amp
         segs.append(Segment("cosine", cycles * 2 * math.pi / w, amplitude=amp, omega=w))
     segs += [Segment("move", 0.25 + 2 * amp / 0.05, dx=-amp), Segment("hold", 0.3)]
-    cycles = "1 cycle each" if quick else "2 cycles up to 0.05 m/s, 3 above"
+    cycles_text = "1 cycle each" if quick else "2 cycles up to 0.05 m/s, 3 above"
     return Motion(segs, "peak_velocity", f"peak-velocity sine sequence at {amp * 1e3:.1f} mm amplitude, peak "
                                          f"velocities {', '.join(f'{v:g}' for v in velocities)} m/s, "
-                                         f"{cycles}, from the top point")
+                                         f"{cycles_text}, from the top point")
 
 
 def random_program(rng: np.random.Generator, size: str, p: dict[str, float], quick: bool = False) -> Motion:
@@ -503,8 +510,8 @@ def random_program(rng: np.random.Generator, size: str, p: dict[str, float], qui
     spectrum) scaled to a drawn velocity RMS, faded in and out over 0.5 s (a quintic window), scaled
     down if needed to stay MARGIN inside the end stops."""
     duration = 2.0 if quick else rng.uniform(8.0, 10.0)
-    v_rms = {"small": (0.12, 0.2), "car": (0.12, 0.25), "truck": (0.1, 0.2)}[size]
-    v_rms = rng.uniform(*v_rms)
+    v_range = {"small": (0.12, 0.2), "car": (0.12, 0.25), "truck": (0.1, 0.2)}[size]
+    v_rms = rng.uniform(*v_range)
     f = np.geomspace(0.5, 12.0, 60)
     phases = rng.uniform(0, 2 * math.pi, f.size)
     amps = 1.0 / (2 * math.pi * f)
@@ -521,7 +528,8 @@ def random_program(rng: np.random.Generator, size: str, p: dict[str, float], qui
                   f"{v_rms * scale:.3f} m/s, {duration:.2f} s, 0.5 s quintic fades")
 
 
-def end_stop_program(rng: np.random.Generator, p: dict[str, float], quick: bool = False) -> tuple[Motion, dict]:
+def end_stop_program(rng: np.random.Generator, p: dict[str, float],
+                     quick: bool = False) -> tuple[Motion, dict[str, Any]]:
     """Strokes 3-10 mm beyond x_end_stop in one or both directions: cycloidal moves top -> bottom ->
     top at rising peak velocities, with short rests at the ends."""
     side = str(rng.choice(["both", "extension", "compression"]))
@@ -550,7 +558,7 @@ def constant_temperature(value: float) -> Callable[[float], float]:
 
 
 def simulate(p: dict[str, float], motion: Motion, temperature: Callable[[float], float] | None = None,
-             rtol: float = RTOL, max_step: float = MAX_STEP, method: str = METHOD) -> dict[str, np.ndarray]:
+             rtol: float = RTOL, max_step: float = MAX_STEP, method: Method = METHOD) -> dict[str, FloatArray]:
     """The damper `p` on the dyno driven by `motion` with the oil at `temperature(t)` (K, default
     T_ref): scipy's `method` on each smooth segment, the states kept every FINE_STEP. Returns time (s),
     x (m), v (m/s), T (K), F (N, the load-cell force), p_A, p_B, p_r (Pa gauge), V_g (m3), delta (m,
@@ -558,7 +566,7 @@ def simulate(p: dict[str, float], motion: Motion, temperature: Callable[[float],
     temperature = temperature or constant_temperature(p["T_ref"])
     c = Circuit(p)
     n = int(round(motion.duration / FINE_STEP))
-    t_fine = FINE_STEP * np.arange(n + 1)
+    t_fine = FINE_STEP * np.arange(n + 1, dtype=float)
     y = np.empty((3, n + 1))
     x0 = motion.segments[0].x0
     y[:, 0] = c.rest_state(x0, temperature(0.0))
@@ -568,7 +576,7 @@ def simulate(p: dict[str, float], motion: Motion, temperature: Callable[[float],
         if k1 == k0:
             continue
 
-        def fun(t: float, yy: np.ndarray, seg: Segment = seg, t0: float = t0) -> list[float]:
+        def fun(t: float, yy: FloatArray, seg: Segment = seg, t0: float = t0) -> list[float]:
             x, v, a = seg.state(t - t0)
             return c.rhs(yy, x, v, a, temperature(t))
 
@@ -584,9 +592,9 @@ def simulate(p: dict[str, float], motion: Motion, temperature: Callable[[float],
         np.abs(x) - p["x_end_stop"], 0.0) ** 2
     force = y[0] * c.a_a - y[1] * c.a_p + f_e
     p_r = (p["p_reservoir0"] + P_ATM) * (p["V_gas0"] / y[2]) ** p["n_polytropic"] * temp / p["T_ref"] - P_ATM
-    k1, k3 = p["k1_mount"], p["k3_mount"]
-    delta = (2.0 * np.sqrt(k1 / k3 / 3.0) * np.sinh(np.arcsinh(1.5 * force / k1 * np.sqrt(3.0 * k3 / k1)) / 3.0)
-             if k3 > 0 else force / k1)
+    km1, km3 = p["k1_mount"], p["k3_mount"]
+    delta = (2.0 * np.sqrt(km1 / km3 / 3.0) * np.sinh(np.arcsinh(1.5 * force / km1 * np.sqrt(3.0 * km3 / km1)) / 3.0)
+             if km3 > 0 else force / km1)
     return {"time": t_fine, "x": x, "v": v, "T": temp, "F": force, "p_A": y[0], "p_B": y[1], "V_g": y[2],
             "p_r": p_r, "delta": delta, "nfev": nfev}
 
@@ -631,7 +639,7 @@ class Chain:
                    time_format="iso" if iso else "seconds", start=start.isoformat() if iso else "")
 
 
-def measure(sim: dict[str, np.ndarray], chain: Chain, rng: np.random.Generator) -> dict[str, np.ndarray]:
+def measure(sim: dict[str, FloatArray], chain: Chain, rng: np.random.Generator) -> dict[str, FloatArray]:
     """The logger's columns (SI, degC for T) from the 0.1 ms truth: analog channels through the
     anti-alias filter, sampled, noise and quantisation; velocity derived or from its sensor."""
     m = round(1.0 / (chain.rate * FINE_STEP))
@@ -656,7 +664,7 @@ def measure(sim: dict[str, np.ndarray], chain: Chain, rng: np.random.Generator) 
     return {"time": sim["time"][::m], "x": x, "v": v, "F": force, "T": temp}
 
 
-def _column(values: np.ndarray, digits: int) -> list[str]:
+def _column(values: FloatArray, digits: int) -> list[str]:
     """Numbers with `digits` decimals, no negative zero."""
     return [f"{x:.{digits}f}" for x in np.round(values, digits) + 0.0]
 
@@ -665,7 +673,7 @@ def _digits(quantum: float) -> int:
     return max(0, math.ceil(-math.log10(quantum) - 1e-9))
 
 
-def write_csv(path: Path, columns: dict[str, np.ndarray], chain: Chain, comments: list[str]) -> list[str]:
+def write_csv(path: Path, columns: dict[str, FloatArray], chain: Chain, comments: list[str]) -> list[str]:
     """Writes the record: `#` comment lines, the header `NAME [UNIT]`, one sample a line. Returns the header."""
     f_scale = 1e3 if chain.force_unit == "kN" else 1.0
     if chain.time_format == "iso":
@@ -696,7 +704,7 @@ class Plan:
     motion: Motion
     temperature: Callable[[float], float]
     temperature_text: str
-    change: dict
+    change: dict[str, Any]
     chain: Chain
     noise_key: tuple[int, ...]
 
@@ -705,7 +713,8 @@ def _record_rng(size: str, seed: int, scenario: str, k: int, what: int) -> np.ra
     return _stream(SIZES.index(size), seed, 2, SCENARIOS.index(scenario), k, what)
 
 
-def scenario_change(size: str, seed: int, scenario: str, base: dict[str, float]) -> tuple[dict[str, float], dict]:
+def scenario_change(size: str, seed: int, scenario: str,
+                    base: dict[str, float]) -> tuple[dict[str, float], dict[str, Any]]:
     """The truth of the scenario's record and a description of what changed."""
     rng = _stream(SIZES.index(size), seed, 3, SCENARIOS.index(scenario))
     p = dict(base)
@@ -739,7 +748,7 @@ def scenario_change(size: str, seed: int, scenario: str, base: dict[str, float])
 SETTINGS_RECORDS = (("middle", "gas"), ("middle", "peak"), ("closed", "peak"), ("open", "random"))
 
 
-def _heating(change: dict, t_ref: float, duration: float) -> tuple[Callable[[float], float], str]:
+def _heating(change: dict[str, Any], t_ref: float, duration: float) -> tuple[Callable[[float], float], str]:
     """T_oil(t) of the heated scenario: rising by rise_K over the record (1 - exp(-3 t/T), normalised),
     or already warm before it and cooling slowly by drift_K."""
     rise, drift = change["rise_K"], change["drift_K"]
@@ -802,7 +811,7 @@ def plans(size: str, seed: int, scenario: str, quick: bool = False) -> list[Plan
     return out
 
 
-def fmu_settings() -> dict:
+def fmu_settings() -> dict[str, Value]:
     """How to reproduce the truth with SemiActiveDamper.fmu (physics.md §4.6, §8): the valve held
     shut without leakage, no relief valve (area 0), the passive valves and the load-path effects on."""
     return {"control_mode": 2, "x_spool_start": 0.0, "A_valve_leak": 0.0, "A_relief": 0.0,
@@ -814,7 +823,7 @@ def fmu_settings() -> dict:
 
 
 def make_record(plan: Plan, size: str, seed: int, scenario: str, out_dir: Path, quick: bool = False,
-                keep: dict | None = None) -> Path:
+                keep: dict[str, Any] | None = None) -> Path:
     """Simulates and writes one record and its truth JSON; returns the CSV's path. `keep` receives
     the 0.1 ms truth and the measured columns (for tests)."""
     sim = simulate(plan.params, plan.motion, plan.temperature)

@@ -32,8 +32,10 @@ import subprocess
 import time
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
+from typing import Any
 
 from damper_tools import DAMPER, REPO, dyno
+from damper_tools.verdicts import right
 
 SCENARIOS = ("unchanged", "gas", "valve", "heated", "end_stop")
 # the effect that carries each change, and its size parameter (None: the change's parameter)
@@ -47,7 +49,7 @@ class Case:
     seed: int
     scenario: str
     record: str
-    change: dict
+    change: dict[str, Any]
     verdict: str = ""
     effects: list[str] = field(default_factory=list)
     expected: str | None = None
@@ -62,9 +64,13 @@ class Case:
 
     @property
     def named(self) -> bool:
+        """Right (verdicts.right): nothing named for the unchanged damper, else the effect that
+        carries the change named first."""
         if self.scenario == "unchanged":
-            return self.verdict == "none" and not self.effects
-        return self.verdict == "effect" and bool(self.effects) and self.effects[0] == self.expected
+            return right((), self.verdict, self.effects)
+        if self.expected is None:
+            return False
+        return right((self.expected,), self.verdict, self.effects, first=True)
 
     @property
     def relative_error(self) -> float | None:
@@ -89,7 +95,7 @@ def run(damper: Path, args: list[str]) -> float:
 
 
 def calibrate(damper: Path, records: list[Path], sheet: Path, out: Path, threads: int,
-              extra: tuple[str, ...] = ()) -> dict:
+              extra: tuple[str, ...] = ()) -> dict[str, Any]:
     """`damper calibrate` on `records` (with `extra` arguments), each parameter scored against the
     truth of a record it applies to (a setting's own value against that setting's)."""
     seconds = run(damper, ["calibrate", *map(str, records), "--damper", str(sheet), "--out", str(out),
@@ -109,7 +115,7 @@ def calibrate(damper: Path, records: list[Path], sheet: Path, out: Path, threads
     return {"seconds": seconds, "parameters": params, "records": fits}
 
 
-def expected(scenario: str, change: dict) -> tuple[str | None, str | None]:
+def expected(scenario: str, change: dict[str, Any]) -> tuple[str | None, str | None]:
     if scenario == "valve":
         name = change["parameter"]
         return ("rebound_valve" if name.endswith("_reb") else "compression_valve"), name
@@ -148,7 +154,8 @@ def settings_arguments(records: list[Path]) -> tuple[str, ...]:
             *(a for label, paths in by_setting.items() for a in ("--setting", f"{label}={','.join(paths)}")))
 
 
-def one_damper(damper: Path, size: str, seed: int, out: Path, threads: int) -> tuple[dict, list[Case], dict]:
+def one_damper(damper: Path, size: str, seed: int, out: Path,
+               threads: int) -> tuple[dict[str, Any], list[Case], dict[str, Any]]:
     records = out / "records"
     made = {sc: dyno.make_records(size, seed, sc, records) for sc in ("calibration", "settings", *SCENARIOS)}
     sheet = records / f"{size}_{seed}_datasheet.toml"
@@ -165,7 +172,7 @@ def fmt(x: float | None, spec: str) -> str:
     return "–" if x is None else format(x, spec)
 
 
-def settings_table(settings: dict) -> list[str]:
+def settings_table(settings: dict[str, Any]) -> list[str]:
     """The several-settings calibrations: each setting's adjuster value against the truth."""
     lines = ["", "## Several settings of one adjuster in one calibration", "",
              "| damper | adjuster | setting: fitted / truth (rel. error, z) | shared: |z| > 2 | |z| > 3 | "
@@ -184,7 +191,7 @@ def settings_table(settings: dict) -> list[str]:
     return lines
 
 
-def report(calibrations: dict, cases: list[Case], settings: dict | None = None) -> str:
+def report(calibrations: dict[str, Any], cases: list[Case], settings: dict[str, Any] | None = None) -> str:
     lines = ["# The real-damper loop on independent passive-damper records", "",
              "`.venv/bin/python -m damper_tools.dyno_score` (damper_tools.dyno's records; docs/real-dampers.md).", "",
              "## Calibration from the datasheet", "",
@@ -213,7 +220,8 @@ def report(calibrations: dict, cases: list[Case], settings: dict | None = None) 
         line = f"- **{sc}**: {ok} of {len(these)} {'nothing named' if sc == 'unchanged' else 'named'}"
         sized = [c for c in these if c.named and c.relative_error is not None]
         if sized:
-            line += (f"; size within 10 %: {sum(abs(c.relative_error) <= 0.1 for c in sized)} of {len(sized)}, "
+            within = sum(abs(c.relative_error) <= 0.1 for c in sized if c.relative_error is not None)
+            line += (f"; size within 10 %: {within} of {len(sized)}, "
                      f"|z| ≤ 3: {sum(c.z is not None and abs(c.z) <= 3 for c in sized)} of {len(sized)}")
         lines.append(line)
     changed = [c for c in cases if c.scenario != "unchanged"]
@@ -232,8 +240,8 @@ def main(argv: list[str] | None = None) -> None:
     ap.add_argument("--damper", type=Path, default=DAMPER, help="the damper program (default: the release build)")
     a = ap.parse_args(argv)
     a.out.mkdir(parents=True, exist_ok=True)
-    calibrations: dict = {}
-    settings: dict = {}
+    calibrations: dict[str, Any] = {}
+    settings: dict[str, Any] = {}
     cases: list[Case] = []
     for seed in a.seeds:
         for size in a.sizes:

@@ -18,7 +18,7 @@ import shutil
 import sys
 import tempfile
 from collections.abc import Callable, Iterable, Sequence
-from ctypes import Array
+from ctypes import Array, c_double, c_uint
 from pathlib import Path
 from typing import ClassVar
 
@@ -34,6 +34,8 @@ from fmpy.fmi2 import (
     fmi2ValueReference,
 )
 from fmpy.model_description import ModelVariable
+
+from damper_tools import FloatArray
 
 # A value of an FMI 2.0 Real, Integer, Enumeration or Boolean variable.
 Value = float | int | bool
@@ -73,7 +75,7 @@ class FmuUnit:
             raise KeyError(f"{self.path.name} has no variable {name!r}") from None
 
     def vr(self, name: str) -> int:
-        return self.variable(name).valueReference
+        return int(self.variable(name).valueReference)
 
     def outputs(self) -> list[str]:
         """Names of the Real outputs, in the order of modelDescription.xml."""
@@ -81,7 +83,7 @@ class FmuUnit:
 
     def parameters(self) -> dict[str, float | int | bool]:
         """Every parameter's start value from modelDescription.xml, typed (Real, Integer, Boolean)."""
-        cast = {"Boolean": lambda s: s == "true", "Integer": int, "Real": float}
+        cast: dict[str, Callable[[str], Value]] = {"Boolean": lambda s: s == "true", "Integer": int, "Real": float}
         return {v.name: cast[v.type](v.start) for v in self.md.modelVariables if v.causality == "parameter"}
 
 
@@ -112,7 +114,7 @@ class Slave:
         self.fmu.instantiate(callbacks=self._callbacks, loggingOn=logging_on)
         # Value references and a value buffer per list of Real variables: one fmi2Get/SetReal call
         # per list, without building them again at every step of a master.
-        self._reals: dict[tuple[str, ...], tuple[Array, Array]] = {}
+        self._reals: dict[tuple[str, ...], tuple[Array[c_uint], Array[c_double]]] = {}
 
     def _log(self, env: object, instance_name: bytes, status: int, category: bytes, message: bytes) -> None:
         text = message.decode("utf-8", "replace").replace("%%", "%") if message else ""
@@ -129,7 +131,7 @@ class Slave:
     def vr(self, name: str) -> int:
         return self.unit.vr(name)
 
-    def _real_buffers(self, names: Iterable[str]) -> tuple[Array, Array]:
+    def _real_buffers(self, names: Iterable[str]) -> tuple[Array[c_uint], Array[c_double]]:
         key = tuple(names)
         if key not in self._reals:
             vrs = (fmi2ValueReference * len(key))(*[self.unit.vr(n) for n in key])
@@ -152,7 +154,7 @@ class Slave:
             buf[:] = [float(values[n]) for n in reals]
             self.fmu.fmi2SetReal(self.fmu.component, vrs, len(buf), buf)
 
-    def get(self, names: Sequence[str] | None = None) -> np.ndarray:
+    def get(self, names: Sequence[str] | None = None) -> FloatArray:
         """Values of Real variables (default: all Real outputs)."""
         vrs, buf = self._real_buffers(self.unit.outputs() if names is None else names)
         self.fmu.fmi2GetReal(self.fmu.component, vrs, len(buf), buf)
@@ -184,7 +186,7 @@ class Slave:
 
 
 def drive(slave: Slave, steps: Iterable[float], inputs_at: Callable[[float], dict[str, float]],
-          names: Sequence[str] | None = None) -> tuple[np.ndarray, np.ndarray]:
+          names: Sequence[str] | None = None) -> tuple[FloatArray, FloatArray]:
     """Steps a slave through the step lengths `steps`, setting inputs_at(t) before each step;
     returns (times, outputs) recorded after every step (outputs: `names`, default all Real outputs)."""
     times, rows = [], []

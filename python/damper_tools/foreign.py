@@ -18,25 +18,34 @@ the same sensors (continuous 400 Hz load-cell filter, noise, quantisation):
 """
 
 import math
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from damper_tools import sensors
+from damper_tools import FloatArray, sensors
+
+if TYPE_CHECKING:  # independent imports this module
+    from damper_tools.independent import Case, RigInputs
+
+# What a foreign damper gives back: its signals (fine force, record times, measured velocity, demand,
+# true velocity, the largest stroke) and a description of the damper for the truth file.
+Simulated = tuple[dict[str, Any], str]
 
 
-def _sample_inputs(case, rig, noise_v):
+def _sample_inputs(case: "Case", rig: "RigInputs", noise_v: FloatArray) -> tuple[
+        int, FloatArray, FloatArray, FloatArray, FloatArray, FloatArray]:
     m = sensors.steps_per_sample(case.rate)
-    n_samples = int(round(case.duration * case.rate)) + 1
+    n_samples = int(round(case.duration_s * case.rate)) + 1
     n_fine = (n_samples - 1) * m
-    t_fine = sensors.FINE_STEP * np.arange(n_fine + 1)
+    t_fine = sensors.FINE_STEP * np.arange(n_fine + 1, dtype=float)
     v_true = rig.velocity(t_fine)
     t_rec = t_fine[::m]
     v_meas = sensors.quantise(v_true[::m] + noise_v[:n_samples], sensors.SENSORS["v_damper"][1])
     return m, t_fine, v_true, t_rec, v_meas, rig.demand(t_rec, v_meas)
 
 
-def mr(case, rig, noise_v, rng):
+def mr(case: "Case", rig: "RigInputs", noise_v: FloatArray, rng: np.random.Generator) -> Simulated:
     """The MR (Bingham) damper; returns (signals, description)."""
     p = {"c0": rng.uniform(1e3, 3e3), "v0": rng.uniform(0.005, 0.02), "F_y0": rng.uniform(100.0, 400.0),
          "F_ymax": rng.uniform(8e3, 15e3), "tau_I": rng.uniform(0.005, 0.02), "F_gas": rng.uniform(200.0, 600.0)}
@@ -60,7 +69,7 @@ def mr(case, rig, noise_v, rng):
     return sig, desc
 
 
-def passive(case, rig, noise_v, rng):
+def passive(case: "Case", rig: "RigInputs", noise_v: FloatArray, rng: np.random.Generator) -> Simulated:
     """The passive bleed-and-blow-off damper; returns (signals, description)."""
     p = {"F_bleed_ext": rng.uniform(3e3, 6e3), "comp_ratio": rng.uniform(0.3, 0.6),
          "F_blowoff_ext": rng.uniform(6e3, 12e3), "blowoff_comp_ratio": rng.uniform(0.4, 0.7),
@@ -70,7 +79,7 @@ def passive(case, rig, noise_v, rng):
     f_l, w = 50.0, 100.0  # N: the bleed's laminar width, the blow-off's smoothing
     m, t_fine, v_true, t_rec, v_meas, demand = _sample_inputs(case, rig, noise_v)
 
-    def v_hydraulic(f):
+    def v_hydraulic(f: float) -> float:
         ext = f >= 0
         fb = p["F_bleed_ext"] if ext else p["F_bleed_ext"] * p["comp_ratio"]
         fpre = p["F_blowoff_ext"] if ext else p["F_blowoff_ext"] * p["blowoff_comp_ratio"]
@@ -80,7 +89,7 @@ def passive(case, rig, noise_v, rng):
         opening = w * math.log1p(math.exp(min((a - fpre) / w, 50.0))) if a - fpre < 50 * w else a - fpre
         return math.copysign(v_b * root + gain * opening * root, f)
 
-    def rhs(t, y):
+    def rhs(t: float, y: FloatArray) -> list[float]:
         v = float(rig.velocity(np.array([t]))[0])
         return [p["k"] * (v - v_hydraulic(y[0])), v]
 
@@ -98,6 +107,6 @@ def passive(case, rig, noise_v, rng):
     return sig, desc
 
 
-def simulate(case, rig, noise_v, rng):
+def simulate(case: "Case", rig: "RigInputs", noise_v: FloatArray, rng: np.random.Generator) -> Simulated:
     """The foreign damper of `case.kind` (foreign_mr or foreign_passive)."""
     return {"foreign_mr": mr, "foreign_passive": passive}[case.kind](case, rig, noise_v, rng)

@@ -38,7 +38,7 @@ from typing import Any
 import numpy as np
 from fmpy.fmi1 import FMICallException
 
-from damper_tools import FULL_TRUCK_FMU, REPO, cosim, hil_scenarios, pyplot, ride, roads
+from damper_tools import DAMPER_FMU, FULL_TRUCK_FMU, REPO, FloatArray, cosim, hil_scenarios, pyplot, ride, roads
 from damper_tools.fmu import FmuUnit, Slave, Value
 
 OUT = REPO / "out" / "full_truck"
@@ -52,7 +52,7 @@ TRACK_CORRELATION = 0.6  # [A]
 FADE_IN_DISTANCE = 10.0  # m of road over which a random road rises from level
 
 
-Wheels = dict[str, tuple[np.ndarray, np.ndarray]]  # corner: (z_road, v_road) at t_k, k = 0..n
+Wheels = dict[str, tuple[FloatArray, FloatArray]]  # corner: (z_road, v_road) at t_k, k = 0..n
 
 
 def parameters(unit: FmuUnit, overrides: dict[str, Value] | None = None) -> dict[str, Value]:
@@ -85,7 +85,7 @@ def random_wheel_roads(road: str | float, speed: float, duration: float, seed: i
     return _delayed(x, tracks, speed, step, n_steps, axle_x, lag), n_steps
 
 
-def _delayed(x: np.ndarray, tracks: dict[str, np.ndarray], speed: float, step: float, n_steps: int,
+def _delayed(x: FloatArray, tracks: dict[str, FloatArray], speed: float, step: float, n_steps: int,
              axle_x: dict[str, float], lag: float) -> Wheels:
     """Each corner's road: its side's track at the position of its axle, the front axle `lag` m
     into the profile at t = 0."""
@@ -124,8 +124,8 @@ def crg_wheel_roads(speed: float, step: float, axle_x: dict[str, float], tyre_tr
 
 def simulate(wheels: Wheels, step: float, n_steps: int, truck_parameters: dict[str, Value] | None = None,
              damper_parameters: dict[str, Value] | None = None, full_truck_fmu: str | Path = FULL_TRUCK_FMU,
-             damper_fmu: str | Path = cosim.DAMPER_FMU, start_time: float = 0.0,
-             echo: bool = True) -> dict[str, np.ndarray]:
+             damper_fmu: str | Path = DAMPER_FMU, start_time: float = 0.0,
+             echo: bool = True) -> dict[str, FloatArray]:
     """Runs the full truck (with six damper FMU instances for damper_mode 0) for n_steps Jacobi steps
     of `step` seconds. Returns 'time', each corner's road and outputs as 'CORNER.NAME'
     (CORNER_OUTPUTS; 'CORNER.damper.F_damper' with dampers) and the body's outputs (BODY_OUTPUTS), at
@@ -143,7 +143,7 @@ def simulate(wheels: Wheels, step: float, n_steps: int, truck_parameters: dict[s
     i_v = [truck_out.index(f"{c}.v_damper") for c in CORNERS]
     i_fd = [truck_out.index(f"{c}.F_demand") for c in CORNERS]
     road_names = [(f"{c}.z_road", f"{c}.v_road", f"{c}.F_damper") for c in CORNERS]
-    times = start_time + step * np.arange(n_steps + 1)
+    times = start_time + step * np.arange(n_steps + 1, dtype=float)
     rec = np.empty((n_steps + 1, len(truck_out)))
     rec_f = np.zeros((n_steps + 1, len(CORNERS)))
     instances: list[Slave] = []
@@ -195,7 +195,7 @@ def simulate(wheels: Wheels, step: float, n_steps: int, truck_parameters: dict[s
 
 # --------------------------------------------------------------------------- the linear model
 
-def _coordinate_rows(p: dict[str, Value]) -> list[tuple[float, np.ndarray, str]]:
+def _coordinate_rows(p: dict[str, Value]) -> list[tuple[float, FloatArray, str]]:
     """Every spring of the truck as (stiffness, row, kind): its stretch is row · q, q = [z, θ, φ,
     z_1, φ_1, z_2, φ_2, z_3, φ_3] (the FMU's coordinates), written here from the geometry alone."""
     x_cg = float(p["x_cg"])
@@ -215,17 +215,19 @@ def _coordinate_rows(p: dict[str, Value]) -> list[tuple[float, np.ndarray, str]]
     return springs
 
 
-def linear_model(p: dict[str, Value]) -> tuple[np.ndarray, np.ndarray]:
+def linear_model(p: dict[str, Value]) -> tuple[FloatArray, FloatArray]:
     """The undamped truck's mass and stiffness matrices (SI), from its potential energy
     ½ Σ k (row · q)² − ½ M g h φ² (gravity's roll moment), independently of the FMU's equations."""
     mass = np.diag([float(p["m_body"]), float(p["I_pitch"]), float(p["I_roll"])]
                    + [float(p[f"{a}.{n}"]) for a in AXLES for n in ("m_axle", "J_axle")])
-    stiffness = sum(k * np.outer(r, r) for k, r, _ in _coordinate_rows(p))
+    stiffness = np.zeros((9, 9))
+    for k, r, _ in _coordinate_rows(p):
+        stiffness = stiffness + k * np.outer(r, r)
     stiffness[2, 2] -= float(p["m_body"]) * float(p["gravity"]) * float(p["h_roll"])
     return mass, stiffness
 
 
-def natural_frequencies(p: dict[str, Value]) -> np.ndarray:
+def natural_frequencies(p: dict[str, Value]) -> FloatArray:
     """The undamped natural frequencies (Hz), ascending, with each mode's largest coordinate."""
     mass, stiffness = linear_model(p)
     w2, _ = np.linalg.eig(np.linalg.solve(mass, stiffness))
@@ -246,7 +248,7 @@ def static_tyre_loads(p: dict[str, Value]) -> dict[str, float]:
 
 # --------------------------------------------------------------------------- metrics
 
-def metrics(res: dict[str, np.ndarray], window: slice, static_loads: dict[str, float]) -> dict[str, float]:
+def metrics(res: dict[str, FloatArray], window: slice, static_loads: dict[str, float]) -> dict[str, float]:
     """Ride, road holding and working space over the samples in `window`: the driver's seat (RMS and
     ISO 2631 Wk RMS), the body's heave, pitch and roll accelerations (RMS), the six tyres' DLC (mean
     and largest) and fourth-power road stress (mean), the dampers' deflection (RMS mean, peak)."""
@@ -328,7 +330,8 @@ def run_case(case: Case, fmus: dict[str, Path], duration: float = DURATION, c_pa
     p = parameters(unit)
     loads = static_tyre_loads(p)
     wheels, n, window = case_roads(case, p, duration)
-    runs = [(f"passive {c / 1e3:g} kN s/m", cosim.MODE_PASSIVE, {"c_passive": c}, {}) for c in c_passive]
+    runs: list[tuple[str, int, dict[str, Value], dict[str, Value]]] = [
+        (f"passive {c / 1e3:g} kN s/m", cosim.MODE_PASSIVE, {"c_passive": c}, {}) for c in c_passive]
     runs += [(name, mode, tp, dp) for name, (mode, tp, dp) in SETTINGS.items()]
     for cm, alpha, cg in laws:
         law = {"Cm": cm, "alpha": alpha, "C_ground": cg}
@@ -431,7 +434,7 @@ def plot(path: Path, rows: list[dict[str, Any]]) -> None:
 def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--full-truck-fmu", type=Path, default=FULL_TRUCK_FMU)
-    parser.add_argument("--damper-fmu", type=Path, default=cosim.DAMPER_FMU)
+    parser.add_argument("--damper-fmu", type=Path, default=DAMPER_FMU)
     parser.add_argument("--quick", action="store_true",
                         help=f"{QUICK_DURATION:g} s records, three passive dampers, three laws")
     parser.add_argument("--docs", action="store_true", help="copy the table and figure into docs/")

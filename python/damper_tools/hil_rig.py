@@ -22,7 +22,7 @@ docs/hil.md ("The HiL rig as a model"). The default rig is NO rig: `Rig(RigParam
 infinite bandwidths, zero delays and T_rt = the communication step passes every signal through
 unchanged (tested: bit-identical to the direct coupling).
 
-Computing functions print nothing; `main` (scripts/hil_rig.py) runs the sweep and the robustness
+Computing functions print nothing; `main` (damper-hil-rig) runs the sweep and the robustness
 table, plots and writes out/rig/.
 """
 
@@ -33,11 +33,12 @@ import time
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import Any, Literal, TypedDict
 
 import numpy as np
+import numpy.typing as npt
 
-from damper_tools import REPO, cosim, jsonable, pyplot, roads
+from damper_tools import DAMPER_FMU, REPO, TRUCK_FMU, cosim, jsonable, pyplot, roads
 from damper_tools.hil_scenarios import FADE_IN, SETTLE, STEP, force_spectrum, spectral_peaks, tracking_metrics
 
 OUT = REPO / "out" / "rig"
@@ -86,7 +87,13 @@ class RigParameters:
 
 # The rig parts held fixed in the sweep: a 1 kHz real-time computer (the communication step) and a
 # load cell behind a 500 Hz second-order filter (docs/hil.md).
-RIG_FIXED = {"f_load_cell": 500.0, "load_cell_delay": 0.0, "rt_period": None}
+class _RigFixed(TypedDict):
+    f_load_cell: float
+    load_cell_delay: float
+    rt_period: float | None
+
+
+RIG_FIXED: _RigFixed = {"f_load_cell": 500.0, "load_cell_delay": 0.0, "rt_period": None}
 
 
 class _Delay:
@@ -120,7 +127,7 @@ class _SecondOrder:
     over the step; it tends to the command as f grows). 'bilinear': Tustin, for a conditioning filter
     of a sampled signal."""
 
-    def __init__(self, f: float, zeta: float, step: float, method: str) -> None:
+    def __init__(self, f: float, zeta: float, step: float, method: Literal["zoh", "bilinear"]) -> None:
         self.passthrough = math.isinf(f)
         if self.passthrough:
             return
@@ -141,15 +148,16 @@ class _SecondOrder:
         else:
             ad, bd, cd, dd, _ = cont2discrete((a, b, c, np.zeros((1, 1))), step, method=method)
             self.ad, self.bd, self.cd, self.dd = ad, bd[:, 0], cd[0], float(dd[0, 0])
-        self.x: np.ndarray | None = None
+        self.x: npt.NDArray[np.floating[Any]] | None = None
 
     def __call__(self, u: float) -> float:
         if self.passthrough:
             return u
-        if self.x is None:  # steady state at the first input: x = (I - A)^-1 B u
-            self.x = np.linalg.solve(np.eye(2) - self.ad, self.bd * u)
-        y = float(self.cd @ self.x + self.dd * u)
-        self.x = self.ad @ self.x + self.bd * u
+        x = self.x
+        if x is None:  # steady state at the first input: x = (I - A)^-1 B u
+            x = np.linalg.solve(np.eye(2) - self.ad, self.bd * u)
+        y = float(self.cd @ x + self.dd * u)
+        self.x = self.ad @ x + self.bd * u
         return y
 
 
@@ -191,8 +199,8 @@ class Rig:
 
 def run(params: RigParameters | None, seed: int = SEED, duration: float = DURATION, settle: float = SETTLE,
         step: float = STEP, tare_load_cell: bool = True, force_controller: int = 0, road: str = ROAD,
-        speed: float = SPEED, truck_fmu: str | Path = cosim.TRUCK_FMU,
-        damper_fmu: str | Path = cosim.DAMPER_FMU, echo: bool = True) -> dict[str, Any]:
+        speed: float = SPEED, truck_fmu: str | Path = TRUCK_FMU,
+        damper_fmu: str | Path = DAMPER_FMU, echo: bool = True) -> dict[str, Any]:
     """The quarter truck + damper FMU on a random road, with a rig (params) or without (None).
     Returns the result dict of cosim.simulate plus 'F_logged' (the force the truck received: the
     damper's F_damper without a rig) and 'first' (the first sample after settle). A run that goes
@@ -205,7 +213,7 @@ def run(params: RigParameters | None, seed: int = SEED, duration: float = DURATI
         rig = Rig(params, step)
         car.damper_inputs, car.truck_force = rig.damper_inputs, rig.truck_force
     n = case.t.size - 1
-    res = cosim.simulate([car], step, n, truck_fmu=truck_fmu, damper_fmu=damper_fmu,
+    res: dict[str, Any] = cosim.simulate([car], step, n, truck_fmu=truck_fmu, damper_fmu=damper_fmu,
                          damper_outputs=("F_damper", "F_demand_clipped", "x_spool", "x_damper"), echo=echo)[0]
     if rig is None:
         res["F_logged"] = res["damper.F_damper"]
@@ -240,7 +248,7 @@ def metrics(res: dict[str, Any], step: float = STEP) -> dict[str, Any]:
 
 def paper_like(m: dict[str, Any]) -> bool:
     """The paper's Fig. 7: dominant force frequency 15 +- 2 Hz and the sign pattern."""
-    return abs(m["peak_Hz"] - PAPER_DOMINANT_HZ) <= PAPER_BAND_HZ and m["pattern"]
+    return bool(abs(m["peak_Hz"] - PAPER_DOMINANT_HZ) <= PAPER_BAND_HZ and m["pattern"])
 
 
 @dataclass
@@ -458,8 +466,8 @@ def plot_spectra(path: Path, base: dict[str, Any], curves: Sequence[tuple[str, d
 
 def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--truck-fmu", type=Path, default=cosim.TRUCK_FMU)
-    parser.add_argument("--damper-fmu", type=Path, default=cosim.DAMPER_FMU)
+    parser.add_argument("--truck-fmu", type=Path, default=TRUCK_FMU)
+    parser.add_argument("--damper-fmu", type=Path, default=DAMPER_FMU)
     parser.add_argument("--out", type=Path, default=OUT)
     parser.add_argument("--duration", type=float, default=DURATION, help="recorded seconds of every sweep run")
     parser.add_argument("--robust-duration", type=float, default=ROBUST_DURATION)
@@ -475,7 +483,8 @@ def main(argv: list[str] | None = None) -> None:
              for q in points if (q.actuator_delay, q.f_actuator) in ((0.0, 100.0), (2e-3, math.inf))]
     picks += [(f"load-cell delay {1e3 * d:g} ms", m) for d, m in force_path if d in (2e-3, 6e-3)]
     plot_spectra(args.out / "rig_spectra.png", base, picks)
-    like = [p for p in points if not p.metrics.get("unstable") and paper_like(p.metrics)]
+    like: list[SweepPoint | tuple[float, dict[str, Any]]] = [
+        p for p in points if not p.metrics.get("unstable") and paper_like(p.metrics)]
     like += [(d, m) for d, m in force_path if not m.get("unstable") and paper_like(m)]
     text = "\n\n".join([
         f"# The HiL rig as a model (minor road, 14 m/s, seed {SEED}, {args.duration:g} s after {SETTLE:g} s)",

@@ -1,7 +1,7 @@
 """HiL scenarios: the quarter truck on random roads (and a measured Belgian-block track) with three
 dampers side by side, as in the paper's hardware-in-the-loop tests (Fig. 7).
 
-    .venv/bin/python scripts/hil_scenarios.py [--out out/hil] [--duration 15] [--step 1e-3]
+    .venv/bin/damper-hil-scenarios [--out out/hil] [--duration 15] [--step 1e-3]
 
 For every road and speed it co-simulates (damper_tools.cosim, Jacobi, step 1 ms by default)
 
@@ -44,8 +44,9 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+import numpy.typing as npt
 
-from damper_tools import REPO, cosim, jsonable, pyplot, ride, roads
+from damper_tools import DAMPER_FMU, REPO, TRUCK_FMU, FloatArray, cosim, jsonable, pyplot, ride, roads
 from damper_tools.fmu import FmuUnit
 
 OUT = REPO / "out" / "hil"
@@ -76,7 +77,7 @@ CRG_BLEND = 0.5  # m, the track rises from 0 over its first metres (raised cosin
 CRG_RUNOUT = 1.0  # s of level road after it
 
 
-def truck_constants(truck_fmu: str | Path = cosim.TRUCK_FMU) -> dict[str, float]:
+def truck_constants(truck_fmu: str | Path = TRUCK_FMU) -> dict[str, float]:
     """m_body, m_axle, gravity, k_susp, k_tyre: the truck FMU's start values."""
     unit = FmuUnit.load(truck_fmu)
     return {name: float(unit.variables[name].start) for name in ("m_body", "m_axle", "gravity", "k_susp", "k_tyre",
@@ -85,7 +86,7 @@ def truck_constants(truck_fmu: str | Path = cosim.TRUCK_FMU) -> dict[str, float]
 
 # --------------------------------------------------------------------------- metrics
 
-def vehicle_metrics(res: dict[str, np.ndarray], window: slice, static_load: float) -> dict[str, float]:
+def vehicle_metrics(res: dict[str, FloatArray], window: slice, static_load: float) -> dict[str, float]:
     """Ride, DLC and working space of a result dict over the samples in `window` (a slice)."""
     x = res["x_damper"][window]
     step = float(res["time"][1] - res["time"][0])
@@ -101,13 +102,13 @@ def vehicle_metrics(res: dict[str, np.ndarray], window: slice, static_load: floa
     }
 
 
-def tracking_metrics(force: Sequence[float] | np.ndarray, demand: Sequence[float] | np.ndarray,
-                     v: Sequence[float] | np.ndarray) -> dict[str, Any]:
+def tracking_metrics(force: Sequence[float] | FloatArray, demand: Sequence[float] | FloatArray,
+                     v: Sequence[float] | FloatArray) -> dict[str, Any]:
     """Tracking of a demand by a force, split into extension and compression (module docstring)."""
     force, demand, v = map(np.asarray, (force, demand, v))
     ext = (v > EXT_V) & (demand > EXT_F)
     com = (v < -EXT_V) & (demand < -EXT_F)
-    out = {
+    out: dict[str, Any] = {
         "F_rms": float(np.std(force)), "F_demand_rms": float(np.std(demand)),
         "error_rms": float(np.sqrt(np.mean((force - demand) ** 2))),
         "mean_error": float(np.mean(force - demand)),
@@ -124,24 +125,24 @@ def tracking_metrics(force: Sequence[float] | np.ndarray, demand: Sequence[float
     return out
 
 
-def force_spectrum(signal: np.ndarray, step: float, segment: float = SPECTRUM_SEGMENT) -> tuple[np.ndarray, np.ndarray]:
+def force_spectrum(signal: FloatArray, step: float, segment: float = SPECTRUM_SEGMENT) -> tuple[FloatArray, FloatArray]:
     from scipy.signal import welch
 
     x = np.asarray(signal, float)
     return welch(x - x.mean(), fs=1.0 / step, nperseg=min(x.size, int(round(segment / step))))
 
 
-def spectral_peaks(f: np.ndarray, p: np.ndarray) -> dict[str, float]:
+def spectral_peaks(f: FloatArray, p: FloatArray) -> dict[str, float]:
     above = f > PEAK_MIN_HZ
     band = (f >= WHEEL_HOP_BAND[0]) & (f <= WHEEL_HOP_BAND[1])
     return {"peak_above_3Hz": float(f[above][np.argmax(p[above])]),
             "peak_wheel_hop_band": float(f[band][np.argmax(p[band])])}
 
 
-def pareto_mask(x: np.ndarray, y: np.ndarray) -> np.ndarray:
+def pareto_mask(x: FloatArray, y: FloatArray) -> npt.NDArray[np.bool_]:
     """True for the points not dominated when both x and y are to be small."""
     order = np.lexsort((y, x))
-    mask = np.zeros(x.size, bool)
+    mask = np.zeros(x.size, dtype=np.bool_)
     best = math.inf
     for i in order:
         if y[i] < best:
@@ -177,8 +178,8 @@ def best_passive(sweep: list[dict[str, Any]], dlc_limit: float) -> tuple[dict[st
 
 # --------------------------------------------------------------------------- runs
 
-def run_three(z_road: np.ndarray, v_road: np.ndarray, step: float, window: slice, c_values: Sequence[float],
-              truck_fmu: str | Path, damper_fmu: str | Path,
+def run_three(z_road: FloatArray, v_road: FloatArray, step: float, window: slice,
+              c_values: Sequence[float] | FloatArray, truck_fmu: str | Path, damper_fmu: str | Path,
               consts: dict[str, float]) -> tuple[dict[str, Any], dict[str, Any]]:
     """Passive sweep, ideal semi-active and damper FMU on one road, metrics over the samples in
     `window` (a slice); returns (summary, series)."""
@@ -219,8 +220,9 @@ def run_three(z_road: np.ndarray, v_road: np.ndarray, step: float, window: slice
 
 
 def run_scenario(road: str, speed: float, seed: int = SEED, duration: float = DURATION, settle: float = SETTLE,
-                 step: float = STEP, c_values: Sequence[float] = C_PASSIVE, truck_fmu: str | Path = cosim.TRUCK_FMU,
-                 damper_fmu: str | Path = cosim.DAMPER_FMU) -> tuple[dict[str, Any], dict[str, Any]]:
+                 step: float = STEP, c_values: Sequence[float] | FloatArray = C_PASSIVE,
+                 truck_fmu: str | Path = TRUCK_FMU,
+                 damper_fmu: str | Path = DAMPER_FMU) -> tuple[dict[str, Any], dict[str, Any]]:
     """One random road at one speed: returns (summary dict, series for the plots)."""
     consts = truck_constants(truck_fmu)
     case = roads.road_case(road, speed, settle + duration, seed, step=step, fade_in=FADE_IN)
@@ -237,7 +239,7 @@ def run_scenario(road: str, speed: float, seed: int = SEED, duration: float = DU
 
 
 def crg_road(path: str | Path = CRG, v: float = CRG_V, speed: float = CRG_SPEED, envelope: float = CRG_ENVELOPE,
-             step: float = STEP) -> tuple[np.ndarray, np.ndarray, np.ndarray, int, int, roads.CrgTrack]:
+             step: float = STEP) -> tuple[FloatArray, FloatArray, FloatArray, int, int, roads.CrgTrack]:
     """The Belgian-block section as a time series: level lead-in, the track (rising from 0 over its
     first CRG_BLEND m), level run-out. Returns (t, z_road, v_road, first, last) with [first, last)
     the samples while the wheel is on the track."""
@@ -254,9 +256,10 @@ def crg_road(path: str | Path = CRG, v: float = CRG_V, speed: float = CRG_SPEED,
     return t, zr, vr, first, last, track
 
 
-def run_crg(path: str | Path = CRG, speed: float = CRG_SPEED, step: float = STEP, c_values: Sequence[float] = C_PASSIVE,
-            truck_fmu: str | Path = cosim.TRUCK_FMU,
-            damper_fmu: str | Path = cosim.DAMPER_FMU) -> tuple[dict[str, Any], dict[str, Any]]:
+def run_crg(path: str | Path = CRG, speed: float = CRG_SPEED, step: float = STEP,
+            c_values: Sequence[float] | FloatArray = C_PASSIVE,
+            truck_fmu: str | Path = TRUCK_FMU,
+            damper_fmu: str | Path = DAMPER_FMU) -> tuple[dict[str, Any], dict[str, Any]]:
     """The three dampers on the Belgian-block track; metrics while the wheel is on the track."""
     consts = truck_constants(truck_fmu)
     t, zr, vr, first, last, track = crg_road(path, speed=speed, step=step)
@@ -506,8 +509,8 @@ def natural_frequencies(consts: dict[str, float]) -> tuple[float, ...]:
 
 def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--truck-fmu", type=Path, default=cosim.TRUCK_FMU)
-    parser.add_argument("--damper-fmu", type=Path, default=cosim.DAMPER_FMU)
+    parser.add_argument("--truck-fmu", type=Path, default=TRUCK_FMU)
+    parser.add_argument("--damper-fmu", type=Path, default=DAMPER_FMU)
     parser.add_argument("--out", type=Path, default=OUT)
     parser.add_argument("--duration", type=float, default=DURATION, help="recorded seconds after the settling time")
     parser.add_argument("--settle", type=float, default=SETTLE)

@@ -26,8 +26,10 @@ those steps:
 
 Foreign dampers (`damper_tools.foreign`) use the same inputs and the same sensor model.
 
-Hidden effects come from the catalog in src/effects/*.rs (key, first fitted parameter, the
-`hidden_range` a generator hides it in): an effect that is off by default is switched on
+Hidden effects come from the effect catalog as the `damper` program exports it
+(`damper effects --json`, read by `catalog`): its key, size parameter, the `hidden_range` a
+generator hides it in and the settings that go with hiding it. An effect that is off by default is
+switched on
 (`effect_<key>`), one that is on has its parameter moved, in both cases to a value drawn from the
 hidden range. Same case and seed: the same record, bit for bit.
 """
@@ -38,12 +40,13 @@ import math
 import subprocess
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 from scipy.signal import butter, filtfilt, lfilter, lfilter_zi
 
-from damper_tools import DAMPER, DAMPER_FMU, TRUCK_FMU, cosim, foreign, roads
-from damper_tools.fmu import FmuUnit, Slave
+from damper_tools import DAMPER, DAMPER_FMU, TRUCK_FMU, FloatArray, cosim, foreign, roads
+from damper_tools.fmu import FmuUnit, Slave, Value
 from damper_tools.sensors import FINE_STEP, SENSORS, quantise, steps_per_sample
 
 RTOL = 1e-7  # the FMU's step-size control tolerance for the truth
@@ -142,6 +145,12 @@ class Case:
             self.name = f"{self.kind}_{what}_s{self.seed}_{int(self.rate)}hz{held}{lvdt}"
 
     @property
+    def duration_s(self) -> float:
+        """The record's length (s), `duration` or its default."""
+        assert self.duration is not None  # set in __post_init__
+        return self.duration
+
+    @property
     def tared(self) -> bool:
         """HiL records have the load cell tared (the damper in a vehicle loop, cosim's default)."""
         return self.kind == "hil"
@@ -156,7 +165,7 @@ def streams(case: Case) -> dict[str, np.random.Generator]:
     return {n: np.random.default_rng(s) for n, s in zip(names, seqs, strict=True)}
 
 
-def hidden_values(case: Case, cat: dict[str, CatalogEffect], rng: np.random.Generator) -> dict[str, dict]:
+def hidden_values(case: Case, cat: dict[str, CatalogEffect], rng: np.random.Generator) -> dict[str, dict[str, Any]]:
     """Each hidden effect's parameter drawn uniformly from its hidden range (log-uniform when the range
     spans more than a factor 3)."""
     out = {}
@@ -173,7 +182,7 @@ def hidden_values(case: Case, cat: dict[str, CatalogEffect], rng: np.random.Gene
 
 # --------------------------------------------------------------------------- the measurement chain
 
-def lowpass_fine(u: np.ndarray, h: float, corner_hz: float) -> np.ndarray:
+def lowpass_fine(u: FloatArray, h: float, corner_hz: float) -> FloatArray:
     """First-order low-pass y' = w (u - y), integrated exactly for u linear between its samples
     (spacing h), starting at rest at u[0]."""
     w = 2 * math.pi * corner_hz
@@ -182,16 +191,17 @@ def lowpass_fine(u: np.ndarray, h: float, corner_hz: float) -> np.ndarray:
     # y[i] = a y[i-1] + (1 - b) u[i] + (b - a) u[i-1]
     num, den = [1 - b, b - a], [1.0, -a]
     u = np.asarray(u, dtype=float)
+    y: FloatArray
     y, _ = lfilter(num, den, u, zi=lfilter_zi(num, den) * u[0])
     return y
 
 
-def measure(x: np.ndarray, sensor: str | tuple[float, float], rng: np.random.Generator) -> np.ndarray:
+def measure(x: FloatArray, sensor: str | tuple[float, float], rng: np.random.Generator) -> FloatArray:
     sigma, q = SENSORS[sensor] if isinstance(sensor, str) else sensor
     return quantise(x + sigma * rng.standard_normal(x.size), q)
 
 
-def lvdt_velocity(x_true: np.ndarray, rate: float, rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray]:
+def lvdt_velocity(x_true: FloatArray, rate: float, rng: np.random.Generator) -> tuple[FloatArray, FloatArray]:
     """The displacement an LVDT records (noise, quantum) and the velocity a logger makes of it:
     central differences, then a zero-phase Butterworth (LOGGER_FILTER) run forwards and backwards."""
     x = quantise(x_true + LVDT_NOISE * rng.standard_normal(x_true.size), LVDT_QUANTUM)
@@ -202,11 +212,12 @@ def lvdt_velocity(x_true: np.ndarray, rate: float, rng: np.random.Generator) -> 
 
 # --------------------------------------------------------------------------- rig inputs
 
-def _taper(tau: np.ndarray, length: float, w: float = 0.015) -> np.ndarray:
+def _taper(tau: FloatArray, length: float, w: float = 0.015) -> FloatArray:
     """1 inside a segment, raised-cosine ramps of w at both ends."""
     up = np.clip(tau / w, 0, 1)
     down = np.clip((length - tau) / w, 0, 1)
-    return np.sin(0.5 * math.pi * up) ** 2 * np.sin(0.5 * math.pi * down) ** 2
+    taper: FloatArray = np.sin(0.5 * math.pi * up) ** 2 * np.sin(0.5 * math.pi * down) ** 2
+    return taper
 
 
 @dataclass
@@ -216,7 +227,7 @@ class RigInputs:
     time; the force demand is made per record sample from the MEASURED velocity (as a rig controller
     does), by `demand(v_measured)`."""
     duration: float
-    parts: list[dict] = field(default_factory=list)
+    parts: list[dict[str, Any]] = field(default_factory=list)
     levels: list[tuple[float, float, float]] = field(default_factory=list)  # (start, level N, gain N s/m)
 
     @classmethod
@@ -239,7 +250,7 @@ class RigInputs:
             t += rng.uniform(0.08, 0.25)
         return cls(duration, parts, levels)
 
-    def velocity(self, t: np.ndarray) -> np.ndarray:
+    def velocity(self, t: FloatArray) -> FloatArray:
         t = np.asarray(t, dtype=float)
         v = np.zeros_like(t)
         for p in self.parts:
@@ -267,7 +278,7 @@ class RigInputs:
             v[inside] = shape * _taper(tau, p["len"])
         return v
 
-    def demand(self, t: np.ndarray, v_measured: np.ndarray) -> np.ndarray:
+    def demand(self, t: FloatArray, v_measured: FloatArray) -> FloatArray:
         """The demand level takes the sign of the programmed motion (the rig knows where it moves, so
         the demand does not flip with the velocity noise near rest), its viscous part follows the
         measured velocity."""
@@ -287,8 +298,8 @@ class RigInputs:
 
 # --------------------------------------------------------------------------- truths through the FMU
 
-def _damper_parameters(effects: dict[str, dict], tared: bool) -> dict:
-    params = {"rtol": RTOL, "tare_load_cell": tared}
+def _damper_parameters(effects: dict[str, dict[str, Any]], tared: bool) -> dict[str, Value]:
+    params: dict[str, Value] = {"rtol": RTOL, "tare_load_cell": tared}
     for e in effects.values():
         if e["switched_on"]:
             params[e["switch"]] = True
@@ -303,7 +314,8 @@ def _damper_parameters(effects: dict[str, dict], tared: bool) -> dict:
 END_STOP_SHARE = 0.85
 
 
-def place_within_stroke(effects: dict[str, dict], params: dict, rig: "RigInputs", duration: float) -> None:
+def place_within_stroke(effects: dict[str, dict[str, Any]], params: dict[str, Value], rig: "RigInputs",
+                        duration: float) -> None:
     """Moves a hidden end stop to END_STOP_SHARE of the rig motion's largest stroke in the part the
     diagnosis fits on (the first SPLIT of the record), so that the stop acts there."""
     if "end_stops" not in effects:
@@ -314,14 +326,14 @@ def place_within_stroke(effects: dict[str, dict], params: dict, rig: "RigInputs"
     params["x_end_stop"] = x_stop
 
 
-def rig_truth_fmu(case: Case, rig: RigInputs, noise_v: np.ndarray, params: dict,
-                  damper_fmu: str | Path) -> dict[str, np.ndarray]:
+def rig_truth_fmu(case: Case, rig: RigInputs, noise_v: FloatArray, params: dict[str, Value],
+                  damper_fmu: str | Path) -> dict[str, Any]:
     """The damper FMU driven at the fine step by the true velocity plus the current sample's velocity
     noise, and the demand of the current sample. Returns the fine-step force and the sampled inputs."""
     m = steps_per_sample(case.rate)
-    n_samples = int(round(case.duration * case.rate)) + 1
+    n_samples = int(round(case.duration_s * case.rate)) + 1
     n_fine = (n_samples - 1) * m
-    t_fine = FINE_STEP * np.arange(n_fine + 1)
+    t_fine = FINE_STEP * np.arange(n_fine + 1, dtype=float)
     v_true = rig.velocity(t_fine)
     t_rec = t_fine[::m]
     v_meas = quantise(v_true[::m] + noise_v[:n_samples], SENSORS["v_damper"][1])
@@ -355,14 +367,14 @@ def rig_truth_fmu(case: Case, rig: RigInputs, noise_v: np.ndarray, params: dict,
             "v_true": v_true[::m], "x_true": x[::m], "max_abs_stroke": float(np.max(np.abs(x)))}
 
 
-def hil_truth_fmu(case: Case, noise_v: np.ndarray, road_seed: int, params: dict,
-                  damper_fmu: str | Path, truck_fmu: str | Path) -> dict[str, np.ndarray]:
+def hil_truth_fmu(case: Case, noise_v: FloatArray, road_seed: int, params: dict[str, Value],
+                  damper_fmu: str | Path, truck_fmu: str | Path) -> dict[str, Any]:
     """The quarter truck on a minor road at 14 m/s with its clipped MSD demand and the damper FMU,
     coupled by damper_tools.cosim at the fine step. The damper sees the truck's relative velocity
     plus the current sample's velocity noise, and the demand of the current sample held (the
     logger's and the damper controller's view); the truck gets the damper's force."""
     m = steps_per_sample(case.rate)
-    n_samples = int(round(case.duration * case.rate)) + 1
+    n_samples = int(round(case.duration_s * case.rate)) + 1
     n_fine = (n_samples - 1) * m
     road = roads.road_case("minor", 14.0, n_fine * FINE_STEP, road_seed, step=FINE_STEP)
     held = {"f": 0.0, "v": 0.0}
@@ -397,7 +409,7 @@ def _fixed(x: float, digits: int) -> str:
     return text[1:] if text.startswith("-") and float(text) == 0 else text
 
 
-def write_csv(path: Path, case: Case, columns: dict[str, np.ndarray], comment: str) -> None:
+def write_csv(path: Path, case: Case, columns: dict[str, FloatArray], comment: str) -> None:
     fmt = FORMATS[case.fmt]
     keys = ("time", "x", "v", "fd", "f") if "x" in columns else ("time", "v", "fd", "f")
     scaled = [np.asarray(columns[k]) / fmt[k][1] for k in keys]
@@ -410,14 +422,14 @@ def write_csv(path: Path, case: Case, columns: dict[str, np.ndarray], comment: s
 
 
 def make(case: Case, out: str | Path, truth_path: str | Path, damper_fmu: str | Path = DAMPER_FMU,
-         truck_fmu: str | Path = TRUCK_FMU, keep: dict | None = None) -> dict:
+         truck_fmu: str | Path = TRUCK_FMU, keep: dict[str, Any] | None = None) -> dict[str, Any]:
     """Writes the record `out` and its truth `truth_path` (JSON); returns the truth. `keep`, a dict,
     receives the fine-step force and the sampled signals (for tests)."""
     out, truth_path = Path(out), Path(truth_path)
     rng = streams(case)
-    n_samples = int(round(case.duration * case.rate)) + 1
+    n_samples = int(round(case.duration_s * case.rate)) + 1
     noise_v = SENSORS["v_damper"][0] * rng["noise_v"].standard_normal(n_samples)
-    truth: dict = {"generator": "damper_tools.independent", "case": asdict(case), "kind": case.kind,
+    truth: dict[str, Any] = {"generator": "damper_tools.independent", "case": asdict(case), "kind": case.kind,
                    "seed": case.seed, "rate_hz": case.rate, "duration_s": case.duration, "format": case.fmt,
                    "columns": [FORMATS[case.fmt][k][0] for k in ("time", "v", "fd", "f")],
                    "tare_load_cell": case.tared, "fine_step_s": FINE_STEP,
@@ -431,8 +443,8 @@ def make(case: Case, out: str | Path, truth_path: str | Path, damper_fmu: str | 
         truth.update(model="SemiActiveDamper.fmu through fmpy", fmu_rtol=RTOL, hidden_effects=effects,
                      fmu_parameters=params)
         if case.kind == "rig":
-            rig = RigInputs.draw(case.duration, rng["inputs"])
-            place_within_stroke(effects, params, rig, case.duration)
+            rig = RigInputs.draw(case.duration_s, rng["inputs"])
+            place_within_stroke(effects, params, rig, case.duration_s)
             sim = rig_truth_fmu(case, rig, noise_v, params, damper_fmu)
             truth["inputs"] = rig.describe()
         else:
@@ -441,7 +453,7 @@ def make(case: Case, out: str | Path, truth_path: str | Path, damper_fmu: str | 
             truth["inputs"] = (f"quarter truck (QuarterTruck.fmu, clipped Modified Skyhook) through damper_tools.cosim "
                                f"at {FINE_STEP:g} s; road: {sim.pop('road')}; demand held per record sample")
     else:
-        rig = RigInputs.draw(case.duration, rng["inputs"])
+        rig = RigInputs.draw(case.duration_s, rng["inputs"])
         sim, desc = foreign.simulate(case, rig, noise_v, rng["foreign"])
         truth.update(model=desc, hidden_effects={}, inputs=rig.describe())
     m = steps_per_sample(case.rate)
@@ -469,7 +481,7 @@ def make(case: Case, out: str | Path, truth_path: str | Path, damper_fmu: str | 
     return truth
 
 
-def foh_filter_difference(force_fine: np.ndarray, rate: float, corner_hz: float = LOWPASS_HZ) -> np.ndarray:
+def foh_filter_difference(force_fine: FloatArray, rate: float, corner_hz: float = LOWPASS_HZ) -> FloatArray:
     """The continuous load-cell filter (on the fine-step force, then sampled) minus a first-order hold
     on the force sampled at the record's rate (what the diagnosis's filter was before it was fed every
     0.5 ms substep)."""

@@ -23,7 +23,7 @@ from typing import Any
 
 import numpy as np
 
-from damper_tools import REPO, cosim, full_truck, pyplot
+from damper_tools import DAMPER_FMU, REPO, TRUCK_FMU, FloatArray, cosim, full_truck, pyplot
 from damper_tools.fmu import Value
 
 OUT = REPO / "out" / "instances"
@@ -46,7 +46,7 @@ def quarter_truck_cars(wheels: full_truck.Wheels,
 
 
 def independence(cars: list[cosim.Car], step: float, n_steps: int,
-                 **kw: Any) -> tuple[list[dict[str, np.ndarray]], dict[str, bool]]:
+                 **kw: Any) -> tuple[list[dict[str, FloatArray]], dict[str, bool]]:
     """Runs all cars in one master, then each alone; returns {car: bit-identical?}."""
     together = cosim.simulate(cars, step, n_steps, **kw)
     same = {}
@@ -77,7 +77,7 @@ def scaling(cars: list[cosim.Car], step: float, n_steps: int, pairs: tuple[int, 
     return rows, float(slope), float(intercept)
 
 
-def plot(path: Path, results: list[dict[str, np.ndarray]], cars: list[cosim.Car], t: np.ndarray, title: str) -> None:
+def plot(path: Path, results: list[dict[str, FloatArray]], cars: list[cosim.Car], t: FloatArray, title: str) -> None:
     plt = pyplot()
 
     fig, axes = plt.subplots(3, 2, figsize=(11, 8), sharex=True, sharey="row")
@@ -109,8 +109,8 @@ def plot(path: Path, results: list[dict[str, np.ndarray]], cars: list[cosim.Car]
 
 def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--truck-fmu", type=Path, default=cosim.TRUCK_FMU)
-    parser.add_argument("--damper-fmu", type=Path, default=cosim.DAMPER_FMU)
+    parser.add_argument("--truck-fmu", type=Path, default=TRUCK_FMU)
+    parser.add_argument("--damper-fmu", type=Path, default=DAMPER_FMU)
     parser.add_argument("--road", default="minor")
     parser.add_argument("--speed", type=float, default=14.0)
     parser.add_argument("--seed", type=int, default=5)

@@ -1,6 +1,6 @@
 """Reproduce the rig tests of Kitching, Cole and Cebon (Figs. 4 and 6) with the packaged FMU.
 
-    .venv/bin/python scripts/paper_tests.py [--fmu target/fmu/SemiActiveDamper.fmu] [--out out/paper]
+    .venv/bin/damper-paper-tests [--fmu target/fmu/SemiActiveDamper.fmu] [--out out/paper]
 
 Writes into the output directory:
 
@@ -49,13 +49,13 @@ def yes_no(ok: bool) -> str:
 
 # --------------------------------------------------------------------------- tables
 
-def summary_rows(rig: dict[str, Any], volume_ratio: float) -> list[list[str]]:
+def summary_rows(rig: dict[str, Any], volume_ratio: float) -> list[tuple[str, ...]]:
     """Rows of the main table: quantity, paper, this FMU, band, reproduced?"""
     crit = rt.criteria(rig)
     spool = [m for _, _, m in rig["spool"]]
     ext = rig["force"]["extension"][1]
     comp = rig["force"]["compression"][1]
-    rows = [(
+    rows: list[tuple[str, ...]] = [(
         "Valve dead time (spool moved 2 % of the step), Fig. 4",
         "3 ms, from the power amplifier",
         f"{ms_range([m['dead'] for m in spool])} (five steps)",
@@ -105,8 +105,8 @@ def markdown(header: Sequence[str], rows: Sequence[Sequence[str]]) -> str:
     return "\n".join(lines)
 
 
-def spool_rows(rig: dict[str, Any]) -> list[list[str]]:
-    rows = []
+def spool_rows(rig: dict[str, Any]) -> list[tuple[str, ...]]:
+    rows: list[tuple[str, ...]] = []
     for x_demand, _, m in rig["spool"]:
         rows.append((f"{1e3 * rt.SPOOL_START:.1f} → {1e3 * x_demand:.1f}", ms(m["dead"]), ms(m["t50"]),
                      ms(m["t90"]), f"{m['overshoot_pct']:.1f}", f"{1e3 * m['y_end']:.3f}",
@@ -114,8 +114,8 @@ def spool_rows(rig: dict[str, Any]) -> list[list[str]]:
     return rows
 
 
-def force_rows(rig: dict[str, Any]) -> list[list[str]]:
-    rows = []
+def force_rows(rig: dict[str, Any]) -> list[tuple[str, ...]]:
+    rows: list[tuple[str, ...]] = []
     for name in ("extension", "compression"):
         for label, m in zip(("2 → 12 kN", "12 → 22 kN"), rig["force"][name][1], strict=True):
             rows.append((name, label, f"{m['y0'] / 1e3:.2f}", ms(m["t10"]), ms(m["t50"]), ms(m["t90"]),

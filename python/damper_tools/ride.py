@@ -17,6 +17,9 @@ import math
 from collections.abc import Sequence
 
 import numpy as np
+import numpy.typing as npt
+
+from damper_tools import FloatArray
 
 # ISO 2631-1:1997 Table A.1, weighting Wk (vertical, seated): Hz and quality factors
 WK_F1, WK_F2 = 0.4, 100.0  # band limits (2nd-order Butterworth high- and low-pass)
@@ -24,7 +27,7 @@ WK_F3, WK_F4, WK_Q4 = 12.5, 12.5, 0.63  # acceleration-velocity transition
 WK_F5, WK_Q5, WK_F6, WK_Q6 = 2.37, 0.91, 3.35, 0.91  # upward step
 
 
-def wk_gain(f: np.ndarray | Sequence[float]) -> np.ndarray:
+def wk_gain(f: npt.ArrayLike) -> FloatArray:
     """|Wk| at the frequencies `f` (Hz): ISO 2631-1's band limiting x transition x upward step."""
     s = 2j * np.pi * np.asarray(f, dtype=float)
     w = [2 * np.pi * x for x in (WK_F1, WK_F2, WK_F3, WK_F4, WK_F5, WK_F6)]
@@ -36,7 +39,7 @@ def wk_gain(f: np.ndarray | Sequence[float]) -> np.ndarray:
     return np.abs(high * low * transition * step)
 
 
-def wk_rms(a: np.ndarray | Sequence[float], step: float) -> float:
+def wk_rms(a: FloatArray | Sequence[float], step: float) -> float:
     """The Wk-weighted RMS (m/s²) of a vertical acceleration `a` (m/s²) sampled every `step` (s)."""
     a = np.asarray(a, dtype=float)
     spectrum = np.fft.rfft(a - a.mean())
@@ -44,7 +47,7 @@ def wk_rms(a: np.ndarray | Sequence[float], step: float) -> float:
     return float(np.sqrt(np.mean(weighted**2)))
 
 
-def road_stress_factor(f_tyre: np.ndarray | Sequence[float], static_load: float) -> float:
+def road_stress_factor(f_tyre: FloatArray | Sequence[float], static_load: float) -> float:
     """The fourth-power road stress of a dynamic tyre force `f_tyre` (N, compression positive) on a
     wheel of `static_load` (N): mean((W + F)⁴)/W⁴, the damage it does relative to the static load
     (Cebon's fourth-power law; a tyre that lifts off gives no force). A Gaussian load of dynamic

@@ -25,6 +25,8 @@ import numpy as np
 from fmpy import simulate_fmu
 from fmpy.model_description import ModelDescription
 
+from damper_tools import FloatArray, Records
+
 # Communication step = output interval of every rig run [s]. Always passed explicitly: fmpy
 # would otherwise derive a coarser one from the default experiment.
 OUTPUT_INTERVAL = 5e-4
@@ -63,7 +65,7 @@ DEFAULT_INPUTS = {"v_damper": 0.0, "a_damper": 0.0, "F_demand": 0.0, "x_spool_de
 # --------------------------------------------------------------------------- inputs and runs
 
 def input_table(t_end: float, constants: dict[str, float],
-                steps: dict[str, tuple[float, list[tuple[float, float]]]] | None = None) -> np.ndarray:
+                steps: dict[str, tuple[float, list[tuple[float, float]]]] | None = None) -> Records:
     """A structured array for fmpy's `input=`: every input of the FMU in a column, 'time' first.
 
     constants: {name: value} held over the run; steps: {name: (initial, [(t, value), ...])}.
@@ -91,16 +93,17 @@ def input_table(t_end: float, constants: dict[str, float],
     return np.array([(t,) + tuple(v[name] for name in INPUTS) for t, v in rows], dtype=dtype)
 
 
-def simulate(fmu: str | Path, start_values: dict[str, float], inputs: np.ndarray, stop_time: float,
-             output_interval: float = OUTPUT_INTERVAL, output: Sequence[str] = OUTPUTS) -> np.ndarray:
+def simulate(fmu: str | Path, start_values: dict[str, float], inputs: Records, stop_time: float,
+             output_interval: float = OUTPUT_INTERVAL, output: Sequence[str] = OUTPUTS) -> Records:
     """fmpy.simulate_fmu with the communication step given explicitly."""
-    return simulate_fmu(str(fmu), fmi_type="CoSimulation", start_time=0.0, stop_time=stop_time,
-                        output_interval=output_interval, start_values=dict(start_values),
-                        input=inputs, output=list(output))
+    result: Records = simulate_fmu(str(fmu), fmi_type="CoSimulation", start_time=0.0, stop_time=stop_time,
+                                   output_interval=output_interval, start_values=dict(start_values),
+                                   input=inputs, output=list(output))
+    return result
 
 
 def spool_step_run(fmu: str | Path, x_demand: float, v: float = V_RIG,
-                   output_interval: float = OUTPUT_INTERVAL) -> np.ndarray:
+                   output_interval: float = OUTPUT_INTERVAL) -> Records:
     """Fig. 4: spool-position control, the demand steps from SPOOL_START to x_demand [m]."""
     start_values = {"control_mode": 1, "x_damper_start": SPOOL_X_DAMPER_START, "x_spool_start": SPOOL_START}
     inputs = input_table(SPOOL_T_END, {"v_damper": v, "F_demand": 0.0},
@@ -108,7 +111,7 @@ def spool_step_run(fmu: str | Path, x_demand: float, v: float = V_RIG,
     return simulate(fmu, start_values, inputs, SPOOL_T_END, output_interval)
 
 
-def force_step_run(fmu: str | Path, direction: int, output_interval: float = OUTPUT_INTERVAL) -> np.ndarray:
+def force_step_run(fmu: str | Path, direction: int, output_interval: float = OUTPUT_INTERVAL) -> Records:
     """Fig. 6: force control at direction*V_RIG with the demand direction*(2 -> 12 -> 22 kN).
 
     direction = +1: extension; -1: compression (negative force = resisting compression). The
@@ -126,7 +129,7 @@ def force_step_run(fmu: str | Path, direction: int, output_interval: float = OUT
 
 # --------------------------------------------------------------------------- metrics
 
-def sample_index(t: np.ndarray, t0: float) -> int:
+def sample_index(t: FloatArray, t0: float) -> int:
     """Index of the output sample at time t0 (the state at t0, before a step at t0 acts)."""
     i = int(np.argmin(np.abs(t - t0)))
     if not math.isclose(t[i], t0, abs_tol=1e-9):
@@ -134,7 +137,7 @@ def sample_index(t: np.ndarray, t0: float) -> int:
     return i
 
 
-def crossing_time(t: np.ndarray, frac: np.ndarray, level: float) -> float:
+def crossing_time(t: FloatArray, frac: FloatArray, level: float) -> float:
     """First time frac reaches level, interpolated linearly between samples; nan if never."""
     above = np.nonzero(frac >= level)[0]
     if above.size == 0:
@@ -145,7 +148,7 @@ def crossing_time(t: np.ndarray, frac: np.ndarray, level: float) -> float:
     return float(t[i - 1] + (level - frac[i - 1]) / (frac[i] - frac[i - 1]) * (t[i] - t[i - 1]))
 
 
-def step_metrics(t: np.ndarray, y: np.ndarray, t_step: float, y1: float,
+def step_metrics(t: FloatArray, y: FloatArray, t_step: float, y1: float,
                  t_end: float | None = None) -> dict[str, float]:
     """Response of y to a step at t_step towards y1, measured from y's value at t_step.
 
@@ -172,7 +175,7 @@ def step_metrics(t: np.ndarray, y: np.ndarray, t_step: float, y1: float,
     }
 
 
-def spool_step_metrics(result: np.ndarray, x_demand: float) -> dict[str, float]:
+def spool_step_metrics(result: Records, x_demand: float) -> dict[str, float]:
     """step_metrics of x_spool for a Fig. 4 run, plus the force at the end of the run."""
     m = step_metrics(result["time"], result["x_spool"], SPOOL_T_STEP, x_demand)
     m["F_end"] = float(result["F_damper"][-1])
@@ -180,7 +183,7 @@ def spool_step_metrics(result: np.ndarray, x_demand: float) -> dict[str, float]:
     return m
 
 
-def force_step_metrics(result: np.ndarray, direction: int) -> list[dict[str, float]]:
+def force_step_metrics(result: Records, direction: int) -> list[dict[str, float]]:
     """step_metrics of direction*F_damper for both steps of a Fig. 6 run (the first step's
     window ends at the second step)."""
     t, y = result["time"], direction * result["F_damper"]

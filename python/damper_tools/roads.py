@@ -1,10 +1,10 @@
 """Road inputs for the quarter truck: ISO 8608 random profiles and measured OpenCRG tracks.
 
-    .venv/bin/python scripts/roads.py generate --road minor --speed 14 --duration 20 --seed 3 \
+    .venv/bin/damper-roads generate --road minor --speed 14 --duration 20 --seed 3 \
         --step 1e-3 --output out/roads/minor_14.csv          # time, z_road, v_road
-    .venv/bin/python scripts/roads.py generate --road C --length 500 --output c.csv   # distance, z
-    .venv/bin/python scripts/roads.py psd out/roads/minor_14.csv   # Welch PSD, fitted G_d(n0)
-    .venv/bin/python scripts/roads.py crg data/roads/belgian_block.crg --v 0.5
+    .venv/bin/damper-roads generate --road C --length 500 --output c.csv  # distance, z
+    .venv/bin/damper-roads psd out/roads/minor_14.csv                     # Welch PSD, fitted G_d(n0)
+    .venv/bin/damper-roads crg data/roads/belgian_block.crg --v 0.5
 
 ISO 8608 displacement PSD (one-sided, n in cycle/m):
 
@@ -40,8 +40,12 @@ import re
 import sys
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 import numpy as np
+import numpy.typing as npt
+
+from damper_tools import FloatArray, Records
 
 N0 = 0.1  # cycle/m, ISO 8608 reference spatial frequency
 WAVINESS = 2.0  # ISO 8608 exponent w
@@ -49,7 +53,7 @@ N_MIN, N_MAX = 0.01, 10.0  # cycle/m, default generation band (100 m ... 0.1 m w
 DX = 0.02  # m, default spatial sample step of generated profiles
 
 # Geometric-mean G_d(n0) of the ISO 8608 classes, m^3 (class k: 16e-6 * 4^k).
-ISO_CLASSES = {letter: 16e-6 * 4 ** k for k, letter in enumerate("ABCDEFGH")}
+ISO_CLASSES: dict[str, float] = {letter: 16e-6 * 4 ** k for k, letter in enumerate("ABCDEFGH")}
 NAMED_ROADS = {
     "motorway": 16e-6,  # class A
     "major": 64e-6,  # class B
@@ -104,14 +108,14 @@ def iso_class_of(gd0: float) -> str:
     return "A" if gd0 < ISO_CLASSES["A"] else "H"
 
 
-def displacement_psd(n: np.ndarray, gd0: float, w: float = WAVINESS, n0: float = N0) -> np.ndarray:
+def displacement_psd(n: npt.ArrayLike, gd0: float, w: float = WAVINESS, n0: float = N0) -> FloatArray:
     """ISO 8608 one-sided displacement PSD G_d(n) in m^3 at spatial frequencies n (cycle/m)."""
     n = np.asarray(n, dtype=float)
     return gd0 * (n / n0) ** (-w)
 
 
 def generate_profile(length: float, gd0: float, seed: int, dx: float = DX, w: float = WAVINESS, n_min: float = N_MIN,
-                     n_max: float = N_MAX, n0: float = N0) -> tuple[np.ndarray, np.ndarray]:
+                     n_max: float = N_MAX, n0: float = N0) -> tuple[FloatArray, FloatArray]:
     """Random profile with the ISO 8608 PSD in [n_min, n_max]: (x, z) in m, x = 0, dx, ...
 
     Inverse FFT of amplitudes sqrt(G_d(n) dn) with phases uniform in [0, 2 pi) from
@@ -134,11 +138,11 @@ def generate_profile(length: float, gd0: float, seed: int, dx: float = DX, w: fl
     amplitude = np.sqrt(2.0 * psd * dn)
     spectrum = 0.5 * n_samples * amplitude * np.exp(1j * phases)
     z = np.fft.irfft(spectrum, n_samples)
-    return np.arange(n_samples) * dx, z
+    return np.arange(n_samples, dtype=float) * dx, z
 
 
-def time_series(x: np.ndarray, z: np.ndarray, speed: float, step: float, n_steps: int, fade_in: float = 0.0,
-                offset: float = 0.0) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def time_series(x: FloatArray, z: FloatArray, speed: float, step: float, n_steps: int, fade_in: float = 0.0,
+                offset: float = 0.0) -> tuple[FloatArray, FloatArray, FloatArray]:
     """The road under a wheel moving at `speed` along the profile (x, z), sampled every `step`.
 
     Returns (t, z_road, v_road) with t_k = k step, k = 0 .. n_steps (n_steps + 1 samples):
@@ -149,7 +153,7 @@ def time_series(x: np.ndarray, z: np.ndarray, speed: float, step: float, n_steps
     step follows the piecewise-linear road through the samples exactly. The last v_road repeats the
     one before it. Fails (rather than wraps) if the wheel would run off the profile.
     """
-    t = np.arange(n_steps + 1) * step
+    t = np.arange(n_steps + 1, dtype=float) * step
     s = offset + speed * t
     if s[0] < x[0] - 1e-12 or s[-1] > x[-1] + 1e-9:
         raise ValueError(f"the road profile covers {x[0]:g}..{x[-1]:g} m, the run needs "
@@ -174,9 +178,9 @@ class RoadCase:
     speed: float
     seed: int
     step: float
-    t: np.ndarray
-    z_road: np.ndarray
-    v_road: np.ndarray
+    t: FloatArray
+    z_road: FloatArray
+    v_road: FloatArray
     fade_in: float = 0.0
 
     def header(self) -> str:
@@ -202,7 +206,7 @@ class RoadFileError(ValueError):
     """A road file that cannot be read; the message names file, line and column."""
 
 
-def write_road_csv(path: str | Path, columns: dict[str, np.ndarray], header_comment: str) -> Path:
+def write_road_csv(path: str | Path, columns: dict[str, FloatArray], header_comment: str) -> Path:
     """Writes columns {name: array} (all the same length) after one `# ...` comment line and a header
     line. Numbers are written with 17 significant digits, so reading gives the same floats."""
     path = Path(path)
@@ -226,7 +230,7 @@ def write_time_csv(path: str | Path, case: RoadCase) -> Path:
     return write_road_csv(path, {"time": case.t, "z_road": case.z_road, "v_road": case.v_road}, case.header())
 
 
-def write_distance_csv(path: str | Path, x: np.ndarray, z: np.ndarray, header_comment: str) -> Path:
+def write_distance_csv(path: str | Path, x: FloatArray, z: FloatArray, header_comment: str) -> Path:
     """distance, z of a spatial profile."""
     return write_road_csv(path, {"distance": x, "z": z}, header_comment)
 
@@ -236,7 +240,7 @@ def parse_header_comment(text: str) -> dict[str, str]:
     return dict(re.findall(r"([A-Za-z_()0-9]+)=([^,\s]+)", text))
 
 
-def read_road_csv(path: str | Path) -> tuple[np.ndarray, list[str]]:
+def read_road_csv(path: str | Path) -> tuple[Records, list[str]]:
     """Reads a road CSV: optional comment lines starting with '#', a header line of column names,
     then rows of numbers. Returns (data, comments): data is a numpy structured array with one float
     field per column (accepted by fmpy.simulate_fmu as input when the first column is `time`),
@@ -247,7 +251,9 @@ def read_road_csv(path: str | Path) -> tuple[np.ndarray, list[str]]:
     distance) that does not increase. Empty lines are errors too; nothing is dropped silently.
     """
     path = Path(path)
-    comments, names, rows = [], None, []
+    comments: list[str] = []
+    names: list[str] | None = None
+    rows: list[tuple[float, ...]] = []
     with path.open("r", encoding="utf-8") as f:
         for lineno, raw in enumerate(f, start=1):
             line = raw.rstrip("\r\n")
@@ -265,7 +271,7 @@ def read_road_csv(path: str | Path) -> tuple[np.ndarray, list[str]]:
             if len(fields) != len(names):
                 raise RoadFileError(f"{path}:{lineno}: expected {len(names)} values ({', '.join(names)}), "
                                     f"found {len(fields)}: {line!r}")
-            row = []
+            row: list[float] = []
             for col, (name, text) in enumerate(zip(names, fields, strict=True), start=1):
                 try:
                     value = float(text)
@@ -288,7 +294,7 @@ def read_road_csv(path: str | Path) -> tuple[np.ndarray, list[str]]:
 
 # --------------------------------------------------------------------------- PSD
 
-def profile_psd(z: np.ndarray, dx: float, segment_length: float | None = None) -> tuple[np.ndarray, np.ndarray]:
+def profile_psd(z: FloatArray, dx: float, segment_length: float | None = None) -> tuple[FloatArray, FloatArray]:
     """Welch estimate of the one-sided displacement PSD of a profile sampled every dx metres:
     (n in cycle/m, G in m^3). Segments of `segment_length` m (default: 1/8 of the profile, at most
     204.8 m), Hann window, half overlap, mean removed per segment."""
@@ -302,7 +308,7 @@ def profile_psd(z: np.ndarray, dx: float, segment_length: float | None = None) -
     return n, g
 
 
-def fit_gd0(n: np.ndarray, g: np.ndarray, band: tuple[float, float] = (0.05, 2.0), w: float = WAVINESS,
+def fit_gd0(n: FloatArray, g: FloatArray, band: tuple[float, float] = (0.05, 2.0), w: float = WAVINESS,
             n0: float = N0) -> tuple[float, float]:
     """G_d(n0) fitted to a PSD with the exponent w fixed: the mean of g(n) (n/n0)^w over the band
     (a least-squares fit of the level; each Welch value is an unbiased estimate). Also returns the
@@ -327,17 +333,18 @@ class CrgSurface:
     """An OpenCRG road surface: z[i, j] is the elevation at u[i] (along the reference line) and
     v[j] (lateral, left +); phi[i] is the reference-line heading (NaN if absent)."""
     path: Path
-    u: np.ndarray
-    v: np.ndarray
-    z: np.ndarray
-    phi: np.ndarray
-    road_crg: dict = field(default_factory=dict)
+    u: FloatArray
+    v: FloatArray
+    z: FloatArray
+    phi: FloatArray
+    road_crg: dict[str, float | str] = field(default_factory=dict)
     comment: str = ""
 
 
 def _crg_blocks(header_text: str) -> dict[str, list[str]]:
     """{block name: [lines]} of the ASCII header ('$ROAD_CRG' -> ['key = value', ...])."""
-    blocks, name = {}, None
+    blocks: dict[str, list[str]] = {}
+    name: str | None = None
     for line in header_text.split("\n"):
         if line.startswith("$"):
             tag = line.strip().rstrip("$").strip()
@@ -361,7 +368,7 @@ def read_crg(path: str | Path) -> CrgSurface:
     payload = data[end.end():]
     blocks = _crg_blocks(header)
 
-    road = {}
+    road: dict[str, Any] = {}  # a number where the value is one, else the text
     for line in blocks.get("ROAD_CRG", []):
         if "=" in line and not line.lstrip().startswith(("*", "!")):
             key, value = line.split("=", 1)
@@ -415,12 +422,12 @@ def read_crg(path: str | Path) -> CrgSurface:
     values = values.reshape(n_rows, len(channels))
     phi = values[:, 0] if has_phi else np.full(n_rows, np.nan)
     z = values[:, 1:] if has_phi else values
-    u = u_start + u_inc * np.arange(n_rows)
-    v = v_right + v_inc * np.arange(n_sections)
+    u = u_start + u_inc * np.arange(n_rows, dtype=float)
+    v = v_right + v_inc * np.arange(n_sections, dtype=float)
     return CrgSurface(path, u, v, z, phi, road, "\n".join(blocks.get("CT", [])))
 
 
-def moving_average(z: np.ndarray, dx: float, length: float) -> np.ndarray:
+def moving_average(z: FloatArray, dx: float, length: float) -> FloatArray:
     """Centred moving average over `length` metres (a simple tyre envelope): an odd number of samples
     round(length/dx) | 1; the ends use the available samples (no padding with zeros)."""
     k = max(1, int(round(length / dx)))
@@ -431,10 +438,11 @@ def moving_average(z: np.ndarray, dx: float, length: float) -> np.ndarray:
     i = np.arange(len(z))
     lo = np.clip(i - k // 2, 0, len(z))
     hi = np.clip(i + k // 2 + 1, 0, len(z))
-    return (c[hi] - c[lo]) / (hi - lo)
+    average: FloatArray = (c[hi] - c[lo]) / (hi - lo)
+    return average
 
 
-def fill_nan(z: np.ndarray, max_fraction: float) -> tuple[np.ndarray, int]:
+def fill_nan(z: FloatArray, max_fraction: float) -> tuple[FloatArray, int]:
     """Linear interpolation over NaN samples (ends held at the nearest value). Fails if more than
     max_fraction of the samples are NaN. Returns (filled, number of NaN)."""
     z = np.asarray(z, dtype=float)
@@ -453,8 +461,8 @@ def fill_nan(z: np.ndarray, max_fraction: float) -> tuple[np.ndarray, int]:
 @dataclass
 class CrgTrack:
     """One longitudinal section of an OpenCRG surface: distance x from the start (m) and height z."""
-    x: np.ndarray
-    z: np.ndarray
+    x: FloatArray
+    z: FloatArray
     v: float
     u0: float
     n_nan: int
@@ -509,6 +517,7 @@ def _cmd_generate(args: argparse.Namespace) -> None:
 def _cmd_psd(args: argparse.Namespace) -> None:
     data, comments = read_road_csv(args.csv)
     names = data.dtype.names
+    assert names is not None  # a structured array
     if names[0] == "distance":
         dx = float(np.mean(np.diff(data["distance"])))
         z = data[names[1]]

@@ -4,12 +4,14 @@ computed on, a whole number of which makes a record's sample."""
 
 import numpy as np
 
+from damper_tools import FloatArray
+
 FINE_STEP = 1e-4  # s: communication step of the truth
 # Sensor (noise standard deviation, quantum), SI.
 SENSORS = {"F_damper": (20.0, 1.0), "v_damper": (1e-4, 1e-5)}
 
 
-def quantise(x: np.ndarray, quantum: float) -> np.ndarray:
+def quantise(x: FloatArray, quantum: float) -> FloatArray:
     return np.round(x / quantum) * quantum
 
 

@@ -1,8 +1,8 @@
 """The quarter truck + damper as an SSP (System Structure and Parameterization, SSP 1.0), run by
 fmpy.ssp and by libcosim.
 
-    .venv/bin/python scripts/ssp.py --output out/ssp/QuarterTruckHiL.ssp            # write the SSP
-    .venv/bin/python scripts/ssp.py --output out/ssp/QuarterTruckHiL.ssp --compare \
+    .venv/bin/damper-ssp --output out/ssp/QuarterTruckHiL.ssp            # write the SSP
+    .venv/bin/damper-ssp --output out/ssp/QuarterTruckHiL.ssp --compare \
         --road minor --speed 14 --duration 3 --step 1e-3      # run it in the three masters
 
 The .ssp is a zip of
@@ -66,7 +66,7 @@ from xml.etree import ElementTree as ET
 import numpy as np
 from fmpy.model_description import ModelVariable
 
-from damper_tools import cosim, roads
+from damper_tools import DAMPER_FMU, TRUCK_FMU, FloatArray, cosim, roads
 from damper_tools.fmu import FmuUnit, Value
 
 if TYPE_CHECKING:
@@ -152,14 +152,14 @@ def ssd_xml(truck_unit: FmuUnit, damper_unit: FmuUnit, truck_parameters: dict[st
         attrs = {"startConnector": s_c, "endElement": e_el, "endConnector": e_c}
         if s_el is not None:
             attrs = {"startElement": s_el, **attrs}
-        ET.SubElement(connections, _q(SSD, "Connection"), **attrs)
+        ET.SubElement(connections, _q(SSD, "Connection"), attrib=attrs)
     if stop_time is not None:
         ET.SubElement(root, _q(SSD, "DefaultExperiment"), startTime="0.0", stopTime=repr(float(stop_time)))
     ET.indent(root)
     return '<?xml version="1.0" encoding="UTF-8"?>\n' + ET.tostring(root, encoding="unicode") + "\n"
 
 
-def write_ssp(path: str | Path, truck_fmu: str | Path = cosim.TRUCK_FMU, damper_fmu: str | Path = cosim.DAMPER_FMU,
+def write_ssp(path: str | Path, truck_fmu: str | Path = TRUCK_FMU, damper_fmu: str | Path = DAMPER_FMU,
               truck_parameters: dict[str, Value] | None = None, damper_parameters: dict[str, Value] | None = None,
               stop_time: float | None = None) -> Path:
     """Writes the .ssp (the two FMUs copied into resources/). Returns its path."""
@@ -217,8 +217,8 @@ def ssd_parameter_set(ssp_path: str | Path) -> "ParameterSet":
     return pset
 
 
-def run_fmpy_ssp(ssp_path: str | Path, z_road: np.ndarray, v_road: np.ndarray, step: float,
-                 n_steps: int) -> dict[str, np.ndarray]:
+def run_fmpy_ssp(ssp_path: str | Path, z_road: FloatArray, v_road: FloatArray, step: float,
+                 n_steps: int) -> dict[str, FloatArray]:
     """Runs the .ssp with fmpy.ssp.simulate_ssp for n_steps steps of `step` s (workarounds 1-4 of the
     module docstring). Returns a dict: time (n_steps + 1 points from 0) and every connector as
     'element.connector' (e.g. 'damper.F_damper', 'truck.F_demand')."""
@@ -229,7 +229,7 @@ def run_fmpy_ssp(ssp_path: str | Path, z_road: np.ndarray, v_road: np.ndarray, s
         raise ValueError("the road must start at 0 (fmpy.ssp starts the truck's input at 0.0) and have "
                          "n_steps + 1 samples")
 
-    def ahead(samples: np.ndarray) -> Callable[[float], float]:
+    def ahead(samples: FloatArray) -> Callable[[float], float]:
         # called with the accumulated time t_k; returns sample k + 1 (quirk 2)
         return lambda t: float(samples[min(int(round(t / step)) + 1, n_steps)])
 
@@ -238,7 +238,7 @@ def run_fmpy_ssp(ssp_path: str | Path, z_road: np.ndarray, v_road: np.ndarray, s
                         input={"z_road": ahead(z_road), "v_road": ahead(v_road)})
     if rows.size != n_steps:
         raise RuntimeError(f"fmpy.ssp made {rows.size} steps, {n_steps} expected")
-    out = {"time": step * np.arange(n_steps + 1)}
+    out: dict[str, FloatArray] = {"time": step * np.arange(n_steps + 1, dtype=float)}
     for name in rows.dtype.names[1:]:  # 'z_road' (system connector), 'truck.z_road', 'damper.F_damper', ...
         out[name] = np.concatenate(([0.0], rows[name].astype(float)))
     return out
@@ -252,21 +252,23 @@ def strip_system_connections(ssd_text: str) -> str:
     does not drive system inputs anyway (the road goes in through the override manipulator)."""
     root = ET.fromstring(ssd_text)
     system = root.find(_q(SSD, "System"))
+    assert system is not None, "an .ssd has a System"
     connectors = system.find(_q(SSD, "Connectors"))
     if connectors is not None:
         system.remove(connectors)
     connections = system.find(_q(SSD, "Connections"))
+    assert connections is not None, "write_ssd writes the System's Connections"
     for c in list(connections):
         if c.get("startElement") is None or c.get("endElement") is None:
             connections.remove(c)
     return '<?xml version="1.0" encoding="UTF-8"?>\n' + ET.tostring(root, encoding="unicode") + "\n"
 
 
-def run_libcosim(ssp_path: str | Path, z_road: np.ndarray, v_road: np.ndarray, step: float, n_steps: int,
+def run_libcosim(ssp_path: str | Path, z_road: FloatArray, v_road: FloatArray, step: float, n_steps: int,
                  from_ssp: bool = True, truck_fmu: str | Path | None = None, damper_fmu: str | Path | None = None,
                  truck_parameters: dict[str, Value] | None = None, damper_parameters: dict[str, Value] | None = None,
                  record: Sequence[tuple[str, Sequence[str]]] = (("truck", cosim.TRUCK_OUTPUTS),
-                                                                ("damper", ("F_damper",)))) -> dict[str, np.ndarray]:
+                                                                ("damper", ("F_damper",)))) -> dict[str, FloatArray]:
     """Runs the system in libcosim with a fixed step (ns) for n_steps steps. from_ssp: load the .ssp
     (CosimExecution.from_ssp_file); else add the two FMUs as local slaves, connect them and set the
     parameters as initial values. The road is set with an override manipulator before every step.
@@ -284,6 +286,7 @@ def run_libcosim(ssp_path: str | Path, z_road: np.ndarray, v_road: np.ndarray, s
     if abs(step_ns * 1e-9 - step) > 1e-15:
         raise ValueError(f"step {step} s is not a whole number of nanoseconds")
     tmpdir = None
+    fmus: dict[str, str | Path] = {}
     if from_ssp:
         # libcosim reads the .ssd from a directory or an .ssp archive; give it the extracted directory
         tmpdir = tempfile.TemporaryDirectory(prefix="ssp_")
@@ -298,14 +301,17 @@ def run_libcosim(ssp_path: str | Path, z_road: np.ndarray, v_road: np.ndarray, s
         index = {info.name.decode(): info.index for info in execution.slave_infos()}
     else:
         execution = CosimExecution.from_step_size(step_size=step_ns)
+        if truck_fmu is None or damper_fmu is None:
+            raise ValueError("from_ssp=False needs truck_fmu and damper_fmu")
+        fmus = {TRUCK: truck_fmu, DAMPER: damper_fmu}
         index = {}
-        for name, fmu in ((TRUCK, truck_fmu), (DAMPER, damper_fmu)):
+        for name, fmu in fmus.items():
             index[name] = execution.add_local_slave(CosimLocalSlave(fmu_path=str(Path(fmu).resolve()),
                                                                     instance_name=name))
     variables = {name: {v.name.decode(): v for v in execution.slave_variables(i)} for name, i in index.items()}
 
     def vr(element: str, name: str) -> int:
-        return variables[element][name].reference
+        return int(variables[element][name].reference)
 
     if not from_ssp:
         for s_el, s_c, e_el, e_c in CONNECTIONS:
@@ -315,7 +321,7 @@ def run_libcosim(ssp_path: str | Path, z_road: np.ndarray, v_road: np.ndarray, s
         params = {TRUCK: DEFAULT_TRUCK_PARAMETERS if truck_parameters is None else truck_parameters,
                   DAMPER: DEFAULT_DAMPER_PARAMETERS if damper_parameters is None else damper_parameters}
         for element, values in params.items():
-            unit = FmuUnit.load(truck_fmu if element == TRUCK else damper_fmu)
+            unit = FmuUnit.load(fmus[element])
             for name, value in values.items():
                 kind = unit.variables[name].type
                 i, r = index[element], vr(element, name)
@@ -331,7 +337,7 @@ def run_libcosim(ssp_path: str | Path, z_road: np.ndarray, v_road: np.ndarray, s
     truck_index = index[TRUCK]
     road_vrs = [vr(TRUCK, "z_road"), vr(TRUCK, "v_road")]
     rec_vrs = [(index[el], [vr(el, n) for n in names]) for el, names in record]
-    out = {"time": step * np.arange(n_steps + 1)}
+    out: dict[str, FloatArray] = {"time": step * np.arange(n_steps + 1, dtype=float)}
     series = [np.empty((n_steps + 1, len(names))) for _, names in record]
 
     for k in range(n_steps + 1):
@@ -357,8 +363,8 @@ def run_libcosim(ssp_path: str | Path, z_road: np.ndarray, v_road: np.ndarray, s
 def main(argv: list[str] | None = None) -> None:
 
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--truck-fmu", type=Path, default=cosim.TRUCK_FMU)
-    parser.add_argument("--damper-fmu", type=Path, default=cosim.DAMPER_FMU)
+    parser.add_argument("--truck-fmu", type=Path, default=TRUCK_FMU)
+    parser.add_argument("--damper-fmu", type=Path, default=DAMPER_FMU)
     parser.add_argument("--output", type=Path, required=True, help="the .ssp to write")
     parser.add_argument("--compare", action="store_true", help="run cosim.py, fmpy.ssp and libcosim and compare")
     parser.add_argument("--road", default="minor")

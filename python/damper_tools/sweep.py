@@ -1,8 +1,8 @@
 """Sweeps: many co-simulations of one scenario over a grid and/or distributions of parameters, run
 serially in this process or as Dask tasks (dask.distributed) on a local or remote cluster.
 
-    .venv/bin/python scripts/sweep.py sweeps/hil_200.toml              # LocalCluster, one worker per core
-    .venv/bin/python scripts/sweep.py sweeps/hil_200.toml --scheduler tcp://host:8786
+    .venv/bin/damper-sweep sweeps/hil_200.toml              # LocalCluster, one worker per core
+    .venv/bin/damper-sweep sweeps/hil_200.toml --scheduler tcp://host:8786
 
 A sweep is a TOML file (docs/sweeps.md):
 
@@ -53,12 +53,12 @@ import zlib
 from collections.abc import Callable, Iterable, Iterator, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 from distributed.diagnostics.plugin import WorkerPlugin
 
-from damper_tools import cosim, full_truck, hil_scenarios, rig_tests, roads, tracking_quality
+from damper_tools import FULL_TRUCK_FMU, TRUCK_FMU, cosim, full_truck, hil_scenarios, rig_tests, roads, tracking_quality
 from damper_tools.fmu import FmuUnit
 
 SCENARIOS = ("hil", "full_truck", "rig")
@@ -73,7 +73,7 @@ SCENARIO_KEYS: dict[str, dict[str, Any]] = {
     "rig": {"output_interval": rig_tests.OUTPUT_INTERVAL, "replicate": 0},
 }
 # The truck FMU of each scenario (the rig has none).
-TRUCK_FMUS = {"hil": cosim.TRUCK_FMU, "full_truck": full_truck.FULL_TRUCK_FMU, "rig": cosim.TRUCK_FMU}
+TRUCK_FMUS = {"hil": TRUCK_FMU, "full_truck": FULL_TRUCK_FMU, "rig": TRUCK_FMU}
 MODES = {"fmu": cosim.MODE_EXTERNAL, "ideal": cosim.MODE_IDEAL, "passive": cosim.MODE_PASSIVE,
          "tracking": cosim.MODE_TRACKING}
 TRACKING_DIRECTIONS = ("both", "extension", "compression")
@@ -458,8 +458,7 @@ def _write_once(folder: Path, name: str, blob: bytes) -> Path:
 def worker_fmus() -> dict[str, Path]:
     from distributed import get_worker
 
-    plugin = get_worker().plugins[PLUGIN_NAME]
-    return plugin.paths
+    return cast(ShipFmus, get_worker().plugins[PLUGIN_NAME]).paths
 
 
 # --------------------------------------------------------------------------- the sweep
@@ -503,13 +502,13 @@ def _finished(work: Path, task: Task) -> dict[str, Any] | None:
     path = _point_file(work, task.point_id)
     if not path.is_file():
         return None
-    row = json.loads(path.read_text(encoding="utf-8"))
+    row: dict[str, Any] = json.loads(path.read_text(encoding="utf-8"))
     row["point"] = task.index  # the same point may sit at another index in an edited sweep
     return row
 
 
 def run_sweep(sweep: Sweep, work: str | Path, fmus: dict[str, Path], client: Any = None,
-              on_result: Callable[[dict[str, Any]], None] | None = None, retries: int = 3,
+              on_result: Callable[[dict[str, Any]], object] | None = None, retries: int = 3,
               limit: int | None = None) -> Outcome:
     """Runs every point not finished in `work` (serially in this process when client is None, else
     as Dask tasks on the client's cluster), saving each row as it arrives. on_result(row) is called

@@ -1,4 +1,4 @@
-"""The `sweep` command (scripts/sweep.py) and what it draws: runs a sweep file (damper_tools.sweep) on
+"""The `damper-sweep` command and what it draws: runs a sweep file (damper_tools.sweep) on
 a Dask cluster and writes, in the output directory (default out/sweeps/<name>/):
 
     results.parquet        one row per point: point, point_id, run_seed, every parameter, every metric,
@@ -11,10 +11,10 @@ a Dask cluster and writes, in the output directory (default out/sweeps/<name>/):
     run.json               workers, wall time, points run and skipped (resume)
     work/points/*.json     one file per finished point: a rerun skips them
 
-    .venv/bin/python scripts/sweep.py sweeps/hil_200.toml                         # LocalCluster, 1 worker/core
-    .venv/bin/python scripts/sweep.py sweeps/hil_200.toml --workers 1             # for a timing
-    .venv/bin/python scripts/sweep.py sweeps/hil_200.toml --scheduler tcp://host:8786
-    .venv/bin/python scripts/sweep.py sweeps/tiny.toml --serial                   # no Dask: this process
+    .venv/bin/damper-sweep sweeps/hil_200.toml              # LocalCluster, 1 worker/core
+    .venv/bin/damper-sweep sweeps/hil_200.toml --workers 1  # for a timing
+    .venv/bin/damper-sweep sweeps/hil_200.toml --scheduler tcp://host:8786
+    .venv/bin/damper-sweep sweeps/tiny.toml --serial        # no Dask: this process
 
 Sensitivity: for a parameter X and a metric Y, S = Var(E[Y | X]) / Var(Y), the first-order Sobol
 index estimated by the correlation ratio: E[Y | X] is the mean of Y over the points sharing X's value
@@ -35,8 +35,9 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+import numpy.typing as npt
 
-from damper_tools import REPO, cosim, hil_scenarios, pyplot, sweep
+from damper_tools import DAMPER_FMU, REPO, hil_scenarios, pyplot, sweep
 
 OUT = REPO / "out" / "sweeps"
 RANK_BINS = 10
@@ -56,22 +57,23 @@ def _numeric(df: Any, name: str) -> bool:
 
 # --------------------------------------------------------------------------- numbers
 
-def first_order_index(x: Any, y: np.ndarray) -> tuple[float, float]:
+def first_order_index(x: Any, y: npt.ArrayLike) -> tuple[float, float]:
     """(S, no-effect level): S = Var(E[y | x]) / Var(y) (module docstring), grouping by x's values or
     by rank bins of x; the no-effect level (k - 1)/(n - 1) for k groups of n points is what S
     averages to when y does not depend on x at all (the estimator's bias): below it, no effect shows."""
     import pandas as pd
 
-    x = pd.Series(x).reset_index(drop=True)
-    y = pd.Series(np.asarray(y, float)).reset_index(drop=True)
-    ok = y.notna()
-    x, y = x[ok], y[ok]
-    if y.size < 2 or y.var(ddof=0) == 0:
+    xs = pd.Series(x).reset_index(drop=True)
+    ys = pd.Series(np.asarray(y, float)).reset_index(drop=True)
+    ok = ys.notna()
+    xs, ys = xs[ok], ys[ok]
+    if ys.size < 2 or ys.var(ddof=0) == 0:
         return math.nan, math.nan
-    if x.nunique() > MAX_GROUP_LEVELS:
-        x = pd.Series(np.minimum((x.rank(method="first") - 1) * RANK_BINS // x.size, RANK_BINS - 1), index=x.index)
-    means = y.groupby(x).transform("mean")
-    return float(((means - y.mean()) ** 2).mean() / y.var(ddof=0)), (x.nunique() - 1) / (y.size - 1)
+    if xs.nunique() > MAX_GROUP_LEVELS:
+        xs = pd.Series(np.minimum((xs.rank(method="first") - 1) * RANK_BINS // xs.size, RANK_BINS - 1),
+                       index=xs.index)
+    means = ys.groupby(xs).transform("mean")
+    return float(((means - ys.mean()) ** 2).mean() / ys.var(ddof=0)), (xs.nunique() - 1) / (ys.size - 1)
 
 
 def sensitivity(df: Any, params: list[str], metrics: list[str], random: Sequence[str] = ()) -> Any:
@@ -308,14 +310,14 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("sweep_file", type=Path, help="the sweep (TOML), e.g. sweeps/hil_200.toml")
     parser.add_argument("--out", type=Path, default=None, help="output directory (default out/sweeps/<name>)")
-    where = parser.add_mutually_exclusive_group()
-    where.add_argument("--scheduler", default=None, help="address of a running scheduler, e.g. tcp://host:8786")
-    where.add_argument("--workers", type=int, default=None,
+    cluster = parser.add_mutually_exclusive_group()
+    cluster.add_argument("--scheduler", default=None, help="address of a running scheduler, e.g. tcp://host:8786")
+    cluster.add_argument("--workers", type=int, default=None,
                        help="workers of the LocalCluster (default: one per core)")
-    where.add_argument("--serial", action="store_true", help="no Dask: every point in this process")
+    cluster.add_argument("--serial", action="store_true", help="no Dask: every point in this process")
     parser.add_argument("--truck-fmu", type=Path, default=None,
                         help="the scenario's truck FMU (default: QuarterTruck.fmu, FullTruck.fmu for full_truck)")
-    parser.add_argument("--damper-fmu", type=Path, default=cosim.DAMPER_FMU)
+    parser.add_argument("--damper-fmu", type=Path, default=DAMPER_FMU)
     parser.add_argument("--retries", type=int, default=3, help="retries of a task that raised")
     parser.add_argument("--no-plots", action="store_true")
     parser.add_argument("--quiet", action="store_true", help="no progress bar")

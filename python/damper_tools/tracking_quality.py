@@ -15,6 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.signal import lfilter
 
+from damper_tools import FloatArray
 from damper_tools.hil_scenarios import EXT_V  # m/s: the directions' classes, as the HiL metrics
 
 MAX_DELAY = 0.04  # s, longest delay searched
@@ -31,22 +32,23 @@ class Tracking:
     error_rms: float
 
 
-def lagged(demand: np.ndarray, step: float, delay_samples: int, bandwidth: float) -> np.ndarray:
+def lagged(demand: FloatArray, step: float, delay_samples: int, bandwidth: float) -> FloatArray:
     """`demand` delayed by whole samples (the first value held before the start) and through a
     first-order lag of corner `bandwidth` (Hz), discretised exactly for a piecewise-constant input."""
     d = np.concatenate([np.full(delay_samples, demand[0]), demand[: demand.size - delay_samples]])
     if math.isinf(bandwidth):
         return d
     pole = math.exp(-2 * math.pi * bandwidth * step)
-    return lfilter([1 - pole], [1, -pole], d, zi=[pole * d[0]])[0]
+    filtered: FloatArray = lfilter([1 - pole], [1, -pole], d, zi=[pole * d[0]])[0]
+    return filtered
 
 
-def dissipative(force: np.ndarray, v: np.ndarray) -> np.ndarray:
+def dissipative(force: FloatArray, v: FloatArray) -> FloatArray:
     """`force` kept to what a semi-active damper moving at `v` gives (floor 0)."""
     return np.where(v > 0, np.maximum(force, 0.0), np.where(v < 0, np.minimum(force, 0.0), 0.0))
 
 
-def fit(demand: np.ndarray, force: np.ndarray, v: np.ndarray, step: float) -> dict[str, Tracking]:
+def fit(demand: FloatArray, force: FloatArray, v: FloatArray, step: float) -> dict[str, Tracking]:
     """The delay and bandwidth of each direction ("extension", "compression") that make the clipped
     `demand` (N) into the `force` (N) acting at velocity `v` (m/s), sampled every `step` (s)."""
     demand, force, v = (np.asarray(x, dtype=float) for x in (demand, force, v))

@@ -36,7 +36,7 @@ Sampling: inputs are held over each communication step (the FMU does not interpo
 are read at the communication points; u[k] is the input over [t_k, t_k + h], y[k] the output at t_k.
 The zero-order hold adds h/2 to every delay measured against the input (0.25 ms at h = 0.5 ms).
 
-Computing functions here print nothing; `main` (scripts/valve_response.py) plots
+Computing functions here print nothing; `main` (damper-valve-response) plots
 and tabulates. SI units throughout (m, s, N, Pa, m3/s, A).
 """
 
@@ -47,9 +47,14 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+import numpy.typing as npt
 
-from damper_tools import DAMPER_FMU, jsonable, pyplot
+from damper_tools import DAMPER_FMU, FloatArray, jsonable, pyplot
 from damper_tools.fmu import FmuUnit, Slave
+
+# Bin numbers (multiples of 1/period) and a frequency response's complex values.
+IntArray = npt.NDArray[np.int_]
+ComplexArray = npt.NDArray[np.complex128]
 
 # ----------------------------------------------------------------------------- parameters
 STEP = 5e-4              # s, communication step = the controller's sample time T_sample [A]
@@ -95,15 +100,15 @@ FORCE_OUTPUTS = ("F_damper", "F_demand_clipped", "x_spool", "x_spool_ref", "x_da
 # ----------------------------------------------------------------------------- estimator
 
 def multisine_lines(period: float = PERIOD, f_min: float = F_MIN, f_max: float = F_MAX,
-                    n_lines: int = N_LINES) -> np.ndarray:
+                    n_lines: int = N_LINES) -> IntArray:
     """Integer bin numbers (multiples of 1/period) of about n_lines log-spaced lines in [f_min, f_max]."""
     df = 1.0 / period
-    bins = np.unique(np.round(np.geomspace(f_min / df, f_max / df, n_lines)).astype(int))
+    bins: IntArray = np.unique(np.round(np.geomspace(f_min / df, f_max / df, n_lines)).astype(int))
     return bins[bins >= 1]
 
 
-def multisine(step: float, period: float = PERIOD, bins: np.ndarray | None = None,
-              seed: int = SEED) -> np.ndarray:
+def multisine(step: float, period: float = PERIOD, bins: IntArray | None = None,
+              seed: int = SEED) -> FloatArray:
     """One period (round(period/step) samples) of a unit-peak multisine with equal amplitudes at the
     bins (random phases, then scaled so that max |u| = 1)."""
     n = int(round(period / step))
@@ -112,34 +117,35 @@ def multisine(step: float, period: float = PERIOD, bins: np.ndarray | None = Non
     phases = rng.uniform(0, 2 * np.pi, bins.size)
     k = np.arange(n)
     u = np.sum(np.cos(2 * np.pi * np.outer(bins, k) / n + phases[:, None]), axis=0)
-    return u / np.max(np.abs(u))
+    unit_peak: FloatArray = u / np.max(np.abs(u))
+    return unit_peak
 
 
 @dataclass
 class Frf:
     """A frequency response at the excited lines: f (Hz), H (complex), coherence (-)."""
-    f: np.ndarray
-    H: np.ndarray
-    coherence: np.ndarray
+    f: FloatArray
+    H: ComplexArray
+    coherence: FloatArray
 
     @property
-    def magnitude(self) -> np.ndarray:
+    def magnitude(self) -> FloatArray:
         return np.abs(self.H)
 
     @property
-    def phase_deg(self) -> np.ndarray:
+    def phase_deg(self) -> FloatArray:
         """Unwrapped phase (deg), starting within (-180, 180] at the lowest line."""
         return np.degrees(np.unwrap(np.angle(self.H)))
 
 
-def estimate_frf(u: np.ndarray, y: np.ndarray, step: float, period: float, bins: np.ndarray,
+def estimate_frf(u: FloatArray, y: FloatArray, step: float, period: float, bins: IntArray,
                  skip_periods: int = TRANSIENT_PERIODS) -> Frf:
     """H1 = S_uy / S_uu and the coherence at the excited bins, averaged over the whole periods of
     u and y after skip_periods (rectangular window, one period per segment)."""
     return pooled_frf([(u, y)], step, period, bins, skip_periods)
 
 
-def pooled_frf(records: Sequence[tuple[np.ndarray, np.ndarray]], step: float, period: float, bins: np.ndarray,
+def pooled_frf(records: Sequence[tuple[FloatArray, FloatArray]], step: float, period: float, bins: IntArray,
                skip_periods: int = TRANSIENT_PERIODS) -> Frf:
     """H1 and coherence from the periods of several records (u, y), each after its own skip_periods.
 
@@ -165,7 +171,7 @@ def pooled_frf(records: Sequence[tuple[np.ndarray, np.ndarray]], step: float, pe
     return Frf(f=bins / period, H=suy / suu, coherence=np.minimum(coh, 1.0))
 
 
-def _crossing(f: np.ndarray, values: np.ndarray, level: float, log_f: bool = True) -> float:
+def _crossing(f: FloatArray, values: FloatArray, level: float, log_f: bool = True) -> float:
     """First frequency where values falls to or below level (values[0] above it), interpolated
     linearly (in log f if log_f); nan if it never does."""
     below = np.nonzero(values <= level)[0]
@@ -205,7 +211,7 @@ def bode_metrics(frf: Frf, reference_gain: float | None = None,
 # ----------------------------------------------------------------------------- FMU runs
 
 def _run(unit: FmuUnit, start_values: dict[str, Any], inputs: Callable[[int], dict[str, float]], n_steps: int,
-         outputs: Sequence[str], step: float = STEP) -> dict[str, np.ndarray]:
+         outputs: Sequence[str], step: float = STEP) -> dict[str, FloatArray]:
     """Steps one damper instance n_steps times with inputs(k) over step k; returns the outputs at
     t_0 .. t_{n-1} (before each step: y[k] pairs with the input held over [t_k, t_k + h]) and the
     inputs, as arrays."""
@@ -226,7 +232,7 @@ def _run(unit: FmuUnit, start_values: dict[str, Any], inputs: Callable[[int], di
         slave.free()
     res = {name: ys[:, i] for i, name in enumerate(outputs)}
     res.update({name: np.array(v) for name, v in us.items()})
-    res["time"] = step * np.arange(n_steps)
+    res["time"] = step * np.arange(n_steps, dtype=float)
     return res
 
 
@@ -237,10 +243,11 @@ class ValveCase:
     amplitude: float
     velocity: float = V_VALVE
     label: str = ""
-    result: dict[str, np.ndarray] = field(default_factory=dict, repr=False)
+    result: dict[str, FloatArray] = field(default_factory=dict, repr=False)
     closed_loop: Frf | None = None     # x_spool_demand -> x_spool
     valve: Frf | None = None           # i_sol -> x_spool
-    metrics: dict[str, dict[str, float]] = field(default_factory=dict)
+    # each FRF's bode_metrics, and the range [min, max] of i_sol and x_spool
+    metrics: dict[str, Any] = field(default_factory=dict)
 
 
 def large_amplitude(mean: float) -> float:
@@ -260,10 +267,11 @@ def valve_run(unit: FmuUnit, mean: float, amplitude: float, velocity: float = V_
     for r in range(realizations):
         shape = multisine(step, period, bins, seed + r)
         n_per = shape.size
+        def inputs(k: int, shape: FloatArray = shape, n_per: int = n_per) -> dict[str, float]:
+            return {"v_damper": velocity, "x_spool_demand": mean + amplitude * shape[k % n_per]}
+
         runs.append(_run(unit, {"control_mode": 1, "x_damper_start": x_start, "x_spool_start": mean},
-                         lambda k, shape=shape, n_per=n_per: {"v_damper": velocity,
-                                                             "x_spool_demand": mean + amplitude * shape[k % n_per]},
-                         (TRANSIENT_PERIODS + periods) * n_per, VALVE_OUTPUTS, step))
+                         inputs, (TRANSIENT_PERIODS + periods) * n_per, VALVE_OUTPUTS, step))
     case = ValveCase(mean, amplitude, velocity, result=runs[0])
     case.closed_loop = pooled_frf([(r["x_spool_demand"], r["x_spool"]) for r in runs], step, period, bins)
     case.valve = pooled_frf([(r["i_sol"], r["x_spool"]) for r in runs], step, period, bins)
@@ -296,7 +304,7 @@ class ForceCase:
     mean: float
     amplitude: float
     force_controller: int = 0
-    result: dict[str, np.ndarray] = field(default_factory=dict, repr=False)
+    result: dict[str, FloatArray] = field(default_factory=dict, repr=False)
     frf: Frf | None = None
     metrics: dict[str, float] = field(default_factory=dict)
 
@@ -328,7 +336,7 @@ def force_run(unit: FmuUnit, velocity: float, mean: float = FORCE_MEAN, amplitud
     for r in range(realizations):
         shape = multisine(step, period, bins, seed + r)
 
-        def inputs(k: int, shape: np.ndarray = shape) -> dict[str, float]:
+        def inputs(k: int, shape: FloatArray = shape) -> dict[str, float]:
             x = 0.0 if k < n_settle else shape[(k - n_settle) % n_per]
             return {"v_damper": velocity, "F_demand": s * (mean + amplitude * x)}
 
@@ -351,7 +359,7 @@ def force_cases(unit: FmuUnit, velocities: Sequence[float] = FORCE_VELOCITIES,
 
 # ----------------------------------------------------------------------------- flow map
 
-def port_area(x_spool: np.ndarray | float, p: dict[str, float]) -> np.ndarray:
+def port_area(x_spool: FloatArray | float, p: dict[str, float]) -> FloatArray:
     """Open area (m^2) of n_ports circular ports of radius r_port uncovered by the spool edge at
     x_spool (opening h = x_spool - x_lap): n [r^2 acos((r-h)/r) - (r-h) sqrt(2rh - h^2)] (0 below,
     n pi r^2 above 2r), plus the closed valve's leakage area (docs/physics.md §3.3)."""
@@ -361,9 +369,11 @@ def port_area(x_spool: np.ndarray | float, p: dict[str, float]) -> np.ndarray:
     return n * seg + p["A_valve_leak"]
 
 
-def orifice_flow(x_spool: np.ndarray | float, dp: np.ndarray | float, p: dict[str, float]) -> np.ndarray:
+def orifice_flow(x_spool: FloatArray | float, dp: FloatArray | float, p: dict[str, float]) -> FloatArray:
     """Sharp-edged orifice law (turbulent) Q = C_d A(x) sqrt(2 dp / rho), m^3/s."""
-    return p["Cd_valve"] * port_area(x_spool, p) * np.sqrt(2 * np.maximum(np.asarray(dp, float), 0.0) / p["rho"])
+    flow: FloatArray = p["Cd_valve"] * port_area(x_spool, p) * np.sqrt(
+        2 * np.maximum(np.asarray(dp, float), 0.0) / p["rho"])
+    return flow
 
 
 def flow_point(unit: FmuUnit, x_spool: float, velocity: float, t_run: float = FLOW_T_RUN,
@@ -400,7 +410,7 @@ def flow_map(unit: FmuUnit, spools: Sequence[float] = FLOW_SPOOL,
 
 
 def orifice_law_deviation(points: Sequence[dict[str, float]], p: dict[str, float],
-                          dp_min: float = TURBULENT_DP) -> np.ndarray:
+                          dp_min: float = TURBULENT_DP) -> FloatArray:
     """Relative deviation Q_valve / (C_d A(x_spool) sqrt(2 dp / rho)) - 1 of the points with a drop
     above dp_min (turbulent), the area at the measured spool position."""
     pts = [q for q in points if q["dp"] > dp_min]
@@ -431,6 +441,7 @@ def plot_valve_bode(path: Path, cases: Sequence[ValveCase]) -> None:
     for i, c in enumerate(cases):
         style = {"color": f"C{i}", "ls": "--" if "large" in c.label else "-"}
         m = c.metrics
+        assert c.valve is not None and c.closed_loop is not None  # set by valve_run
         _bode(axes[:, 0], c.valve, f"{c.label}: −3 dB {m['valve']['f_3dB']:.0f} Hz, −90° "
               f"{m['valve']['f_90deg']:.0f} Hz", 1e3, **style)
         _bode(axes[:, 1], c.closed_loop, f"{c.label}: −3 dB {m['closed_loop']['f_3dB']:.0f} Hz, "
@@ -465,6 +476,7 @@ def plot_force_bode(path: Path, cases: Sequence[ForceCase]) -> None:
         i = speeds.index(abs(c.velocity))
         style = {"color": f"C{i}", "ls": "-" if c.velocity > 0 else "--"}
         m = c.metrics
+        assert c.frf is not None  # set by force_run
         _bode(axes, c.frf, f"{c.direction} {abs(c.velocity):g} m/s: −3 dB {m['f_3dB']:.0f} Hz, −90° "
               f"{m['f_90deg']:.0f} Hz", 1.0, **style)
     axes[0].axhline(1 / math.sqrt(2), color="0.4", lw=0.7, ls=":")

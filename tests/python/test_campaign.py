@@ -1,4 +1,4 @@
-"""Campaign diagnosis on Dask (damper_tools.campaign, scripts/campaign.py, docs/sweeps.md): three
+"""Campaign diagnosis on Dask (damper_tools.campaign, damper-campaign, docs/sweeps.md): three
 records, one with a hidden seal friction, one clean and one broken file, diagnosed by the `damper`
 program as tasks of a real LocalCluster of two worker processes; one table with the right verdicts,
 the broken file a row with its error, an index page linking every report, and a rerun that diagnoses

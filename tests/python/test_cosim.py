@@ -1,5 +1,5 @@
-"""The quarter truck + damper in three masters: our Python master (scripts/cosim.py), fmpy.ssp on
-the SSP written by scripts/ssp.py, and libcosim (from the same SSP and from the two FMUs as local
+"""The quarter truck + damper in three masters: our Python master (damper-cosim), fmpy.ssp on
+the SSP written by damper-ssp, and libcosim (from the same SSP and from the two FMUs as local
 slaves). All are Jacobi with the same step, so they agree bit for bit when libcosim's time steps are
 exact in binary, and to rounding otherwise."""
 

@@ -1,4 +1,4 @@
-"""The HiL rig as a model (damper_tools.hil_rig, scripts/hil_rig.py): an ideal rig changes nothing,
+"""The HiL rig as a model (damper_tools.hil_rig, damper-hil-rig): an ideal rig changes nothing,
 and its parts do what their parameters say."""
 
 import math

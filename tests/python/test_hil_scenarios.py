@@ -1,4 +1,4 @@
-"""HiL scenarios (scripts/hil_scenarios.py) on the paper's case, a minor road at 14 m/s: the ideal
+"""HiL scenarios (damper-hil-scenarios) on the paper's case, a minor road at 14 m/s: the ideal
 semi-active damper beats the best passive one on ride at equal road damage, and the damper FMU in the
 loop shows the paper's force-tracking asymmetry (above the demand extending, below compressing)."""
 

@@ -3,7 +3,7 @@
 one fed only the samples; a record in ms, mm/s and kN reads as its SI twin; `damper diagnose`
 names no effect on clean records, names a hidden one, and does not "explain" a foreign damper.
 
-The whole blind score (many seeds, every effect, pairs) is scripts/blind_score.py; these are short
+The whole blind score (many seeds, every effect, pairs) is damper-blind-score; these are short
 records (2-4 s at 500 Hz), about a minute on 2 cores.
 """
 

@@ -1,6 +1,6 @@
 """The paper's rig tests (Figs. 4 and 6) on the FMU: the measured numbers lie in bands around
-the paper's statements. Scenarios, metrics and bands are those of scripts/paper_tests.py
-(scripts/rig_tests.py)."""
+the paper's statements. Scenarios, metrics and bands are those of damper-paper-tests
+(damper_tools.rig_tests)."""
 
 import math
 from pathlib import Path

@@ -1,4 +1,4 @@
-"""Road inputs (scripts/roads.py): ISO 8608 profiles have their class's spectrum, road CSV files read
+"""Road inputs (damper-roads): ISO 8608 profiles have their class's spectrum, road CSV files read
 back exactly and fail loudly, and the OpenCRG reader returns the documented Belgian-block geometry."""
 
 import shutil

@@ -1,4 +1,4 @@
-"""Sweeps on Dask (damper_tools.sweep, scripts/sweep.py, docs/sweeps.md), on a real LocalCluster of
+"""Sweeps on Dask (damper_tools.sweep, damper-sweep, docs/sweeps.md), on a real LocalCluster of
 two worker processes: the cluster gives bit for bit the rows of a serial run in this process, a
 worker killed in the middle of a sweep is survived, a rerun skips the finished points, and the
 command writes the Parquet table, the plots and the page."""

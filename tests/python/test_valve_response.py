@@ -1,4 +1,4 @@
-"""The valve's transfer functions and flow map (damper_tools.valve_response, scripts/valve_response.py):
+"""The valve's transfer functions and flow map (damper_tools.valve_response, damper-valve-response):
 the estimator recovers a known system, the FMU's valve lies where its parameters put it, and the flow
 map lies on the sharp-edged orifice law."""
 
