@@ -10,7 +10,7 @@
 use crate::control::{Controller, Demands, Measurements};
 use crate::model_description::RealVar;
 use crate::physics::iteration_matrix::PlantIterationMatrix;
-use crate::physics::params::{Derived, Parameters};
+use crate::physics::params::{Derived, ParameterError, Parameters};
 use crate::physics::plant::{idx, rest_current, Linearisation, Plant, PlantOutputs, State, N_STATES};
 use crate::solver::{cube_root_estimate, rosenbrock_step_from, SolverError, StepStart};
 use crate::step_error::{StepError, GRID_RESOLUTION, MAX_SAMPLES_PER_STEP, MAX_STEPS_PER_SAMPLE, MIN_STEP};
@@ -210,7 +210,7 @@ struct Evaluated {
 
 impl Damper {
     /// A damper at rest at `x_damper_start`, its spool at `x_spool_start`, at time `start_time` (s).
-    pub fn new(params: Parameters, inputs: Inputs, start_time: f64) -> Result<Self, String> {
+    pub fn new(params: Parameters, inputs: Inputs, start_time: f64) -> Result<Self, ParameterError> {
         params.validate()?;
         let derived = params.derive();
         let i0 = rest_current(&params, params.x_spool_start);
@@ -228,7 +228,7 @@ impl Damper {
     }
 
     /// Rebuilds a damper from a saved state (for FMU state restore).
-    pub fn from_state(params: Parameters, inputs: Inputs, state: DamperState) -> Result<Self, String> {
+    pub fn from_state(params: Parameters, inputs: Inputs, state: DamperState) -> Result<Self, ParameterError> {
         params.validate()?;
         Ok(Damper::assemble(params, params.derive(), state, inputs))
     }

@@ -21,9 +21,9 @@
 pub mod control;
 pub mod damper;
 pub mod effects;
+pub mod fmu_state;
 pub mod physics;
 pub mod slave;
-pub mod snapshot;
 pub mod solver;
 pub mod step_error;
 #[cfg(test)]

@@ -3,13 +3,13 @@
 //! save/restore. `fmi2_slave` adds the C boundary and the FMI state machine on top.
 
 use crate::damper::{BeyondStroke, Damper, DamperState, Inputs};
+use crate::fmu_state::{check_restored, MAGIC};
 use crate::model_description::{BooleanVar, Causality, IntegerVar, RealVar, CAN_INTERPOLATE_INPUTS, GUID};
 use crate::physics::params::Parameters;
-use crate::snapshot::{check_restored, MAGIC};
 use crate::step_error::StepError;
 use crate::variables::{default_inputs, real_input, real_output};
 use fmi2_slave::snapshot::{self, Visit, Visitor};
-use fmi2_slave::{check_real, Model, ToleranceNote};
+use fmi2_slave::{check_real, Model, Refusal, ToleranceNote};
 
 /// Everything that defines a slave's present condition (the FMU state).
 #[derive(Clone, Copy, Debug)]
@@ -37,19 +37,15 @@ impl Default for Slave {
     }
 }
 
-fn unknown(vr: u32) -> String {
-    format!("unknown value reference {vr}")
-}
-
 impl Slave {
     /// The value of output `v`; before initialisation, of the damper at rest with the present
     /// parameters.
-    fn output(&self, v: RealVar) -> Result<f64, String> {
+    fn output(&self, v: RealVar) -> Result<f64, Refusal> {
         // with the inputs set last: the force feeds through from v_damper (friction effects)
         let value = |d: &Damper| real_output(d, &self.inputs, v).expect("every output is mapped (tested)");
         match &self.damper {
             Some(d) => Ok(value(d)),
-            None => Ok(value(&Damper::new(self.params, self.inputs, 0.0)?)),
+            None => Ok(value(&Damper::new(self.params, self.inputs, 0.0).map_err(Refusal::model)?)),
         }
     }
 }
@@ -65,15 +61,15 @@ impl Model for Slave {
 
     /// Outputs before initialisation are those of the damper at rest with the present parameters
     /// (initial values of the "calculated" outputs).
-    fn get_real(&self, vr: u32) -> Result<f64, String> {
-        let v = RealVar::from_vr(vr).ok_or_else(|| unknown(vr))?;
+    fn get_real(&self, vr: u32) -> Result<f64, Refusal> {
+        let v = RealVar::from_vr(vr).ok_or(Refusal::UnknownReference(vr))?;
         let (mut params, mut inputs) = (self.params, self.inputs);
         if let Some(x) = params.real_mut(v).or(real_input(&mut inputs, v)) {
             return Ok(*x);
         }
         let x = self.output(v)?;
         if !x.is_finite() {
-            return Err(format!("{} = {x} is not finite (inputs out of the model's reach)", v.name()));
+            return Err(Refusal::OutputNotFinite { name: v.name(), value: x });
         }
         Ok(x)
     }
@@ -89,15 +85,15 @@ impl Model for Slave {
     }
 
     /// Refuses non-finite values and values outside the XML's [min, max].
-    fn set_real(&mut self, vr: u32, value: f64) -> Result<(), String> {
-        let v = RealVar::from_vr(vr).ok_or_else(|| unknown(vr))?;
+    fn set_real(&mut self, vr: u32, value: f64) -> Result<(), Refusal> {
+        let v = RealVar::from_vr(vr).ok_or(Refusal::UnknownReference(vr))?;
         check_real(v.name(), value, v.min(), v.max())?;
         let field = match v.causality() {
             Causality::Parameter => self.params.real_mut(v),
             Causality::Input => real_input(&mut self.inputs, v),
             Causality::Output => None,
         };
-        *field.ok_or_else(|| format!("{} is an output and cannot be set", v.name()))? = value;
+        *field.ok_or(Refusal::Output(v.name()))? = value;
         self.rtol_set |= v == RealVar::Rtol;
         Ok(())
     }
@@ -105,27 +101,23 @@ impl Model for Slave {
     /// First derivatives of the inputs (the master's interpolation of a continuous signal): the
     /// velocity's is `a_damper`, the demands' move them along a ramp as `a_damper` moves the
     /// velocity. A master that sends higher orders gets an error, not a silent truncation.
-    fn set_real_input_derivative(&mut self, vr: u32, order: i32, value: f64) -> Result<(), String> {
-        let v = RealVar::from_vr(vr).ok_or_else(|| unknown(vr))?;
+    fn set_real_input_derivative(&mut self, vr: u32, order: i32, value: f64) -> Result<(), Refusal> {
+        let v = RealVar::from_vr(vr).ok_or(Refusal::UnknownReference(vr))?;
         if order != 1 {
-            return Err(format!(
-                "{}: derivative of order {order} refused: inputs move along ramps (order 1)",
-                v.name()
-            ));
+            return Err(Refusal::DerivativeOrder { name: v.name(), order });
         }
         if !value.is_finite() {
-            return Err(format!("{}: derivative {value} refused: not a finite number", v.name()));
+            return Err(Refusal::DerivativeNotFinite { name: v.name(), value });
         }
         let rate = match v {
             RealVar::VDamper => &mut self.inputs.a_damper,
             RealVar::FDemand => &mut self.inputs.force_demand_rate,
             RealVar::XSpoolDemand => &mut self.inputs.x_spool_demand_rate,
             _ => {
-                return Err(format!(
-                    "{}: no derivative taken (a_damper is itself the velocity's derivative: leave it out of the \
-                     interpolated inputs)",
-                    v.name()
-                ))
+                return Err(Refusal::NoDerivative {
+                    name: v.name(),
+                    why: "a_damper is itself the velocity's derivative: leave it out of the interpolated inputs",
+                })
             }
         };
         *rate = value;
@@ -137,9 +129,9 @@ impl Model for Slave {
     /// `rtol` itself. A positive tolerance outside rtol's range is moved to its nearer end, with a
     /// warning: refusing it would stop a simulation over a value with no effect on the result
     /// (rtol 0.1 and 0.5 both give one step per controller sample).
-    fn use_tolerance(&mut self, tolerance: f64) -> Result<ToleranceNote, String> {
+    fn use_tolerance(&mut self, tolerance: f64) -> Result<ToleranceNote, Refusal> {
         if !(tolerance.is_finite() && tolerance > 0.0) {
-            return Err(format!("tolerance {tolerance} refused: a relative tolerance must be a positive number"));
+            return Err(Refusal::Tolerance(tolerance));
         }
         if self.rtol_set {
             let note = format!("tolerance {tolerance:e} not used: the parameter rtol is set to {:e}", self.params.rtol);
@@ -158,8 +150,8 @@ impl Model for Slave {
         })
     }
 
-    fn initialize(&mut self, start_time: f64) -> Result<(), String> {
-        self.damper = Some(Damper::new(self.params, self.inputs, start_time)?);
+    fn initialize(&mut self, start_time: f64) -> Result<(), Refusal> {
+        self.damper = Some(Damper::new(self.params, self.inputs, start_time).map_err(Refusal::model)?);
         Ok(())
     }
 
@@ -193,9 +185,9 @@ impl Model for Slave {
         SlaveState { params: self.params, inputs: self.inputs, damper: self.damper.as_ref().map(|d| d.state) }
     }
 
-    fn set_state(&mut self, s: &SlaveState) -> Result<(), String> {
+    fn set_state(&mut self, s: &SlaveState) -> Result<(), Refusal> {
         self.damper = match s.damper {
-            Some(state) => Some(Damper::from_state(s.params, s.inputs, state)?),
+            Some(state) => Some(Damper::from_state(s.params, s.inputs, state).map_err(Refusal::model)?),
             None => None,
         };
         self.params = s.params;
@@ -212,10 +204,10 @@ impl Model for Slave {
     }
 
     /// Reads a serialised state and checks it is one this model could have made.
-    fn deserialize(bytes: &[u8]) -> Result<SlaveState, String> {
+    fn deserialize(bytes: &[u8]) -> Result<SlaveState, Refusal> {
         let mut s = Slave::default().state();
         snapshot::from_bytes(MAGIC, GUID, bytes, &mut s)?;
-        check_restored(&s).map_err(|e| format!("serialized FMU state rejected: {e}"))?;
+        check_restored(&s).map_err(Refusal::restored)?;
         Ok(s)
     }
 }

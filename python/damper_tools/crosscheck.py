@@ -148,7 +148,7 @@ class SpoolController:
         a = T / (p.tau_dx + T)
         self.rate, self.previous = (1 - a) * self.rate + a * (x_s - prev) / T, x_s
         Q = pl.A_a * max(v, 0.0) + pl.A_r * max(-v, 0.0)
-        dp = {0: 0.0, 1: p.dp_fc_nominal}.get(p.fc_mode, abs(F) / (pl.A_a if v >= 0 else pl.A_r))
+        dp = {0: 0.0, 1: p.dp_fc_nominal}.get(p.flow_force_compensation, abs(F) / (pl.A_a if v >= 0 else pl.A_r))
         i_fc = p.Cv_compensation * math.cos(p.theta_jet) * math.sqrt(2 * p.rho * dp) * Q / p.K_sol
         error = x_dem - x_s
         integral = self.integral + p.Ki_x * error * T

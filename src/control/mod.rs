@@ -2,11 +2,11 @@
 //! outer force loop → spool demand → inner spool-position loop (+ flow-force compensation) →
 //! amplifier delay → coil command.
 mod amplifier;
-mod force_loop;
+mod force_controller;
 mod spool_loop;
 
 pub use amplifier::DelayLine;
-pub use force_loop::{clip_to_dissipative, ForceLoop, A_FEEDFORWARD_MIN};
+pub use force_controller::{clip_to_dissipative, ForceController, A_FEEDFORWARD_MIN};
 pub use spool_loop::SpoolLoop;
 
 use crate::physics::params::{ControlMode, Derived, Parameters};
@@ -77,7 +77,7 @@ impl FilteredDerivative {
 /// State of the whole controller (plain data: part of the FMU state).
 #[derive(Clone, Copy, Debug)]
 pub struct Controller {
-    pub force_loop: ForceLoop,
+    pub force_controller: ForceController,
     pub spool_loop: SpoolLoop,
     pub delay: DelayLine,
     /// Spool demand of the last sample (m).
@@ -93,7 +93,7 @@ impl Controller {
     /// A controller at rest with the coil current `i0` (A) holding the spool at `x_spool0` (m).
     pub fn at_rest(d: &Derived, x_spool0: f64, i0: f64) -> Self {
         Controller {
-            force_loop: ForceLoop::default(),
+            force_controller: ForceController::default(),
             spool_loop: SpoolLoop::at_rest(i0),
             delay: DelayLine::filled(d.delay_samples, i0),
             x_spool_demand: x_spool0,
@@ -105,9 +105,9 @@ impl Controller {
     /// Makes this controller equal to `from`, as `*self = *from` would, copying only the delay
     /// line's live entries (see [`DelayLine::assign`]).
     pub fn assign(&mut self, from: &Controller) {
-        let Controller { force_loop, spool_loop, delay, x_spool_demand, force_demand_clipped, force_tare } = from;
+        let Controller { force_controller, spool_loop, delay, x_spool_demand, force_demand_clipped, force_tare } = from;
         self.delay.assign(delay);
-        (self.force_loop, self.spool_loop) = (*force_loop, *spool_loop);
+        (self.force_controller, self.spool_loop) = (*force_controller, *spool_loop);
         (self.x_spool_demand, self.force_demand_clipped, self.force_tare) =
             (*x_spool_demand, *force_demand_clipped, *force_tare);
     }
@@ -123,7 +123,7 @@ impl Controller {
         self.force_demand_clipped = clip_to_dissipative(demands.force, m.v_damper);
         let raw_demand = self.force_demand_clipped + self.force_tare;
         self.x_spool_demand = match d.control_mode {
-            ControlMode::Force => self.force_loop.step(p, d, raw_demand, m),
+            ControlMode::Force => self.force_controller.step(p, d, raw_demand, m),
             ControlMode::SpoolPosition | ControlMode::ValveHeld => demands.x_spool,
         };
         let i_cmd = self.spool_loop.step(p, d, self.x_spool_demand, m);
@@ -154,14 +154,14 @@ mod tests {
     /// the demanded area: the integral after it moves continuously with the force. (Freezing it
     /// while the demand is clipped made it jump by a whole increment, Ki·e·T, at the clip.)
     #[test]
-    fn the_force_loop_integral_is_continuous_across_the_clip() {
+    fn the_force_controller_integral_is_continuous_across_the_clip() {
         let p = Parameters::default();
         let d = p.derive();
         let (v, demand) = (0.3, 2e3);
         let after = |force: f64| {
-            let mut force_loop = ForceLoop { integral: -1.0, ..ForceLoop::default() };
-            let x = force_loop.step(&p, &d, demand, Measurements { force, x_spool: 1e-3, v_damper: v });
-            (force_loop.integral, x)
+            let mut force_controller = ForceController { integral: -1.0, ..ForceController::default() };
+            let x = force_controller.step(&p, &d, demand, Measurements { force, x_spool: 1e-3, v_damper: v });
+            (force_controller.integral, x)
         };
         let forces: Vec<f64> = (0..=20_000).map(|k| 4e3 * k as f64 / 20_000.0).collect();
         let samples: Vec<(f64, f64)> = forces.iter().map(|&f| after(f)).collect();

@@ -4,8 +4,8 @@
 //! ```text
 //! e = x_dem − x_s ;   ẋ_f = filtered backward difference of x_s (τ_dx)
 //! Q̂ = A_a max(v,0) + A_r max(−v,0)                     estimated valve flow
-//! i_fc = C_v,nom cosθ sqrt(2ρ Δp̂) Q̂ / K_sol,  Δp̂ = |F|/(A_a or A_r)   (fc_mode 2)
-//!        or with Δp̂ ≡ dp_fc_nominal                                 (fc_mode 1, paper-literal)
+//! i_fc = C_v,nom cosθ sqrt(2ρ Δp̂) Q̂ / K_sol,  Δp̂ = |F|/(A_a or A_r)   (flow_force_compensation 2)
+//!        or with Δp̂ ≡ dp_fc_nominal                                 (flow_force_compensation 1, paper-literal)
 //! i = Kp e + Ki Σe T − Kd ẋ_f + i_fc + (spool-spring hold in the integrator),  clamp [0, I_max]
 //! ```
 //! Anti-windup: where the command would leave [0, I_max], the integrator moves only as far as puts it
@@ -54,7 +54,7 @@ pub fn flow_force_compensation(p: &Parameters, d: &Derived, m: Measurements) -> 
     let cyl = &d.cylinder;
     let v = m.v_damper;
     let q_est = cyl.a_annulus * v.max(0.0) + cyl.a_rod * (-v).max(0.0);
-    let dp_est = match d.fc_mode {
+    let dp_est = match d.flow_force_compensation {
         FlowForceCompensation::None => return 0.0,
         FlowForceCompensation::FixedGain => p.dp_fc_nominal,
         FlowForceCompensation::Scheduled => m.force.abs() / if v >= 0.0 { cyl.a_annulus } else { cyl.a_rod },
@@ -76,7 +76,7 @@ mod tests {
 
     #[test]
     fn pid_terms_by_hand() {
-        let p = Parameters { fc_mode: 0, ..Default::default() };
+        let p = Parameters { flow_force_compensation: 0, ..Default::default() };
         let d = p.derive();
         let mut pid = SpoolLoop::at_rest(1.0);
         // first sample: no derivative kick; i = Kp e + (I0 + Ki e T)
@@ -94,7 +94,7 @@ mod tests {
 
     #[test]
     fn clamped_command_holds_the_integrator_on_the_bound() {
-        let p = Parameters { fc_mode: 0, ..Default::default() };
+        let p = Parameters { flow_force_compensation: 0, ..Default::default() };
         let d = p.derive();
         // a demand far beyond reach: the proportional term alone saturates the amplifier, and the
         // integral stays where it was (neither wound up nor pulled down)
@@ -121,10 +121,10 @@ mod tests {
     fn flow_force_compensation_modes() {
         let mut p = Parameters::default();
         let m = Measurements { force: 10e3, x_spool: 1e-3, v_damper: 0.5 };
-        p.fc_mode = 0;
+        p.flow_force_compensation = 0;
         assert_eq!(flow_force_compensation(&p, &p.derive(), m), 0.0);
         // scheduled: Cv cos θ sqrt(2ρ Δp) Q / K with Δp = F/A_a, Q = A_a v
-        p.fc_mode = 2;
+        p.flow_force_compensation = 2;
         let d = p.derive();
         let a = d.cylinder.a_annulus;
         let hand = p.cv_compensation * p.theta_jet.cos() * (2.0 * p.rho * 10e3 / a).sqrt() * a * 0.5 / p.k_sol;

@@ -15,6 +15,10 @@ use super::fixed_power::FixedPower;
 use super::fluid::{smoothstep, smoothstep_slope, P_ATM};
 use std::f64::consts::PI;
 
+/// The chambers' smallest volume (m³), 0.1 cm³: a run beyond the stroke stays finite. The volume
+/// has no slope there.
+pub const VOLUME_FLOOR: f64 = 1e-7;
+
 /// Cylinder geometry.
 #[derive(Clone, Copy, Debug)]
 pub struct Cylinder {
@@ -47,9 +51,12 @@ impl Cylinder {
     }
 
     /// Chamber volumes (V_A, V_B) (m³) at piston stroke `x_piston` (m) (extension positive),
-    /// floored at 0.1 cm³ so a run beyond the stroke stays finite.
+    /// floored at [`VOLUME_FLOOR`] so a run beyond the stroke stays finite.
     pub fn volumes(&self, x_piston: f64) -> (f64, f64) {
-        ((self.v_a0 - self.a_annulus * x_piston).max(1e-7), (self.v_b0 + self.a_piston * x_piston).max(1e-7))
+        (
+            (self.v_a0 - self.a_annulus * x_piston).max(VOLUME_FLOOR),
+            (self.v_b0 + self.a_piston * x_piston).max(VOLUME_FLOOR),
+        )
     }
 }
 

@@ -25,9 +25,9 @@ const KEPT: [usize; 4] = [idx::P_A, idx::P_B, idx::V_GAS, idx::V_SPOOL];
 pub struct PlantIterationMatrix {
     /// The inverse of the 4×4 system on the kept states, row by row: each of a step's four solves
     /// is then a product whose rows are independent sums of four terms, where an LU's
-    /// substitutions are a chain of eight dependent operations (+6 %, JOURNAL.md, performance,
-    /// eleventh round). From the adjugate ([`inverse_4x4`]), not from a pivoted LU: no branch and
-    /// no row swap, and indifferent to the rows' units (+11 %, twelfth round).
+    /// substitutions are a chain of eight dependent operations (6 % of the damper's time). From
+    /// the adjugate ([`inverse_4x4`]), not from a pivoted LU: no branch and no row swap, and
+    /// indifferent to the rows' units (11 % of its time).
     kept_inverse: [[f64; 4]; 4],
     /// γh (s).
     gamma_h: f64,
@@ -84,7 +84,7 @@ impl IterationMatrix<N_STATES> for PlantIterationMatrix {
 
     // Always inlined: a step solves four times, and as a call (LLVM's choice) the damper took
     // 13 % longer in wall-clock time for 3.5 % more instructions; the stalls are likely the
-    // vectors passed and returned through memory (JOURNAL.md, performance, ninth round).
+    // vectors passed and returned through memory.
     #[inline(always)]
     fn solve(&self, b: &SVector<f64, N_STATES>) -> SVector<f64, N_STATES> {
         use idx::*;

@@ -71,9 +71,8 @@ impl CubicMount {
     /// u (1 + ε P(ε)) with P from `MOUNT_DEFLECTION` (within a few ulps: tested). Beyond it
     /// Halley's iteration runs to convergence from the smaller of the linear and the cubic
     /// spring's deflection alone (both bound the root from outside within a factor of 2). The
-    /// table replaced a series and a Halley step (4 % faster for the whole damper,
-    /// JOURNAL.md, performance, tenth round); the closed form (hyperbolic Cardano) cost several times
-    /// as much.
+    /// table costs less than a series and a Halley step (4 % of the whole damper's time); the
+    /// closed form (hyperbolic Cardano) costs several times as much.
     pub fn deflection(&self, force: f64) -> f64 {
         let (k1, k3) = (self.k1, self.k3);
         let linear = force * self.compliance;

@@ -14,7 +14,7 @@ pub const MAX_DELAY_SAMPLES: usize = 200;
 
 /// Outer force-loop law.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum ForceController {
+pub enum ForceLaw {
     /// Inverse-valve feedforward + PI on ln(valve area) (docs/physics.md §4.3).
     FeedforwardLogArea,
     /// The paper's plain PID from relative force error to spool position.
@@ -79,10 +79,28 @@ pub struct Derived {
     /// Whether the reservoir's gas is a spring (`effect_gas_charge`); off: its pressure stays at
     /// the pre-charge.
     pub gas_spring: bool,
-    pub force_controller: ForceController,
-    pub fc_mode: FlowForceCompensation,
+    pub force_law: ForceLaw,
+    pub flow_force_compensation: FlowForceCompensation,
     /// The switched-on effects that add a force or a bypass flow to the plant.
     pub effects: ActiveEffects,
+}
+
+/// Parameters that do not go together (each is in its own range): the message names them and
+/// says what to change.
+#[derive(Clone, Copy, Debug, PartialEq, thiserror::Error)]
+pub enum ParameterError {
+    /// A relation between parameters, in words.
+    #[error("{0}")]
+    Relation(&'static str),
+    /// The valve's largest demanded area `a_max` (m²) is below `least` (m²).
+    #[error(
+        "the valve's largest demanded area ({a_max:.3e} m² from n_ports, r_port, x_lap and x_spool_max - 0.5 mm) \
+         must be at least {least:.1e} m²: raise r_port, n_ports or x_spool_max, or lower x_lap"
+    )]
+    ValveTooSmall { a_max: f64, least: f64 },
+    /// |x_damper_start| is not below L_half_stroke + L_dead = `limit` (m).
+    #[error("|x_damper_start| must be below L_half_stroke + L_dead = {limit} m")]
+    StartBeyondStroke { limit: f64 },
 }
 
 /// How far below its stop `x_spool_max` the force loops' spool demand ends (m; docs/physics.md
@@ -91,8 +109,8 @@ pub const DEMAND_MARGIN_BELOW_STOP: f64 = 0.5e-3;
 
 impl Parameters {
     /// Checks the relations between parameters that single-variable ranges cannot express.
-    pub fn validate(&self) -> Result<(), String> {
-        let checks: [(bool, &str); 8] = [
+    pub fn validate(&self) -> Result<(), ParameterError> {
+        let checks: [(bool, &'static str); 8] = [
             (self.d_rod < self.d_piston, "D_rod must be smaller than D_piston"),
             (self.p_cv_full > self.p_cv_crack, "p_cv_full must exceed p_cv_crack"),
             (self.x_spool_max > self.x_spool_min, "x_spool_max must exceed x_spool_min"),
@@ -106,26 +124,22 @@ impl Parameters {
             ),
             ((0..=2).contains(&self.control_mode), "control_mode must be 0, 1 or 2"),
             (self.force_controller == 0 || self.force_controller == 1, "force_controller must be 0 or 1"),
-            ((0..=2).contains(&self.fc_mode), "fc_mode must be 0, 1 or 2"),
+            ((0..=2).contains(&self.flow_force_compensation), "flow_force_compensation must be 0, 1 or 2"),
         ];
         for (ok, msg) in checks {
             if !ok {
-                return Err(msg.to_string());
+                return Err(ParameterError::Relation(msg));
             }
         }
         // the force loop works between a floor and the largest demanded area: both must fit
         let a_max = ValvePorts { n_ports: self.n_ports as f64, r_port: self.r_port, x_lap: self.x_lap }
             .area(self.x_spool_max - DEMAND_MARGIN_BELOW_STOP);
         if a_max.is_nan() || a_max < 2.0 * A_FEEDFORWARD_MIN {
-            return Err(format!(
-                "the valve's largest demanded area ({a_max:.3e} m² from n_ports, r_port, x_lap and x_spool_max - 0.5 mm) \
-                 must be at least {:.1e} m²: raise r_port, n_ports or x_spool_max, or lower x_lap",
-                2.0 * A_FEEDFORWARD_MIN
-            ));
+            return Err(ParameterError::ValveTooSmall { a_max, least: 2.0 * A_FEEDFORWARD_MIN });
         }
         let l = self.l_half_stroke + self.l_dead;
         if self.x_damper_start.abs() >= l {
-            return Err(format!("|x_damper_start| must be below L_half_stroke + L_dead = {l} m"));
+            return Err(ParameterError::StartBeyondStroke { limit: l });
         }
         Ok(())
     }
@@ -163,12 +177,8 @@ impl Parameters {
             valve_held: self.control_mode == 2,
             oil_temperature: self.effect_oil_temperature,
             gas_spring: self.effect_gas_charge,
-            force_controller: if self.force_controller == 1 {
-                ForceController::PaperPid
-            } else {
-                ForceController::FeedforwardLogArea
-            },
-            fc_mode: match self.fc_mode {
+            force_law: if self.force_controller == 1 { ForceLaw::PaperPid } else { ForceLaw::FeedforwardLogArea },
+            flow_force_compensation: match self.flow_force_compensation {
                 0 => FlowForceCompensation::None,
                 1 => FlowForceCompensation::FixedGain,
                 _ => FlowForceCompensation::Scheduled,

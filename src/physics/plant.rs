@@ -19,7 +19,7 @@
 use super::fluid::{
     effective_bulk_modulus_and_slope, orifice_flow_partials, smoothstep, smoothstep_slope, viscosity_ratio, P_ATM,
 };
-use super::hydraulics::{check_valve_area, check_valve_area_slope, reservoir_pressure_and_slope};
+use super::hydraulics::{check_valve_area, check_valve_area_slope, reservoir_pressure_and_slope, VOLUME_FLOOR};
 use super::params::{Derived, Parameters};
 use super::valve::{flow_force, solenoid_force};
 use crate::effects::{numeric_gradient, PlantSignals};
@@ -109,16 +109,6 @@ const G_X_DAMPER: usize = 4;
 const G_DV: usize = 5;
 /// The state of each gradient column but the velocity's.
 const GRAD_STATES: [usize; 5] = [idx::P_A, idx::P_B, idx::V_GAS, idx::X_SPOOL, idx::X_DAMPER];
-
-/// `f()` when the Jacobian is asked for, else zeros (which the compiler drops).
-#[inline(always)]
-fn grad<const JAC: bool>(f: impl FnOnce() -> Grad) -> Grad {
-    if JAC {
-        f()
-    } else {
-        Grad::zeros()
-    }
-}
 
 /// The gradient with `value` in column `i` and zeros elsewhere. Built, not multiplied out: IEEE
 /// arithmetic cannot drop a product 0·x or a sum x + 0 (x may be infinite, or −0), so a unit
@@ -217,40 +207,44 @@ impl Plant<'_> {
         self.evaluate_with::<true>(y, Some(lin))
     }
 
-    /// The one body of [`Plant::evaluate`] and [`Plant::linearise`]: each intermediate quantity
-    /// `q` is followed by its gradient `d_q` (a [`Grad`]), computed only when `JAC`, and the
-    /// linearisation written into `lin` then. A quotient by a parameter or by a value known
-    /// early (a volume, a denominator shared by several quotients) is a product by its
-    /// reciprocal: the division then runs beside the chain of dependent operations instead of in
-    /// it (+3–4 % with the controller's, JOURNAL.md, performance, twelfth round).
+    /// The one body of [`Plant::evaluate`] and [`Plant::linearise`]: the equations
+    /// ([`Plant::intermediates`]) give the derivatives and the outputs; when `JAC`, their
+    /// gradients ([`Plant::write_linearisation`]) give the linearisation in `lin`. The gradients
+    /// read the equations' values and change none, so that the two are written apart and the
+    /// evaluation without `JAC` computes no gradient at all.
     #[inline(always)]
     fn evaluate_with<const JAC: bool>(&self, y: &State, lin: Option<&mut Linearisation>) -> PlantOutputs {
+        let q = self.intermediates(y);
+        let out = PlantOutputs {
+            dydt: self.derivatives(y, &q),
+            force: q.force,
+            p_reservoir: q.p_r,
+            q_valve: q.flows.q_valve,
+            flow_force: q.spool.f_flow,
+            delta_mount: q.delta,
+        };
+        if let Some(lin) = lin.filter(|_| JAC) {
+            self.write_linearisation(y, &q, lin);
+        }
+        out
+    }
+
+    /// The plant's equations at state `y` (docs/physics.md §3): every intermediate quantity the
+    /// derivatives, the outputs and the linearisation are made of. A quotient by a parameter or
+    /// by a value known early (a volume, a denominator shared by several quotients) is a product
+    /// by its reciprocal: the division then runs beside the chain of dependent operations instead
+    /// of in it (3–4 % of the time, with the controller's).
+    #[inline(always)]
+    fn intermediates(&self, y: &State) -> Intermediates {
         use idx::*;
         let (p, d) = (self.p, self.d);
         let cyl = &d.cylinder;
-        let v = self.v_damper;
-        let (p_a, p_b, v_gas, x_s, v_s, i_coil) = (y[P_A], y[P_B], y[V_GAS], y[X_SPOOL], y[V_SPOOL], y[I_COIL]);
-
+        let (p_a, p_b, x_s) = (y[P_A], y[P_B], y[X_SPOOL]);
         let thermal = self.thermal();
-        let (p_r, dpr_dvg) = self.reservoir(v_gas, thermal.gas_ratio);
-        let d_pr = grad::<JAC>(|| basis(G_V_GAS, dpr_dvg));
+        let (p_r, dpr_dvg) = self.reservoir(y[V_GAS], thermal.gas_ratio);
         let signals = self.signals(y, p_r, thermal.viscosity_ratio);
-        // a signal gradient (∂/∂ each signal) as a gradient over the states and v
-        let chain = |g: PlantSignals| {
-            // d_pr has its V_gas column alone
-            let mut out = basis(G_DV, g.v_damper);
-            out[G_V_GAS] += dpr_dvg * g.p_reservoir;
-            out[G_X_DAMPER] += g.x_damper;
-            out[G_P_A] += g.p_ext;
-            out[G_P_B] += g.p_comp;
-            out[G_X_SPOOL] += g.x_spool;
-            out
-        };
 
         let force = p_a * cyl.a_annulus - p_b * cyl.a_piston + d.effects.force(p, &signals);
-        let d_force = grad::<JAC>(|| {
-            plus(plus(chain(d.effects.force_gradient(p, &signals)), G_P_A, cyl.a_annulus), G_P_B, -cyl.a_piston)
-        });
         let (delta, mount_stiffness) = match d.mount {
             Some(m) => {
                 let delta = m.deflection(force);
@@ -258,125 +252,187 @@ impl Plant<'_> {
             }
             None => (0.0, f64::INFINITY),
         };
-        let d_delta = grad::<JAC>(|| if d.mount.is_some() { d_force * (1.0 / mount_stiffness) } else { Grad::zeros() });
-        let x_piston = y[X_DAMPER] - delta;
-        let (vol_a, vol_b) = cyl.volumes(x_piston);
-        let d_xp = grad::<JAC>(|| plus(-d_delta, G_X_DAMPER, 1.0));
-        // the volumes' floor (0.1 cm³) has no slope
-        let d_vol_a = grad::<JAC>(|| if vol_a > 1e-7 { -d_xp * cyl.a_annulus } else { Grad::zeros() });
-        let d_vol_b = grad::<JAC>(|| if vol_b > 1e-7 { d_xp * cyl.a_piston } else { Grad::zeros() });
+        let (vol_a, vol_b) = cyl.volumes(y[X_DAMPER] - delta);
+        let flows = self.flows(x_s, p_a, p_b, p_r, &signals);
+        let r_a = flows.q_cv1 - flows.q_valve - flows.q_relief - flows.q_leak;
+        let r_b = -flows.q_cv1 + flows.q_cv2 + flows.q_leak - flows.q_base;
 
+        let ch = self.chambers(p_a, p_b, vol_a, vol_b);
+        let (a, b) = (ch.a, ch.b);
+        let (aa, ap) = (cyl.a_annulus, cyl.a_piston);
+        let k_h = a * aa * aa + b * ap * ap;
+        let s_flow = a * aa * r_a - b * ap * r_b;
+        // the effects' forces change as the stroke and the velocity move (an end stop, friction):
+        // the mount carries that rate too, Ḟ_e = ∂F_e/∂x·v + ∂F_e/∂v·a
+        let effects_rate = if d.mount.is_some() && d.effects.adds_force() { self.effects_rate(&signals) } else { 0.0 };
+        let (delta_rate, per_denominator) = if d.mount.is_some() {
+            let per_denominator = 1.0 / (mount_stiffness + k_h);
+            ((k_h * self.v_damper + s_flow + effects_rate) * per_denominator, per_denominator)
+        } else {
+            (0.0, 0.0)
+        };
+        Intermediates {
+            dpr_dvg,
+            p_r,
+            signals,
+            force,
+            delta,
+            mount_stiffness,
+            vol_a,
+            vol_b,
+            r_a,
+            r_b,
+            ch,
+            k_h,
+            delta_rate,
+            per_denominator,
+            v_piston: self.v_damper - delta_rate,
+            spool: self.spool_forces(y, &flows),
+            flows,
+        }
+    }
+
+    /// Each chamber's stiffness β/V at pressures `p_a`, `p_b` (Pa) and volumes `vol_a`, `vol_b`
+    /// (m³), with what its gradient needs.
+    #[inline(always)]
+    fn chambers(&self, p_a: f64, p_b: f64, vol_a: f64, vol_b: f64) -> Chambers {
+        let oil = &self.d.oil;
+        let (beta_a, dbeta_a) = effective_bulk_modulus_and_slope(p_a, oil);
+        let (beta_b, dbeta_b) = effective_bulk_modulus_and_slope(p_b, oil);
+        let (per_vol_a, per_vol_b) = (1.0 / vol_a, 1.0 / vol_b);
+        Chambers { dbeta_a, dbeta_b, per_vol_a, per_vol_b, a: beta_a * per_vol_a, b: beta_b * per_vol_b }
+    }
+
+    /// The forces on the spool at state `y` (N) but its spring's and damping's, with the flows
+    /// `flows` through the valve.
+    #[inline(always)]
+    fn spool_forces(&self, y: &State, flows: &Flows) -> SpoolForces {
+        use idx::*;
+        let (p, d) = (self.p, self.d);
+        let x_s = y[X_SPOOL];
+        let flow_force_on = p.effect_flow_forces && flows.dp_valve > 0.0;
+        let f_flow = if flow_force_on { flow_force(d.flow_force_gain, flows.a_valve, flows.dp_valve) } else { 0.0 };
+        let (f_stop, k_stop, c_stop) = self.stop_force(x_s, y[V_SPOOL]);
+        let f_sol = solenoid_force(p.k_sol, p.kappa_sol, p.x_spool_max, y[I_COIL], x_s);
+        SpoolForces { flow_force_on, f_flow, f_stop, k_stop, c_stop, f_sol }
+    }
+
+    /// The flows (m³/s) at spool position `x_s` (m), chamber pressures `p_a`, `p_b` and reservoir
+    /// pressure `p_r` (Pa): the proportional valve, the check valves, the relief valve and the
+    /// effects' bypass and base flows, with the partial derivatives their gradients need.
+    #[inline(always)]
+    fn flows(&self, x_s: f64, p_a: f64, p_b: f64, p_r: f64, signals: &PlantSignals) -> Flows {
+        let (p, d) = (self.p, self.d);
         let orifice = |cd: f64, area: f64, dp: f64| orifice_flow_partials(cd, area, dp, p.rho, p.p_transition);
         let a_valve = d.ports.area(x_s);
-        let d_a_valve = grad::<JAC>(|| basis(G_X_SPOOL, d.ports.area_slope(x_s)));
         let dp_valve = p_a - p_r;
-        let d_dp_valve = grad::<JAC>(|| plus(-d_pr, G_P_A, 1.0));
         let (q_valve, dqv_da, dqv_ddp) = orifice(p.cd_valve, a_valve + p.a_valve_leak, dp_valve);
-        let d_q_valve = grad::<JAC>(|| d_a_valve * dqv_da + d_dp_valve * dqv_ddp);
         let check_valve = |dp: f64| {
             let (q, dq_da, dq_ddp) =
                 orifice(p.cd_cv, check_valve_area(p.a_cv_leak, p.a_cv_max, d.p_cv_crack, p.p_cv_full, dp), dp);
             (q, dq_ddp + dq_da * check_valve_area_slope(p.a_cv_max, d.p_cv_crack, p.p_cv_full, dp))
         };
         let (q_cv1, dq1) = check_valve(p_b - p_a);
-        let d_q_cv1 = grad::<JAC>(|| plus(basis(G_P_B, dq1), G_P_A, -dq1));
         let (q_cv2, dq2) = check_valve(p_r - p_b);
-        let d_q_cv2 = grad::<JAC>(|| plus(basis(G_V_GAS, dpr_dvg * dq2), G_P_B, -dq2));
-        let (q_relief, d_q_relief) = if dp_valve > p.p_relief {
+        let (q_relief, relief) = if dp_valve > p.p_relief {
             let per_range = 1.0 / p.dp_relief;
             let u = (dp_valve - p.p_relief) * per_range;
             let (q, dq_da, dq_ddp) = orifice(p.cd_valve, p.a_relief * smoothstep(u), dp_valve);
-            (q, grad::<JAC>(|| d_dp_valve * (dq_ddp + dq_da * p.a_relief * smoothstep_slope(u) * per_range)))
+            (q, Some(Relief { per_range, u, dq_da, dq_ddp }))
         } else {
-            (0.0, Grad::zeros())
+            (0.0, None)
         };
-        let q_leak = d.effects.bypass_flow(p, &signals);
-        let d_q_leak = grad::<JAC>(|| chain(d.effects.bypass_flow_gradient(p, &signals)));
-        let (q_base, d_q_base) = if d.effects.adds_base_flow() {
-            (d.effects.base_flow(p, &signals), grad::<JAC>(|| chain(d.effects.base_flow_gradient(p, &signals))))
-        } else {
-            (0.0, Grad::zeros())
-        };
-        let r_a = q_cv1 - q_valve - q_relief - q_leak;
-        let d_r_a = grad::<JAC>(|| d_q_cv1 - d_q_valve - d_q_relief - d_q_leak);
-        let r_b = -q_cv1 + q_cv2 + q_leak - q_base;
-        let d_r_b = grad::<JAC>(|| -d_q_cv1 + d_q_cv2 + d_q_leak - d_q_base);
+        let q_leak = d.effects.bypass_flow(p, signals);
+        let q_base = if d.effects.adds_base_flow() { d.effects.base_flow(p, signals) } else { 0.0 };
+        Flows { a_valve, dp_valve, q_valve, dqv_da, dqv_ddp, q_cv1, dq1, q_cv2, dq2, q_relief, relief, q_leak, q_base }
+    }
 
-        let (beta_a, dbeta_a) = effective_bulk_modulus_and_slope(p_a, &d.oil);
-        let (beta_b, dbeta_b) = effective_bulk_modulus_and_slope(p_b, &d.oil);
-        let (per_vol_a, per_vol_b) = (1.0 / vol_a, 1.0 / vol_b);
-        let (a, b) = (beta_a * per_vol_a, beta_b * per_vol_b);
-        let d_a = grad::<JAC>(|| plus(d_vol_a * -(a * per_vol_a), G_P_A, dbeta_a * per_vol_a));
-        let d_b = grad::<JAC>(|| plus(d_vol_b * -(b * per_vol_b), G_P_B, dbeta_b * per_vol_b));
-        let (aa, ap) = (cyl.a_annulus, cyl.a_piston);
-        let k_h = a * aa * aa + b * ap * ap;
-        let s_flow = a * aa * r_a - b * ap * r_b;
-        // the effects' forces change as the stroke and the velocity move (an end stop, friction):
-        // the mount carries that rate too, Ḟ_e = ∂F_e/∂x·v + ∂F_e/∂v·a
-        let (effects_rate, d_effects_rate) = if d.mount.is_some() && d.effects.adds_force() {
-            let rate_at = |s: &PlantSignals| {
-                let g = d.effects.force_gradient(p, s);
-                g.x_damper * s.v_damper + g.v_damper * self.a_damper
-            };
-            (rate_at(&signals), grad::<JAC>(|| chain(numeric_gradient(&signals, rate_at))))
-        } else {
-            (0.0, Grad::zeros())
-        };
-        let (delta_rate, d_delta_rate) = if d.mount.is_some() {
-            let per_denominator = 1.0 / (mount_stiffness + k_h);
-            let rate = (k_h * v + s_flow + effects_rate) * per_denominator;
-            let d_rate = grad::<JAC>(|| {
-                let k3 = d.mount.map_or(0.0, |m| m.k3);
-                let d_k_h = d_a * (aa * aa) + d_b * (ap * ap);
-                let d_s = (d_a * r_a + d_r_a * a) * aa - (d_b * r_b + d_r_b * b) * ap;
-                let d_stiffness = d_delta * (6.0 * k3 * delta);
-                (plus(d_k_h * v, G_DV, k_h) + d_s + d_effects_rate - (d_stiffness + d_k_h) * rate) * per_denominator
-            });
-            (rate, d_rate)
-        } else {
-            (0.0, Grad::zeros())
-        };
-        let v_piston = v - delta_rate;
-        let d_v_piston = grad::<JAC>(|| plus(-d_delta_rate, G_DV, 1.0));
+    /// The rate of the effects' force (N/s) at `s` as the stroke and the velocity move:
+    /// Ḟ_e = ∂F_e/∂x·v + ∂F_e/∂v·a.
+    #[inline(always)]
+    fn effects_rate(&self, s: &PlantSignals) -> f64 {
+        let g = self.d.effects.force_gradient(self.p, s);
+        g.x_damper * s.v_damper + g.v_damper * self.a_damper
+    }
 
-        let flow_force_on = p.effect_flow_forces && dp_valve > 0.0;
-        let f_flow = if flow_force_on { flow_force(d.flow_force_gain, a_valve, dp_valve) } else { 0.0 };
-        let d_f_flow = grad::<JAC>(|| {
-            if flow_force_on {
-                (d_a_valve * dp_valve + d_dp_valve * a_valve) * d.flow_force_gain
-            } else {
-                Grad::zeros()
-            }
-        });
-        let (f_stop, k_stop, c_stop) = self.stop_force(x_s, v_s);
-        let f_sol = solenoid_force(p.k_sol, p.kappa_sol, p.x_spool_max, i_coil, x_s);
-
+    /// dy/dt at state `y` from the plant's intermediate quantities `q`.
+    #[inline(always)]
+    fn derivatives(&self, y: &State, q: &Intermediates) -> State {
+        use idx::*;
+        let (p, d) = (self.p, self.d);
+        let (aa, ap) = (d.cylinder.a_annulus, d.cylinder.a_piston);
+        let (x_s, v_s) = (y[X_SPOOL], y[V_SPOOL]);
         let mut dydt = State::zeros();
-        dydt[P_A] = a * (aa * v_piston + r_a);
-        dydt[P_B] = b * (-ap * v_piston + r_b);
-        dydt[V_GAS] = q_cv2 - q_valve - q_relief - q_base;
+        dydt[P_A] = q.ch.a * (aa * q.v_piston + q.r_a);
+        dydt[P_B] = q.ch.b * (-ap * q.v_piston + q.r_b);
+        dydt[V_GAS] = q.flows.q_cv2 - q.flows.q_valve - q.flows.q_relief - q.flows.q_base;
         dydt[X_SPOOL] = v_s;
         dydt[V_SPOOL] = if d.valve_held {
             0.0
         } else {
-            (f_sol - p.k_spool * x_s - p.c_spool * v_s - f_flow - f_stop) * (1.0 / p.m_spool)
+            (q.spool.f_sol - p.k_spool * x_s - p.c_spool * v_s - q.spool.f_flow - q.spool.f_stop) * (1.0 / p.m_spool)
         };
         dydt[I_COIL] = self.evaluate_coil(y);
-        dydt[X_DAMPER] = v;
-        let out = PlantOutputs { dydt, force, p_reservoir: p_r, q_valve, flow_force: f_flow, delta_mount: delta };
-        let Some(Linearisation { jacobian, df_dv }) = lin.filter(|_| JAC) else {
-            return out;
+        dydt[X_DAMPER] = self.v_damper;
+        dydt
+    }
+
+    /// The linearisation at state `y` into `lin`: each intermediate quantity's gradient (a
+    /// [`Grad`], `d_` and its name), by the chain rule through the equations of
+    /// [`Plant::intermediates`], whose values `q` holds.
+    #[inline(always)]
+    fn write_linearisation(&self, y: &State, q: &Intermediates, lin: &mut Linearisation) {
+        use idx::*;
+        let (p, d) = (self.p, self.d);
+        let cyl = &d.cylinder;
+        let (aa, ap) = (cyl.a_annulus, cyl.a_piston);
+        let d_force = plus(
+            plus(self.signal_gradient(q.dpr_dvg, d.effects.force_gradient(p, &q.signals)), G_P_A, cyl.a_annulus),
+            G_P_B,
+            -cyl.a_piston,
+        );
+        let d_delta = if d.mount.is_some() { d_force * (1.0 / q.mount_stiffness) } else { Grad::zeros() };
+        let d_xp = plus(-d_delta, G_X_DAMPER, 1.0);
+        // the volumes' floor has no slope
+        let d_vol_a = if q.vol_a > VOLUME_FLOOR { -d_xp * cyl.a_annulus } else { Grad::zeros() };
+        let d_vol_b = if q.vol_b > VOLUME_FLOOR { d_xp * cyl.a_piston } else { Grad::zeros() };
+        let f = self.flow_gradients(y[X_SPOOL], q);
+        let d_r_a = f.d_q_cv1 - f.d_q_valve - f.d_q_relief - f.d_q_leak;
+        let d_r_b = -f.d_q_cv1 + f.d_q_cv2 + f.d_q_leak - f.d_q_base;
+        let ch = &q.ch;
+        let d_a = plus(d_vol_a * -(ch.a * ch.per_vol_a), G_P_A, ch.dbeta_a * ch.per_vol_a);
+        let d_b = plus(d_vol_b * -(ch.b * ch.per_vol_b), G_P_B, ch.dbeta_b * ch.per_vol_b);
+        let d_delta_rate = if d.mount.is_some() {
+            let d_effects_rate = if d.effects.adds_force() {
+                self.signal_gradient(q.dpr_dvg, numeric_gradient(&q.signals, |s| self.effects_rate(s)))
+            } else {
+                Grad::zeros()
+            };
+            let k3 = d.mount.map_or(0.0, |m| m.k3);
+            let d_k_h = d_a * (aa * aa) + d_b * (ap * ap);
+            let d_s = (d_a * q.r_a + d_r_a * ch.a) * aa - (d_b * q.r_b + d_r_b * ch.b) * ap;
+            let d_stiffness = d_delta * (6.0 * k3 * q.delta);
+            (plus(d_k_h * self.v_damper, G_DV, q.k_h) + d_s + d_effects_rate - (d_stiffness + d_k_h) * q.delta_rate)
+                * q.per_denominator
+        } else {
+            Grad::zeros()
+        };
+        let d_v_piston = plus(-d_delta_rate, G_DV, 1.0);
+        let d_f_flow = if q.spool.flow_force_on {
+            (f.d_a_valve * q.flows.dp_valve + f.d_dp_valve * q.flows.a_valve) * d.flow_force_gain
+        } else {
+            Grad::zeros()
         };
 
         // the rows over the gradient's columns; x_s's and x's rows, and the spool's entries for
-        // v_s and i, are written into the Jacobian below
+        // v_s and i, are written into the Jacobian by `write_rows`
         let rows: [(usize, Grad); 4] = [
-            (P_A, d_a * (aa * v_piston + r_a) + (d_v_piston * aa + d_r_a) * a),
-            (P_B, d_b * (-ap * v_piston + r_b) + (-d_v_piston * ap + d_r_b) * b),
-            (V_GAS, d_q_cv2 - d_q_valve - d_q_relief - d_q_base),
+            (P_A, d_a * (aa * q.v_piston + q.r_a) + (d_v_piston * aa + d_r_a) * ch.a),
+            (P_B, d_b * (-ap * q.v_piston + q.r_b) + (-d_v_piston * ap + d_r_b) * ch.b),
+            (V_GAS, f.d_q_cv2 - f.d_q_valve - f.d_q_relief - f.d_q_base),
             (V_SPOOL, {
                 let mut g = -d_f_flow;
-                g[G_X_SPOOL] += p.k_sol * i_coil * p.kappa_sol / p.x_spool_max - p.k_spool - k_stop;
+                g[G_X_SPOOL] += p.k_sol * y[I_COIL] * p.kappa_sol / p.x_spool_max - p.k_spool - q.spool.k_stop;
                 if d.valve_held {
                     Grad::zeros()
                 } else {
@@ -384,6 +440,60 @@ impl Plant<'_> {
                 }
             }),
         ];
+        self.write_rows(y[X_SPOOL], q.spool.c_stop, rows, lin);
+    }
+
+    /// A gradient over the effects' signals (∂/∂ each signal) as a gradient over the states and
+    /// the velocity, the reservoir pressure's slope being `dpr_dvg` (Pa/m³).
+    #[inline(always)]
+    fn signal_gradient(&self, dpr_dvg: f64, g: PlantSignals) -> Grad {
+        // the reservoir pressure's gradient has its V_gas column alone
+        let mut out = basis(G_DV, g.v_damper);
+        out[G_V_GAS] += dpr_dvg * g.p_reservoir;
+        out[G_X_DAMPER] += g.x_damper;
+        out[G_P_A] += g.p_ext;
+        out[G_P_B] += g.p_comp;
+        out[G_X_SPOOL] += g.x_spool;
+        out
+    }
+
+    /// The flows' gradients at spool position `x_s` (m), from the flows' partial derivatives in
+    /// `q`.
+    #[inline(always)]
+    fn flow_gradients(&self, x_s: f64, q: &Intermediates) -> FlowGradients {
+        let (p, d) = (self.p, self.d);
+        let fl = &q.flows;
+        let d_pr = basis(G_V_GAS, q.dpr_dvg);
+        let d_a_valve = basis(G_X_SPOOL, d.ports.area_slope(x_s));
+        let d_dp_valve = plus(-d_pr, G_P_A, 1.0);
+        let d_q_relief = match fl.relief {
+            Some(r) => d_dp_valve * (r.dq_ddp + r.dq_da * p.a_relief * smoothstep_slope(r.u) * r.per_range),
+            None => Grad::zeros(),
+        };
+        FlowGradients {
+            d_a_valve,
+            d_dp_valve,
+            d_q_valve: d_a_valve * fl.dqv_da + d_dp_valve * fl.dqv_ddp,
+            d_q_cv1: plus(basis(G_P_B, fl.dq1), G_P_A, -fl.dq1),
+            d_q_cv2: plus(basis(G_V_GAS, q.dpr_dvg * fl.dq2), G_P_B, -fl.dq2),
+            d_q_relief,
+            d_q_leak: self.signal_gradient(q.dpr_dvg, d.effects.bypass_flow_gradient(p, &q.signals)),
+            d_q_base: if d.effects.adds_base_flow() {
+                self.signal_gradient(q.dpr_dvg, d.effects.base_flow_gradient(p, &q.signals))
+            } else {
+                Grad::zeros()
+            },
+        }
+    }
+
+    /// Writes the Jacobian and ∂f/∂v into `lin`: the `rows` over the gradient's columns, then the
+    /// entries the gradients do not carry (the spool's velocity and coil current at spool
+    /// position `x_s`, m, with the end stops' damping `c_stop`, N·s/m; the coil; the stroke).
+    #[inline(always)]
+    fn write_rows(&self, x_s: f64, c_stop: f64, rows: [(usize, Grad); 4], lin: &mut Linearisation) {
+        use idx::*;
+        let p = self.p;
+        let Linearisation { jacobian, df_dv } = lin;
         // (assigned: nalgebra's `fill` goes element by element through an iterator)
         *jacobian = SMatrix::zeros();
         *df_dv = State::zeros();
@@ -393,14 +503,13 @@ impl Plant<'_> {
             }
             df_dv[r] = g[G_DV];
         }
-        if !d.valve_held {
+        if !self.d.valve_held {
             jacobian[(V_SPOOL, V_SPOOL)] = -(p.c_spool + c_stop) / p.m_spool;
             jacobian[(V_SPOOL, I_COIL)] = solenoid_force(p.k_sol, p.kappa_sol, p.x_spool_max, 1.0, x_s) / p.m_spool;
         }
         jacobian[(X_SPOOL, V_SPOOL)] = 1.0;
         jacobian[(I_COIL, I_COIL)] = -1.0 / p.tau_coil;
         df_dv[X_DAMPER] = 1.0;
-        out
     }
 
     /// The coil current's derivative (A/s) at `y`: the one component that depends on the coil
@@ -433,6 +542,118 @@ impl Plant<'_> {
         let i0 = rest_current(p, x_spool);
         State::from([p_r, p_r, v_gas, x_spool, 0.0, i0, x])
     }
+}
+
+/// The plant's intermediate quantities at one state ([`Plant::intermediates`]): what the
+/// derivatives and the outputs are made of, and the values the linearisation's chain rule reads.
+#[derive(Clone, Copy, Debug)]
+struct Intermediates {
+    /// The reservoir pressure's slope with the gas volume (Pa/m³).
+    dpr_dvg: f64,
+    /// Reservoir gauge pressure (Pa).
+    p_r: f64,
+    /// What the effects see.
+    signals: PlantSignals,
+    /// Load-cell force (N).
+    force: f64,
+    /// Mount deflection (m) and the mount's tangent stiffness there (N/m; infinite when rigid).
+    delta: f64,
+    mount_stiffness: f64,
+    /// Chamber volumes (m³).
+    vol_a: f64,
+    vol_b: f64,
+    flows: Flows,
+    /// Net flows into the annulus and the full-bore chambers but for the piston's (m³/s).
+    r_a: f64,
+    r_b: f64,
+    ch: Chambers,
+    /// Hydraulic stiffness seen by the mount, a·A_a² + b·A_p² (N/m).
+    k_h: f64,
+    /// Mount deflection rate (m/s) and 1/(g'(δ) + K_h) (m/N; 0 without a mount).
+    delta_rate: f64,
+    per_denominator: f64,
+    /// Piston velocity relative to the cylinder (m/s).
+    v_piston: f64,
+    spool: SpoolForces,
+}
+
+/// The chambers' stiffness ([`Plant::chambers`]).
+#[derive(Clone, Copy, Debug)]
+struct Chambers {
+    /// The effective bulk moduli's slopes with pressure (-).
+    dbeta_a: f64,
+    dbeta_b: f64,
+    /// Reciprocal chamber volumes (1/m³).
+    per_vol_a: f64,
+    per_vol_b: f64,
+    /// β/V of each chamber (Pa/m³).
+    a: f64,
+    b: f64,
+}
+
+/// The forces on the spool ([`Plant::spool_forces`]).
+#[derive(Clone, Copy, Debug)]
+struct SpoolForces {
+    /// Whether the flow force acts (on, and flow out of the annulus).
+    flow_force_on: bool,
+    /// Flow force on the spool (N).
+    f_flow: f64,
+    /// End-stop force (N), stiffness (N/m) and damping (N·s/m).
+    f_stop: f64,
+    k_stop: f64,
+    c_stop: f64,
+    /// Solenoid force (N).
+    f_sol: f64,
+}
+
+/// The flows at one state ([`Plant::flows`]), with the partial derivatives their gradients need.
+#[derive(Clone, Copy, Debug)]
+struct Flows {
+    /// Proportional valve's open area (m²) and pressure drop (Pa).
+    a_valve: f64,
+    dp_valve: f64,
+    /// Flow through the proportional valve (m³/s) and its partials by area (m/s) and by pressure
+    /// drop (m³/(s·Pa)).
+    q_valve: f64,
+    dqv_da: f64,
+    dqv_ddp: f64,
+    /// Flows through the piston's and the foot's check valves (m³/s), and their slopes with
+    /// their pressure drops (m³/(s·Pa)).
+    q_cv1: f64,
+    dq1: f64,
+    q_cv2: f64,
+    dq2: f64,
+    /// Flow through the relief valve (m³/s); where it is open, what its gradient needs.
+    q_relief: f64,
+    relief: Option<Relief>,
+    /// The effects' bypass flow across the piston and base flow out of the full-bore chamber
+    /// (m³/s).
+    q_leak: f64,
+    q_base: f64,
+}
+
+/// An open relief valve: what its flow's gradient needs.
+#[derive(Clone, Copy, Debug)]
+struct Relief {
+    /// 1 / the pressure range over which it opens (1/Pa).
+    per_range: f64,
+    /// How far open, over that range (-).
+    u: f64,
+    /// The flow's partials by area (m/s) and by pressure drop (m³/(s·Pa)).
+    dq_da: f64,
+    dq_ddp: f64,
+}
+
+/// The flows' gradients ([`Plant::flow_gradients`]).
+struct FlowGradients {
+    d_a_valve: Grad,
+    d_dp_valve: Grad,
+    d_q_valve: Grad,
+    d_q_cv1: Grad,
+    d_q_cv2: Grad,
+    d_q_relief: Grad,
+    d_q_leak: Grad,
+    d_q_base: Grad,
 }
 
 /// The oil temperature's action (see [`Plant::thermal`]).

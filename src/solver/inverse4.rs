@@ -2,7 +2,7 @@
 //! elimination of its fixed rows (`crate::physics::iteration_matrix`) is 4×4, and a step solves
 //! with it four times.
 //!
-//! Why not LU with partial pivoting (which this replaced, JOURNAL.md, performance, twelfth round):
+//! Why not LU with partial pivoting:
 //! - **Speed.** The cofactors are independent products with no branch and no data-dependent index;
 //!   the pivot search's branches and row swaps through memory made the LU and its inverse a
 //!   chain the processor waited on. +11 % real-time factor on the damper, the same forces to the

@@ -41,9 +41,8 @@ impl<const N: usize> Lu<N> {
             let inverse = 1.0 / rows[k][k];
             inverse_diagonal[k] = inverse;
             let pivot_row = rows[k];
-            // index loops over constant bounds, which the compiler unrolls for a small N (the
-            // iterator chain they replace, `skip` over `zip`, was not unrolled, and cost twice the
-            // arithmetic: JOURNAL.md, performance, fourth round)
+            // index loops over constant bounds, which the compiler unrolls for a small N (an
+            // iterator chain, `skip` over `zip`, is not unrolled, and costs twice the arithmetic)
             for i in k + 1..N {
                 let factor = rows[i][k] * inverse;
                 rows[i][k] = factor;

@@ -19,7 +19,7 @@
 //! step's end), one plain evaluation more a step. On the benchmark's input Rodas3 is the more
 //! accurate at one step per 2 kHz sample (24 N RMS force error against 30 N at rtol 1e-3), this
 //! method at tighter tolerances (0.7 N against 1.5 N at 3e-5, at the same speed); at equal error
-//! near the default tolerance this one is about 10 % faster (JOURNAL.md, performance, eleventh round).
+//! near the default tolerance this one is about 10 % faster.
 //! Methods that evaluate f only before the step's end were tried and left: Ros3 (two evaluations,
 //! at the start and at 0.44 h) and a two-stage order-2 method (one) cannot see the relief valve or
 //! a check valve open late in a step, which the Python cross-check caught (60× the tolerance).

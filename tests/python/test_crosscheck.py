@@ -10,9 +10,8 @@ from damper_tools.crosscheck import crosscheck
 #   RMS, so what is left at these tolerances is numerical error;
 # - that error: the FMU at rtol 1e-7 is 1.0e-3 N RMS off (max 0.004 N), Python at 1e-7 1.6e-4 N;
 #   this test measures 1.0e-3 N. The bound leaves 50x for other step-size sequences (a change of
-#   the FMU's step control, another scipy). At rtol 1e-6, which this test used until the error norm
-#   left out the spool velocity and the coil current (JOURNAL.md, performance, third round), the FMU is
-#   0.011 N off (max 0.043 N): too near the bound;
+#   the FMU's step control, another scipy). At rtol 1e-6 the FMU is 0.011 N off (max 0.043 N):
+#   too near the bound;
 # - a physics or controller difference shows far above it: in the Python model alone, +10 % on
 #   p_transition (the orifice's regularisation, < 0.1 % on operating points) gives 0.087 N; +1 % on
 #   Kd_x 1.9 N, on tau_coil 3.6 N, on air_fraction, k1_mount or Cv_valve 11-12 N, +0.1 % on K_sol

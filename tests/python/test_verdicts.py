@@ -2,16 +2,25 @@
 table and the dyno score apply: its cases, its docstring's examples, and the verdict strings."""
 
 import doctest
+import json
+import re
 
 import pytest
 
-from damper_tools import verdicts
+from damper_tools import REPO, verdicts
 from damper_tools.verdicts import Verdict, right
 
 
 def test_the_verdicts_are_summary_jsons_strings():
     assert [str(v) for v in Verdict] == ["none", "effect", "partial", "does_not_fit", "unexplained"]
     assert Verdict("does_not_fit") is Verdict.DOES_NOT_FIT and Verdict.NONE == "none"
+
+
+def test_the_schema_and_the_rust_enum_name_the_same_verdicts():
+    schema = json.loads((REPO / "docs" / "summary.schema.json").read_text(encoding="utf-8"))
+    assert set(schema["properties"]["verdict"]["enum"]) - {None} == set(Verdict)
+    rust = (REPO / "crates" / "damper_engine" / "src" / "verdict.rs").read_text(encoding="utf-8")
+    assert set(re.findall(r'Verdict::\w+ => "(\w+)"', rust)) == set(Verdict)
 
 
 @pytest.mark.parametrize(("expected", "verdict", "named", "first", "is_right"), [

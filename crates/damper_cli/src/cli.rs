@@ -9,7 +9,7 @@ use clap::{Args, CommandFactory, Parser, Subcommand, ValueEnum};
 use damper_engine::calibrate::{calibrate, CalibrateOptions, Round, DEFAULT_FIT};
 use damper_engine::candidate::Candidate;
 use damper_engine::comparison::CompareOptions;
-use damper_engine::diagnosed::diagnose_measurement;
+use damper_engine::diagnose_measurement::diagnose_measurement;
 use damper_engine::generate::{self, GenerateOptions, InputStyle, Noise};
 use damper_engine::measurement::{Mapping, Measurement, DEFAULT_MAX_GAP};
 use damper_engine::parameters::{effect, parse_assignment};

@@ -6,11 +6,11 @@
 use crate::svg::esc;
 use crate::{before_after_report, compare, json_summary, report};
 use damper_engine::criteria::{DOES_NOT_FIT_NRMSE, EXPLAINED_FACTOR, MIN_EXPLAINED, MOVED_SIGMAS};
-use damper_engine::diagnose::Diagnosis;
-use damper_engine::diagnosed::Diagnosed;
+use damper_engine::diagnose_measurement::Diagnosed;
 use damper_engine::dsp::NoiseEstimate;
 use damper_engine::floor::Floor;
 use damper_engine::ladder::Rung;
+use damper_engine::missing_effect::Diagnosis;
 use damper_engine::record_parts::FAR_FACTOR;
 use damper_engine::summary::to_json;
 use std::fmt::Write as _;

@@ -1,10 +1,10 @@
 //! `summary.json` (typed in `damper_engine::summary`) from a comparison or a diagnosis.
 
-use damper_engine::analysis::observations;
+use damper_engine::analysis::{observations, Analysis, Lag, Whiteness};
 use damper_engine::before_after::{regime_rows, After};
 use damper_engine::candidate::Candidate;
 use damper_engine::comparison::{Comparison, ModelSetup};
-use damper_engine::diagnosed::Diagnosed;
+use damper_engine::diagnose_measurement::Diagnosed;
 use damper_engine::dsp::{Metrics, NoiseEstimate};
 use damper_engine::residual_signature;
 use damper_engine::summary::{self, Summary};
@@ -38,8 +38,6 @@ pub fn model_settings(setup: &ModelSetup) -> summary::ModelSettings {
 pub fn compared(c: &Comparison) -> Summary {
     let a = &c.analysis;
     let m = &c.measurement;
-    let f = a.force();
-    let w = &a.whiteness;
     Summary {
         tool: "damper compare".into(),
         version: env!("CARGO_PKG_VERSION").into(),
@@ -56,108 +54,17 @@ pub fn compared(c: &Comparison) -> Summary {
             t_split: m.time[a.split],
         },
         residual_definition: "model - measured (as in docs/effects.md)".into(),
-        nrmse_baseline: f.validation.nrmse,
+        nrmse_baseline: a.force().validation.nrmse,
         observations: observations(a),
         noise_floor_estimate: a.noise_floor_estimate,
-        signals: a
-            .fits
-            .iter()
-            .map(|s| {
-                let signal = summary::Signal {
-                    unit: s.column.si_unit().into(),
-                    train: metrics(&s.train),
-                    validation: metrics(&s.validation),
-                    lag_s: s.lag.seconds,
-                    lag_refined_s: s.lag.refined_seconds,
-                    lag_of_changes_s: s.lag.changes_seconds,
-                };
-                (s.column.name().to_string(), signal)
-            })
-            .collect(),
-        regimes: a
-            .regimes
-            .iter()
-            .map(|r| summary::Regime {
-                group: r.group.into(),
-                regime: r.name.clone(),
-                samples: r.samples,
-                time_share: r.time_share,
-                rms_residual: r.rms,
-                mean_residual: r.mean,
-                error_share: r.error_share,
-                concentration: r.concentration,
-            })
-            .collect(),
-        frequency_bands: a
-            .bands
-            .iter()
-            .map(|b| summary::Band {
-                f_lo_hz: b.lo,
-                f_hi_hz: b.hi,
-                residual_share: b.residual_share,
-                residual_rms: b.residual_rms,
-                band_nrmse: b.band_nrmse,
-            })
-            .collect(),
-        residual_signature: summary::ResidualSignature {
-            follows: a
-                .signature
-                .iter()
-                .map(|f| summary::Follows { quantity: f.quantity.key().into(), share: f.share })
-                .collect(),
-            dominant_band: a.dominant_band.map(|b| summary::DominantBand {
-                f_lo_hz: b.lo_hz,
-                f_hi_hz: b.hi_hz,
-                share: b.share,
-            }),
-            text: residual_signature::sentence(&a.signature, a.dominant_band),
-        },
-        worst_windows: a
-            .worst
-            .iter()
-            .map(|w| summary::Window {
-                t_start: w.t_start,
-                t_end: w.t_end,
-                rms_residual: w.rms,
-                mean_residual: w.mean,
-                mean_abs_velocity: w.mean_abs_velocity,
-                tags: w.tags.clone(),
-            })
-            .collect(),
-        lag: summary::Lag {
-            samples: f.lag.samples as i64,
-            seconds: f.lag.seconds,
-            refined_seconds: f.lag.refined_seconds,
-            peak_correlation: f.lag.peak,
-            search_range_s: f.lag.max_seconds,
-            of_changes_s: f.lag.changes_seconds,
-            found: f.lag.found,
-            definition: "argmax_k sum_t y(t+k) yhat(t): positive = the measured force comes later".into(),
-        },
-        whiteness: summary::Whiteness {
-            part: "validation".into(),
-            samples: w.samples,
-            max_lag: w.max_lag,
-            band: w.band,
-            fraction_outside: w.fraction_outside,
-            ljung_box_q: w.ljung_box_q,
-            ljung_box_lags: w.ljung_box_lags,
-            chi2_95: w.chi2_95,
-            white: w.white,
-        },
-        input_cross_correlation: a
-            .input_correlations
-            .iter()
-            .map(|x| {
-                let xc = summary::CrossCorrelation {
-                    max_abs: x.max_abs,
-                    at_lag_s: x.at_lag_seconds,
-                    band: x.band,
-                    within_band: x.max_abs <= x.band,
-                };
-                (x.input.name().to_string(), xc)
-            })
-            .collect(),
+        signals: signals(a),
+        regimes: regimes(a),
+        frequency_bands: frequency_bands(a),
+        residual_signature: residual_signature(a),
+        worst_windows: worst_windows(a),
+        lag: lag(&a.force().lag),
+        whiteness: whiteness(&a.whiteness),
+        input_cross_correlation: input_cross_correlation(a),
         events: summary::Events {
             velocity_reversals: a.reversals.len(),
             demand_steps: a.demand_steps.len(),
@@ -172,12 +79,139 @@ pub fn compared(c: &Comparison) -> Summary {
     }
 }
 
+/// Each compared signal's scores and lags, by its name (into the summary's map).
+fn signals<M: FromIterator<(String, summary::Signal)>>(a: &Analysis) -> M {
+    a.fits
+        .iter()
+        .map(|s| {
+            let signal = summary::Signal {
+                unit: s.column.si_unit().into(),
+                train: metrics(&s.train),
+                validation: metrics(&s.validation),
+                lag_s: s.lag.seconds,
+                lag_refined_s: s.lag.refined_seconds,
+                lag_of_changes_s: s.lag.changes_seconds,
+            };
+            (s.column.name().to_string(), signal)
+        })
+        .collect()
+}
+
+/// Where the force error lives: each regime's share of it against its share of time.
+fn regimes(a: &Analysis) -> Vec<summary::Regime> {
+    a.regimes
+        .iter()
+        .map(|r| summary::Regime {
+            group: r.group.into(),
+            regime: r.name.clone(),
+            samples: r.samples,
+            time_share: r.time_share,
+            rms_residual: r.rms,
+            mean_residual: r.mean,
+            error_share: r.error_share,
+            concentration: r.concentration,
+        })
+        .collect()
+}
+
+/// The residual's share of variance per frequency band.
+fn frequency_bands(a: &Analysis) -> Vec<summary::Band> {
+    a.bands
+        .iter()
+        .map(|b| summary::Band {
+            f_lo_hz: b.lo,
+            f_hi_hz: b.hi,
+            residual_share: b.residual_share,
+            residual_rms: b.residual_rms,
+            band_nrmse: b.band_nrmse,
+        })
+        .collect()
+}
+
+/// What the residual follows, its dominant band, and the sentence that says so.
+fn residual_signature(a: &Analysis) -> summary::ResidualSignature {
+    summary::ResidualSignature {
+        follows: a
+            .signature
+            .iter()
+            .map(|f| summary::Follows { quantity: f.quantity.key().into(), share: f.share })
+            .collect(),
+        dominant_band: a.dominant_band.map(|b| summary::DominantBand {
+            f_lo_hz: b.lo_hz,
+            f_hi_hz: b.hi_hz,
+            share: b.share,
+        }),
+        text: residual_signature::sentence(&a.signature, a.dominant_band),
+    }
+}
+
+/// The worst time windows of the force residual.
+fn worst_windows(a: &Analysis) -> Vec<summary::Window> {
+    a.worst
+        .iter()
+        .map(|w| summary::Window {
+            t_start: w.t_start,
+            t_end: w.t_end,
+            rms_residual: w.rms,
+            mean_residual: w.mean,
+            mean_abs_velocity: w.mean_abs_velocity,
+            tags: w.tags.clone(),
+        })
+        .collect()
+}
+
+/// The lag between measured and modelled force.
+fn lag(l: &Lag) -> summary::Lag {
+    summary::Lag {
+        samples: l.samples as i64,
+        seconds: l.seconds,
+        refined_seconds: l.refined_seconds,
+        peak_correlation: l.peak,
+        search_range_s: l.max_seconds,
+        of_changes_s: l.changes_seconds,
+        found: l.found,
+        definition: "argmax_k sum_t y(t+k) yhat(t): positive = the measured force comes later".into(),
+    }
+}
+
+/// The residual's whiteness on the validation part.
+fn whiteness(w: &Whiteness) -> summary::Whiteness {
+    summary::Whiteness {
+        part: "validation".into(),
+        samples: w.samples,
+        max_lag: w.max_lag,
+        band: w.band,
+        fraction_outside: w.fraction_outside,
+        ljung_box_q: w.ljung_box_q,
+        ljung_box_lags: w.ljung_box_lags,
+        chi2_95: w.chi2_95,
+        white: w.white,
+    }
+}
+
+/// The residual's largest cross-correlation with each input, by the input's name (into the
+/// summary's map).
+fn input_cross_correlation<M: FromIterator<(String, summary::CrossCorrelation)>>(a: &Analysis) -> M {
+    a.input_correlations
+        .iter()
+        .map(|x| {
+            let xc = summary::CrossCorrelation {
+                max_abs: x.max_abs,
+                at_lag_s: x.at_lag_seconds,
+                band: x.band,
+                within_band: x.max_abs <= x.band,
+            };
+            (x.input.name().to_string(), xc)
+        })
+        .collect()
+}
+
 /// `summary.json` of `damper diagnose`: compare's with the diagnosis filled in.
 pub fn diagnosed(r: &Diagnosed) -> Summary {
     let d = &r.diagnosis;
     Summary {
         nrmse_baseline: d.nrmse_baseline,
-        verdict: Some(d.verdict.into()),
+        verdict: Some(d.verdict),
         best_effect: d.best_effect.map(String::from),
         candidates: Some(d.candidates.iter().map(candidate).collect()),
         diagnosis: Some(summary::Diagnosis {

@@ -3,7 +3,7 @@
 
 use crate::describe::describe_model;
 use crate::svg::{esc, Axis, Plot, Series, ACCENT, GREEN, MEASURED, MODEL, ORANGE, RESIDUAL};
-use damper_engine::analysis::{lag_ms, observations, V_REVERSAL};
+use damper_engine::analysis::{lag_ms, observations, Analysis, Regime, Window, V_REVERSAL};
 use damper_engine::comparison::Comparison;
 use damper_engine::model::Demand;
 use damper_engine::residual_signature;
@@ -58,17 +58,70 @@ pub fn scaled(x: &[f64], f: f64) -> Vec<f64> {
     x.iter().map(|v| v * f).collect()
 }
 
+/// Newtons to kilonewtons: the forces' plot unit.
+const KN_PER_N: f64 = 1e-3;
+/// Metres to millimetres: the spool demand's plot unit.
+const MM_PER_M: f64 = 1e3;
+/// Seconds to milliseconds: the lags' unit.
+const MS_PER_S: f64 = 1e3;
+/// The worst windows drawn zoomed in (the table lists them all).
+const ZOOMED_WINDOWS: usize = 2;
+/// Context shown either side of a zoomed worst window, as a share of the record's duration (-)…
+const ZOOM_PAD_SHARE: f64 = 0.15;
+/// … and at most this (s): enough to see the motion around the window without shrinking it.
+const ZOOM_PAD_MAX: f64 = 0.2;
+/// A regime whose error concentration exceeds this (-) is shaded: it holds half again its share
+/// of time in squared error…
+const HOT_CONCENTRATION: f64 = 1.5;
+/// … provided it covers at least this share of the record's time (-): a handful of samples
+/// concentrates error by chance.
+const HOT_MIN_TIME_SHARE: f64 = 0.01;
+/// Concentration at which a regime's bar stops growing (-).
+const BAR_MAX_CONCENTRATION: f64 = 5.0;
+/// Bar length per unit of concentration (px).
+const BAR_PX_PER_CONCENTRATION: f64 = 24.0;
+/// How far below its peak the lag plot reaches, in heights of the peak above the curve's minimum
+/// (-); never below that minimum.
+const LAG_PLOT_DROP: f64 = 2.0;
+/// Smallest height (-) of the peak above the minimum that the lag plot's range is drawn with: a
+/// flat correlation curve still gets a range.
+const LAG_PLOT_MIN_SPAN: f64 = 1e-6;
+/// Smallest model run time (s) the real-time factor divides by: a run faster than the clock.
+const MIN_RUN_SECONDS: f64 = 1e-9;
+
 /// The report.
 pub fn html(c: &Comparison) -> String {
-    let a = &c.analysis;
-    let m = &c.measurement;
-    let p = &c.prediction;
-    let t = &m.time;
-    let y = m.get(Column::FDamper).expect("F_damper");
-    let v = m.get(Column::VDamper).expect("v_damper");
-    let f = a.force();
-    let dur = t[t.len() - 1] - t[0];
     let mut h = String::new();
+    head(&mut h, c);
+    summary_section(&mut h, c);
+    definitions(&mut h, c);
+    fit_table(&mut h, &c.analysis);
+    overlay_section(&mut h, c);
+    residual_section(&mut h, &c.analysis, &c.measurement.time);
+    regime_table(&mut h, c);
+    worst_window_table(&mut h, &c.analysis);
+    hysteresis_section(&mut h, c);
+    h += &signature_section(c);
+    spectrum_section(&mut h, &c.analysis);
+    whiteness_section(&mut h, &c.analysis);
+    lag_section(&mut h, &c.analysis);
+    inputs_section(&mut h, c);
+    h.push_str(
+        "<h2>Which effect is missing</h2><p class=\"small\">Run <code>damper diagnose</code> with the same options: each catalog \
+         effect switched on (or refitted), its parameters fitted on the train part and scored on the validation part, ranked, with a \
+         verdict and the ladder of the error as the effects are added.</p></body></html>",
+    );
+    h
+}
+
+/// The record's duration (s), first sample to last.
+fn duration(t: &[f64]) -> f64 {
+    t[t.len() - 1] - t[0]
+}
+
+/// The document's head (title, style) and the page's title.
+fn head(h: &mut String, c: &Comparison) {
+    let m = &c.measurement;
     let _ = write!(
         h,
         "<!DOCTYPE html><html lang=\"en\"><head><meta charset=\"utf-8\"><title>damper compare — {}</title><style>{CSS}</style></head><body>",
@@ -80,8 +133,13 @@ pub fn html(c: &Comparison) -> String {
         env!("CARGO_PKG_VERSION"),
         esc(&m.path)
     );
+}
 
-    // Summary box
+/// The summary box: the record, the model, the force's score, the observations and warnings.
+fn summary_section(h: &mut String, c: &Comparison) {
+    let (a, m) = (&c.analysis, &c.measurement);
+    let f = a.force();
+    let dur = duration(&m.time);
     let _ = write!(
         h,
         "<p><b>{}</b> samples at {:.0} Hz ({:.2} s), {}; velocity {}. Model: {}. Model run {:.2} s ({:.0}× real time).</p>",
@@ -92,7 +150,7 @@ pub fn html(c: &Comparison) -> String {
         if m.velocity_from_displacement { "derived from x_damper" } else { "measured" },
         esc(&describe_model(&c.setup)),
         c.run_seconds,
-        dur / c.run_seconds.max(1e-9)
+        dur / c.run_seconds.max(MIN_RUN_SECONDS)
     );
     let _ = write!(
         h,
@@ -115,8 +173,11 @@ pub fn html(c: &Comparison) -> String {
     for w in &c.warnings {
         let _ = write!(h, "<div class=\"note\">{}</div>", esc(w));
     }
+}
 
-    // Definitions
+/// The definitions of the residual, the scores, the parts and the lag.
+fn definitions(h: &mut String, c: &Comparison) {
+    let a = &c.analysis;
     let _ = write!(
         h,
         "<div class=\"defs\"><b>Definitions.</b> Residual r = ŷ − y (model minus measured, as in docs/effects.md; positive where the model is above the measurement). \
@@ -127,11 +188,13 @@ pub fn html(c: &Comparison) -> String {
          Lag: the k maximising Σ y(t+k)·ŷ(t) within ±{:.0} ms (positive: the measured force comes later), refined by a parabola through the peak. \
          White-noise floor estimate: σ from the residual's second differences (var = 6σ² for white noise, a smooth model error barely contributes), divided by std(y).</div>",
         100.0 * a.split_fraction,
-        t[a.split],
-        f.lag.max_seconds * 1e3
+        c.measurement.time[a.split],
+        a.force().lag.max_seconds * MS_PER_S
     );
+}
 
-    // Fit table
+/// Section 1: each compared signal's scores on both parts and its lags.
+fn fit_table(h: &mut String, a: &Analysis) {
     let _ = write!(
         h,
         "<h2>1. Fit per signal</h2><table><tr><th class=\"l\">signal</th><th>unit</th><th>train fit</th><th>train NRMSE</th>\
@@ -159,43 +222,21 @@ pub fn html(c: &Comparison) -> String {
         );
     }
     h.push_str("</table>");
+}
 
-    // Overlay
+/// Section 2: the measured and modelled force over the record, the worst windows zoomed in, and
+/// every other compared signal.
+fn overlay_section(h: &mut String, c: &Comparison) {
+    let (a, t) = (&c.analysis, &c.measurement.time);
     h.push_str("<h2>2. Overlay</h2>");
-    let mut overlay = Plot::new("F_damper: measured and model", Axis::new("time [s]"), Axis::new("force [kN]"))
-        .with(Series::line(t.clone(), scaled(y, 1e-3), MEASURED, "measured").width(1.0))
-        .with(Series::line(t.clone(), scaled(&p.f_damper, 1e-3), MODEL, "model").width(1.0));
-    if let Demand::Force(fd) = &c.drive.demand {
-        overlay = overlay.with(Series::line(t.clone(), scaled(fd, 1e-3), GREEN, "F_demand").dashed().width(0.8));
-    }
-    overlay.vlines.push((t[a.split], ORANGE.into(), "train | validation".into()));
-    for w in &a.worst {
-        overlay.vspans.push((w.t_start, w.t_end, ACCENT.into(), "worst windows".into()));
-    }
-    h += &overlay.svg();
-    for (k, w) in a.worst.iter().take(2).enumerate() {
-        let pad = (0.15 * dur).min(0.2);
-        let (i0, i1) = (index_at(t, w.t_start - pad), index_at(t, w.t_end + pad) + 1);
-        let mut z = Plot::new(
-            &format!("Worst window {}: {:.3}–{:.3} s ({})", k + 1, w.t_start, w.t_end, w.tags.join(", ")),
-            Axis::new("time [s]"),
-            Axis::new("force [kN]"),
-        )
-        .size(900.0, 260.0)
-        .with(Series::line(t[i0..i1].to_vec(), scaled(&y[i0..i1], 1e-3), MEASURED, "measured"))
-        .with(Series::line(t[i0..i1].to_vec(), scaled(&p.f_damper[i0..i1], 1e-3), MODEL, "model"))
-        .with(Series::line(t[i0..i1].to_vec(), scaled(&a.residual[i0..i1], 1e-3), RESIDUAL, "residual"));
-        if let Demand::Force(fd) = &c.drive.demand {
-            z = z.with(Series::line(t[i0..i1].to_vec(), scaled(&fd[i0..i1], 1e-3), GREEN, "F_demand").dashed());
-        }
-        z.vspans.push((w.t_start, w.t_end, ACCENT.into(), String::new()));
-        z.zero_line = true;
-        h += &z.svg();
+    *h += &force_overlay(c).svg();
+    for (k, w) in a.worst.iter().take(ZOOMED_WINDOWS).enumerate() {
+        *h += &worst_window_plot(c, k, w).svg();
     }
     for s in a.fits.iter().skip(1) {
         let (unit, factor) = s.column.display_unit();
-        let ym = m.get(s.column).expect("measured");
-        let model_signal = p.get(s.column).expect("model");
+        let ym = c.measurement.get(s.column).expect("measured");
+        let model_signal = c.prediction.get(s.column).expect("model");
         let mut pl = Plot::new(
             &format!(
                 "{}: measured and model{}",
@@ -209,40 +250,73 @@ pub fn html(c: &Comparison) -> String {
         .with(Series::line(t.clone(), scaled(ym, factor), MEASURED, "measured").width(0.9))
         .with(Series::line(t.clone(), scaled(model_signal, factor), MODEL, "model").width(0.9));
         pl.vlines.push((t[a.split], ORANGE.into(), String::new()));
-        h += &pl.svg();
+        *h += &pl.svg();
     }
+}
 
-    // Residual over time
+/// The measured and modelled force (and the force demand) over the whole record, the split and
+/// the worst windows marked.
+fn force_overlay(c: &Comparison) -> Plot {
+    let (a, t) = (&c.analysis, &c.measurement.time);
+    let y = c.measurement.get(Column::FDamper).expect("F_damper");
+    let mut overlay = Plot::new("F_damper: measured and model", Axis::new("time [s]"), Axis::new("force [kN]"))
+        .with(Series::line(t.clone(), scaled(y, KN_PER_N), MEASURED, "measured").width(1.0))
+        .with(Series::line(t.clone(), scaled(&c.prediction.f_damper, KN_PER_N), MODEL, "model").width(1.0));
+    if let Demand::Force(fd) = &c.drive.demand {
+        overlay = overlay.with(Series::line(t.clone(), scaled(fd, KN_PER_N), GREEN, "F_demand").dashed().width(0.8));
+    }
+    overlay.vlines.push((t[a.split], ORANGE.into(), "train | validation".into()));
+    for w in &a.worst {
+        overlay.vspans.push((w.t_start, w.t_end, ACCENT.into(), "worst windows".into()));
+    }
+    overlay
+}
+
+/// The `k`-th worst window `w` zoomed in: forces and residual, with some context either side.
+fn worst_window_plot(c: &Comparison, k: usize, w: &Window) -> Plot {
+    let (a, t) = (&c.analysis, &c.measurement.time);
+    let y = c.measurement.get(Column::FDamper).expect("F_damper");
+    let pad = (ZOOM_PAD_SHARE * duration(t)).min(ZOOM_PAD_MAX);
+    let (i0, i1) = (index_at(t, w.t_start - pad), index_at(t, w.t_end + pad) + 1);
+    let mut z = Plot::new(
+        &format!("Worst window {}: {:.3}–{:.3} s ({})", k + 1, w.t_start, w.t_end, w.tags.join(", ")),
+        Axis::new("time [s]"),
+        Axis::new("force [kN]"),
+    )
+    .size(900.0, 260.0)
+    .with(Series::line(t[i0..i1].to_vec(), scaled(&y[i0..i1], KN_PER_N), MEASURED, "measured"))
+    .with(Series::line(t[i0..i1].to_vec(), scaled(&c.prediction.f_damper[i0..i1], KN_PER_N), MODEL, "model"))
+    .with(Series::line(t[i0..i1].to_vec(), scaled(&a.residual[i0..i1], KN_PER_N), RESIDUAL, "residual"));
+    if let Demand::Force(fd) = &c.drive.demand {
+        z = z.with(Series::line(t[i0..i1].to_vec(), scaled(&fd[i0..i1], KN_PER_N), GREEN, "F_demand").dashed());
+    }
+    z.vspans.push((w.t_start, w.t_end, ACCENT.into(), String::new()));
+    z.zero_line = true;
+    z
+}
+
+/// Section 3: the force residual over the record.
+fn residual_section(h: &mut String, a: &Analysis, t: &[f64]) {
     h.push_str("<h2>3. Residual over time</h2>");
     let mut res = Plot::new("F_damper residual (model − measured)", Axis::new("time [s]"), Axis::new("residual [kN]"))
-        .with(Series::line(t.clone(), scaled(&a.residual, 1e-3), RESIDUAL, "residual").width(0.9));
+        .with(Series::line(t.to_vec(), scaled(&a.residual, KN_PER_N), RESIDUAL, "residual").width(0.9));
     res.vlines.push((t[a.split], ORANGE.into(), "train | validation".into()));
     for w in &a.worst {
         res.vspans.push((w.t_start, w.t_end, ACCENT.into(), "worst windows".into()));
     }
     res.zero_line = true;
-    h += &res.svg();
+    *h += &res.svg();
+}
 
-    // Where it fails
+/// Section 4 (start): the regimes' share of the error against their share of time, and the
+/// events (reversals, demand steps, the residual's jump at a reversal).
+fn regime_table(h: &mut String, c: &Comparison) {
+    let a = &c.analysis;
     h.push_str("<h2>4. Where it fails</h2><p class=\"small\">Each regime: its share of the record's squared force error against its share of time. \
         A concentration above 1 (shaded) means the error gathers there. Mean residual: model − measured.</p>");
     h.push_str("<table><tr><th class=\"l\">group</th><th class=\"l\">regime</th><th>samples</th><th>time</th><th>error share</th><th>concentration</th><th class=\"l\"></th><th>RMS [N]</th><th>mean [N]</th></tr>");
     for r in &a.regimes {
-        let hot = r.samples > 0 && r.concentration > 1.5 && r.time_share >= 0.01;
-        let bar = if r.concentration.is_finite() { (r.concentration.min(5.0) * 24.0) as usize } else { 0 };
-        let _ = write!(
-            h,
-            "<tr{}><td class=\"l\">{}</td><td class=\"l\">{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td class=\"l\"><span class=\"bar\" style=\"width:{bar}px\"></span></td><td>{}</td><td>{}</td></tr>",
-            if hot { " class=\"hot\"" } else { "" },
-            r.group,
-            esc(&r.name),
-            r.samples,
-            pct(r.time_share),
-            pct(r.error_share),
-            num(r.concentration, 2),
-            num(r.rms, 0),
-            if r.mean.is_finite() { format!("{:+.0}", r.mean) } else { "—".into() }
-        );
+        regime_row(h, r);
     }
     h.push_str("</table>");
     let _ = write!(
@@ -255,6 +329,33 @@ pub fn html(c: &Comparison) -> String {
         if c.drive.control_mode() == 0 { "1 kN" } else { "0.1 mm" },
         a.reversal_jump.map_or("—".to_string(), |j| format!("{j:+.0} N"))
     );
+}
+
+/// One regime's row, shaded where the error gathers, with a bar of its concentration.
+fn regime_row(h: &mut String, r: &Regime) {
+    let hot = r.samples > 0 && r.concentration > HOT_CONCENTRATION && r.time_share >= HOT_MIN_TIME_SHARE;
+    let bar = if r.concentration.is_finite() {
+        (r.concentration.min(BAR_MAX_CONCENTRATION) * BAR_PX_PER_CONCENTRATION) as usize
+    } else {
+        0
+    };
+    let _ = write!(
+        h,
+        "<tr{}><td class=\"l\">{}</td><td class=\"l\">{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td class=\"l\"><span class=\"bar\" style=\"width:{bar}px\"></span></td><td>{}</td><td>{}</td></tr>",
+        if hot { " class=\"hot\"" } else { "" },
+        r.group,
+        esc(&r.name),
+        r.samples,
+        pct(r.time_share),
+        pct(r.error_share),
+        num(r.concentration, 2),
+        num(r.rms, 0),
+        if r.mean.is_finite() { format!("{:+.0}", r.mean) } else { "—".into() }
+    );
+}
+
+/// The worst time windows' table.
+fn worst_window_table(h: &mut String, a: &Analysis) {
     h.push_str("<h3>Worst time windows</h3><table><tr><th>#</th><th>from [s]</th><th>to [s]</th><th>RMS [N]</th><th>mean [N]</th><th>mean |v| [m/s]</th><th class=\"l\">what happens</th></tr>");
     for (k, w) in a.worst.iter().enumerate() {
         let _ = write!(
@@ -270,25 +371,32 @@ pub fn html(c: &Comparison) -> String {
         );
     }
     h.push_str("</table>");
+}
 
-    // Hysteresis
+/// The residual against the damper velocity, with its bin means on rising and falling velocity
+/// (a hysteresis loop, or a jump at v = 0).
+fn hysteresis_section(h: &mut String, c: &Comparison) {
+    let a = &c.analysis;
+    let v = c.measurement.get(Column::VDamper).expect("v_damper");
     h.push_str("<h3>Residual against velocity</h3><p class=\"small\">Dots: every sample (thinned to 8000). Lines: the mean residual in 40 velocity bins, \
         separately while the velocity rises and falls; two branches that differ are a hysteresis loop (delay, compliance), a jump at v = 0 the same on both branches points to friction-like force.</p>");
     let mut hyst = Plot::new("Residual vs damper velocity", Axis::new("v_damper [m/s]"), Axis::new("residual [kN]"))
         .size(900.0, 340.0)
-        .with(Series::points(v.to_vec(), scaled(&a.residual, 1e-3), RESIDUAL, "samples"));
+        .with(Series::points(v.to_vec(), scaled(&a.residual, KN_PER_N), RESIDUAL, "samples"));
     let bins_x: Vec<f64> = a.velocity_bins.iter().map(|b| b.v).collect();
-    let rise: Vec<f64> = a.velocity_bins.iter().map(|b| b.rising.map_or(f64::NAN, |x| x * 1e-3)).collect();
-    let fall: Vec<f64> = a.velocity_bins.iter().map(|b| b.falling.map_or(f64::NAN, |x| x * 1e-3)).collect();
+    let rise: Vec<f64> = a.velocity_bins.iter().map(|b| b.rising.map_or(f64::NAN, |x| x * KN_PER_N)).collect();
+    let fall: Vec<f64> = a.velocity_bins.iter().map(|b| b.falling.map_or(f64::NAN, |x| x * KN_PER_N)).collect();
     hyst = hyst
         .with(Series::line(bins_x.clone(), rise, ACCENT, "mean, velocity rising").width(2.2))
         .with(Series::line(bins_x, fall, MODEL, "mean, velocity falling").width(2.2));
     hyst.zero_line = true;
-    h += &hyst.svg();
-    h += &signature_section(c);
+    *h += &hyst.svg();
+}
 
-    // Spectrum
+/// Section 5: the residual's and the measured force's spectra, and the residual per band.
+fn spectrum_section(h: &mut String, a: &Analysis) {
     h.push_str("<h2>5. Residual spectrum</h2>");
+    // from the first bin above 0 Hz: the axis is logarithmic
     let fpos: Vec<usize> = (1..a.psd_freq.len()).collect();
     let fx: Vec<f64> = fpos.iter().map(|&i| a.psd_freq[i]).collect();
     let mut spec = Plot::new(
@@ -301,7 +409,7 @@ pub fn html(c: &Comparison) -> String {
     for b in a.bands.iter().skip(1) {
         spec.vlines.push((b.lo, "#bbbbbb".into(), String::new()));
     }
-    h += &spec.svg();
+    *h += &spec.svg();
     h.push_str("<table><tr><th>band [Hz]</th><th>share of residual variance</th><th>RMS residual [N]</th><th>band NRMSE (residual/measured)</th></tr>");
     for b in &a.bands {
         let _ = write!(
@@ -315,8 +423,17 @@ pub fn html(c: &Comparison) -> String {
         );
     }
     h.push_str("</table>");
+}
 
-    // Whiteness
+/// The lags (ms) of a correlation of `len` values centred on lag 0, at sample interval `dt` (s).
+fn centred_lags_ms(len: usize, dt: f64) -> Vec<f64> {
+    let l = (len / 2) as f64;
+    (0..len).map(|i| (i as f64 - l) * dt * MS_PER_S).collect()
+}
+
+/// Section 6: the residual's whiteness (autocorrelation, Ljung–Box) and its cross-correlation
+/// with each input.
+fn whiteness_section(h: &mut String, a: &Analysis) {
     let w = &a.whiteness;
     let _ = write!(
         h,
@@ -331,21 +448,20 @@ pub fn html(c: &Comparison) -> String {
         w.chi2_95,
         if w.white { "white" } else { "not white" }
     );
-    let lags_ac: Vec<f64> = (0..a.autocorrelation.len()).map(|k| k as f64 * a.dt * 1e3).collect();
+    let lags_ac: Vec<f64> = (0..a.autocorrelation.len()).map(|k| k as f64 * a.dt * MS_PER_S).collect();
     let mut ac = Plot::new("Residual autocorrelation", Axis::new("lag [ms]"), Axis::new("autocorrelation"))
         .size(900.0, 240.0)
         .with(Series::stems(lags_ac, a.autocorrelation.clone(), RESIDUAL, "r(k)"));
     ac.hbands.push((-w.band, w.band, "±1.96/√N".into()));
-    h += &ac.svg();
+    *h += &ac.svg();
     for x in &a.input_correlations {
-        let l = (x.values.len() / 2) as f64;
-        let lx: Vec<f64> = (0..x.values.len()).map(|i| (i as f64 - l) * a.dt * 1e3).collect();
+        let lx = centred_lags_ms(x.values.len(), a.dt);
         let mut pl = Plot::new(
             &format!(
                 "Cross-correlation of the residual with {} (max |c| {:.3} at {:+.1} ms)",
                 x.input.name(),
                 x.max_abs,
-                x.at_lag_seconds * 1e3
+                x.at_lag_seconds * MS_PER_S
             ),
             Axis::new("lag [ms] (positive: residual after the input)"),
             Axis::new("correlation"),
@@ -353,12 +469,14 @@ pub fn html(c: &Comparison) -> String {
         .size(900.0, 220.0)
         .with(Series::stems(lx, x.values.clone(), MODEL, ""));
         pl.hbands.push((-x.band, x.band, "±1.96/√N".into()));
-        h += &pl.svg();
+        *h += &pl.svg();
     }
+}
 
-    // Lag
-    let l = (a.lag_curve.len() / 2) as f64;
-    let lx: Vec<f64> = (0..a.lag_curve.len()).map(|i| (i as f64 - l) * a.dt * 1e3).collect();
+/// Section 7: the lag between measured and modelled force, and the correlation curve it peaks on.
+fn lag_section(h: &mut String, a: &Analysis) {
+    let f = a.force();
+    let lx = centred_lags_ms(a.lag_curve.len(), a.dt);
     let _ = write!(
         h,
         "<h2>7. Lag between measured and modelled force</h2><p>Peak of the cross-correlation at <b>{} samples ({} ms)</b>, refined {} ms, correlation {:.4}. \
@@ -370,28 +488,32 @@ pub fn html(c: &Comparison) -> String {
         lag_ms(f.lag.refined_seconds, 3),
         f.lag.peak,
         lag_ms(f.lag.changes_seconds, 2),
-        f.lag.max_seconds * 1e3
+        f.lag.max_seconds * MS_PER_S
     );
     let lo = a.lag_curve.iter().cloned().fold(f64::INFINITY, f64::min);
     let mut lag =
         Plot::new("Cross-correlation, measured against model force", Axis::new("lag [ms]"), Axis::new("correlation"))
             .size(900.0, 220.0)
             .with(Series::line(lx, a.lag_curve.clone(), MODEL, ""));
-    lag.y.min = Some(lo.max(f.lag.peak - 2.0 * (f.lag.peak - lo).max(1e-6)));
-    lag.vlines.push((f.lag.refined_seconds * 1e3, ACCENT.into(), "estimate".into()));
-    h += &lag.svg();
+    lag.y.min = Some(lo.max(f.lag.peak - LAG_PLOT_DROP * (f.lag.peak - lo).max(LAG_PLOT_MIN_SPAN)));
+    lag.vlines.push((f.lag.refined_seconds * MS_PER_S, ACCENT.into(), "estimate".into()));
+    *h += &lag.svg();
+}
 
-    // Inputs
+/// Section 8: the measured inputs, and the CSV columns they were read from.
+fn inputs_section(h: &mut String, c: &Comparison) {
+    let (m, t) = (&c.measurement, &c.measurement.time);
+    let v = m.get(Column::VDamper).expect("v_damper");
     h.push_str("<h2>8. Measured inputs</h2>");
     let mut inp = Plot::new("v_damper", Axis::new("time [s]"), Axis::new("v_damper [m/s]"))
         .size(900.0, 200.0)
         .with(Series::line(t.clone(), v.to_vec(), MEASURED, "").width(0.8));
     inp.zero_line = true;
-    h += &inp.svg();
+    *h += &inp.svg();
     if let Demand::SpoolPosition(xs) = &c.drive.demand {
-        h += &Plot::new("x_spool_demand", Axis::new("time [s]"), Axis::new("x_spool_demand [mm]"))
+        *h += &Plot::new("x_spool_demand", Axis::new("time [s]"), Axis::new("x_spool_demand [mm]"))
             .size(900.0, 200.0)
-            .with(Series::line(t.clone(), scaled(xs, 1e3), MEASURED, "").width(0.8))
+            .with(Series::line(t.clone(), scaled(xs, MM_PER_M), MEASURED, "").width(0.8))
             .svg();
     }
     h.push_str("<h3>Columns read</h3><table><tr><th class=\"l\">variable</th><th class=\"l\">CSV column</th><th>#</th><th>unit</th></tr>");
@@ -406,13 +528,6 @@ pub fn html(c: &Comparison) -> String {
         );
     }
     h.push_str("</table>");
-
-    h.push_str(
-        "<h2>Which effect is missing</h2><p class=\"small\">Run <code>damper diagnose</code> with the same options: each catalog \
-         effect switched on (or refitted), its parameters fitted on the train part and scored on the validation part, ranked, with a \
-         verdict and the ladder of the error as the effects are added.</p></body></html>",
-    );
-    h
 }
 
 /// What the residual follows (ranked), and the residual against the stroke: a force that hangs on
@@ -430,8 +545,11 @@ fn signature_section(c: &Comparison) -> String {
     let (centres, means, _) = residual_signature::binned(x, &a.residual, &keep);
     let mut plot = Plot::new("Residual vs stroke", Axis::new("x_damper [mm]"), Axis::new("residual [kN]"))
         .size(900.0, 340.0)
-        .with(Series::points(scaled(x, 1e3), scaled(&a.residual, 1e-3), RESIDUAL, "samples"))
-        .with(Series::line(scaled(&centres, 1e3), scaled(&means, 1e-3), ACCENT, "mean in 20 stroke bins").width(2.2));
+        .with(Series::points(scaled(x, MM_PER_M), scaled(&a.residual, KN_PER_N), RESIDUAL, "samples"))
+        .with(
+            Series::line(scaled(&centres, MM_PER_M), scaled(&means, KN_PER_N), ACCENT, "mean in 20 stroke bins")
+                .width(2.2),
+        );
     plot.zero_line = true;
     h += &plot.svg();
     h

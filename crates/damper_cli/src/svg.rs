@@ -186,28 +186,35 @@ impl Plot {
     /// The SVG element.
     pub fn svg(&self) -> String {
         let id = NEXT_ID.fetch_add(1, Ordering::Relaxed);
+        let f = self.frame();
+        let mut s = String::new();
+        self.write_frame(&mut s, &f, id);
+        self.write_grid(&mut s, &f);
+        self.write_axis_labels(&mut s, &f);
+        let _ = write!(s, r#"<g clip-path="url(#c{id})">"#);
+        self.write_spans_and_bands(&mut s, &f);
+        for series in &self.series {
+            self.write_series(&mut s, &f, series);
+        }
+        self.write_vlines(&mut s, &f);
+        s.push_str("</g>");
+        self.write_legend(&mut s, &f);
+        s.push_str("</svg>");
+        s
+    }
+
+    /// The plot's size, margins and data ranges.
+    fn frame(&self) -> Frame {
         let (w, h) = (self.width, self.height);
-        let (ml, mr, mt, mb) = (64.0, 16.0, 26.0, 40.0);
-        let (pw, ph) = (w - ml - mr, h - mt - mb);
+        let (ml, mr, mt, mb) = (MARGIN_LEFT, MARGIN_RIGHT, MARGIN_TOP, MARGIN_BOTTOM);
         let (x0, x1) = self.data_range(true);
         let (y0, y1) = self.data_range(false);
-        let tx = |v: f64| -> f64 {
-            let f = if self.x.log {
-                (libm::log10(v) - libm::log10(x0)) / (libm::log10(x1) - libm::log10(x0))
-            } else {
-                (v - x0) / (x1 - x0)
-            };
-            ml + f * pw
-        };
-        let ty = |v: f64| -> f64 {
-            let f = if self.y.log {
-                (libm::log10(v) - libm::log10(y0)) / (libm::log10(y1) - libm::log10(y0))
-            } else {
-                (v - y0) / (y1 - y0)
-            };
-            mt + (1.0 - f) * ph
-        };
-        let mut s = String::new();
+        Frame { w, h, ml, mt, pw: w - ml - mr, ph: h - mt - mb, x0, x1, y0, y1, x_log: self.x.log, y_log: self.y.log }
+    }
+
+    /// The `<svg>` element's opening, the plotting area's clip path and box, and the title.
+    fn write_frame(&self, s: &mut String, f: &Frame, id: usize) {
+        let Frame { w, h, ml, mt, pw, ph, .. } = *f;
         let _ = write!(
             s,
             r#"<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 {w} {h}" width="{w}" height="{h}" font-family="Helvetica,Arial,sans-serif" font-size="11">"#
@@ -218,10 +225,13 @@ impl Plot {
         );
         let _ = write!(s, r##"<rect x="{ml}" y="{mt}" width="{pw}" height="{ph}" fill="#fff" stroke="#999"/>"##);
         let _ = write!(s, r#"<text x="{}" y="16" font-size="13" font-weight="bold">{}</text>"#, ml, esc(&self.title));
+    }
 
-        // grid and ticks
+    /// The grid lines and the tick labels of both axes.
+    fn write_grid(&self, s: &mut String, f: &Frame) {
+        let Frame { ml, mt, pw, ph, x0, x1, y0, y1, .. } = *f;
         for v in ticks(x0, x1, self.x.log) {
-            let px = tx(v);
+            let px = f.tx(v);
             let _ = write!(s, r##"<line x1="{px:.1}" y1="{mt}" x2="{px:.1}" y2="{}" stroke="#e5e5e5"/>"##, mt + ph);
             let _ = write!(
                 s,
@@ -231,7 +241,7 @@ impl Plot {
             );
         }
         for v in ticks(y0, y1, self.y.log) {
-            let py = ty(v);
+            let py = f.ty(v);
             let _ = write!(s, r##"<line x1="{ml}" y1="{py:.1}" x2="{}" y2="{py:.1}" stroke="#e5e5e5"/>"##, ml + pw);
             let _ = write!(
                 s,
@@ -241,6 +251,11 @@ impl Plot {
                 fmt_tick(v, y0, y1, self.y.log)
             );
         }
+    }
+
+    /// The axes' labels: below the plot, and turned along the left edge.
+    fn write_axis_labels(&self, s: &mut String, f: &Frame) {
+        let Frame { h, ml, mt, pw, ph, .. } = *f;
         let _ = write!(
             s,
             r#"<text x="{}" y="{}" text-anchor="middle">{}</text>"#,
@@ -255,19 +270,22 @@ impl Plot {
             mt + ph / 2.0,
             esc(&self.y.label)
         );
+    }
 
-        let _ = write!(s, r#"<g clip-path="url(#c{id})">"#);
+    /// The shaded x spans, the horizontal bands and the zero line, under the series.
+    fn write_spans_and_bands(&self, s: &mut String, f: &Frame) {
+        let Frame { ml, mt, pw, ph, y0, y1, .. } = *f;
         for (a, b, color, _) in &self.vspans {
-            let (pa, pb) = (tx(*a), tx(*b));
+            let (pa, pb) = (f.tx(*a), f.tx(*b));
             let _ = write!(
                 s,
                 r#"<rect x="{:.1}" y="{mt}" width="{:.1}" height="{ph}" fill="{color}" opacity="0.15"/>"#,
                 pa.min(pb),
-                (pb - pa).abs().max(1.0)
+                (pb - pa).abs().max(MIN_SPAN_PX)
             );
         }
         for (a, b, _) in &self.hbands {
-            let (pa, pb) = (ty(*a), ty(*b));
+            let (pa, pb) = (f.ty(*a), f.ty(*b));
             let _ = write!(
                 s,
                 r##"<rect x="{ml}" y="{:.1}" width="{pw}" height="{:.1}" fill="#888" opacity="0.18"/>"##,
@@ -276,70 +294,80 @@ impl Plot {
             );
         }
         if self.zero_line && !self.y.log && y0 < 0.0 && y1 > 0.0 {
-            let p = ty(0.0);
+            let p = f.ty(0.0);
             let _ = write!(
                 s,
                 r##"<line x1="{ml}" y1="{p:.1}" x2="{}" y2="{p:.1}" stroke="#666" stroke-width="0.8"/>"##,
                 ml + pw
             );
         }
-        for series in &self.series {
-            let pts: Vec<(f64, f64)> = reduce(&series.x, &series.y, pw as usize, self.x.log, self.y.log)
-                .into_iter()
-                .map(|(x, y)| (tx(x), ty(y)))
-                .collect();
-            match series.kind {
-                Kind::Line { width, dash } => {
-                    let mut d = String::new();
-                    let mut pen = false;
-                    for (px, py) in &pts {
-                        if px.is_finite() && py.is_finite() {
-                            let _ = write!(d, "{}{:.1},{:.1}", if pen { "L" } else { "M" }, px, py);
-                            pen = true;
-                        } else {
-                            pen = false;
-                        }
+    }
+
+    /// One series, reduced to the plot's pixel columns: a path, dots or stems.
+    fn write_series(&self, s: &mut String, f: &Frame, series: &Series) {
+        let pts: Vec<(f64, f64)> = reduce(&series.x, &series.y, f.pw as usize, self.x.log, self.y.log)
+            .into_iter()
+            .map(|(x, y)| (f.tx(x), f.ty(y)))
+            .collect();
+        match series.kind {
+            Kind::Line { width, dash } => {
+                let mut d = String::new();
+                // a point off the plot (NaN) lifts the pen: a gap, not a line across it
+                let mut pen = false;
+                for (px, py) in &pts {
+                    if px.is_finite() && py.is_finite() {
+                        let _ = write!(d, "{}{:.1},{:.1}", if pen { "L" } else { "M" }, px, py);
+                        pen = true;
+                    } else {
+                        pen = false;
                     }
-                    let _ = write!(
-                        s,
-                        r#"<path d="{d}" fill="none" stroke="{}" stroke-width="{width}" stroke-opacity="{}"{} stroke-linejoin="round"/>"#,
-                        series.color,
-                        series.opacity,
-                        if dash { r#" stroke-dasharray="5,3""# } else { "" }
-                    );
                 }
-                Kind::Points { radius } => {
-                    let _ = write!(s, r#"<g fill="{}" fill-opacity="{}">"#, series.color, series.opacity);
-                    for (px, py) in &pts {
-                        if px.is_finite() && py.is_finite() {
-                            let _ = write!(s, r#"<circle cx="{px:.1}" cy="{py:.1}" r="{radius}"/>"#);
-                        }
+                let _ = write!(
+                    s,
+                    r#"<path d="{d}" fill="none" stroke="{}" stroke-width="{width}" stroke-opacity="{}"{} stroke-linejoin="round"/>"#,
+                    series.color,
+                    series.opacity,
+                    if dash { r#" stroke-dasharray="5,3""# } else { "" }
+                );
+            }
+            Kind::Points { radius } => {
+                let _ = write!(s, r#"<g fill="{}" fill-opacity="{}">"#, series.color, series.opacity);
+                for (px, py) in &pts {
+                    if px.is_finite() && py.is_finite() {
+                        let _ = write!(s, r#"<circle cx="{px:.1}" cy="{py:.1}" r="{radius}"/>"#);
                     }
-                    s.push_str("</g>");
                 }
-                Kind::Stems => {
-                    let base = ty(if self.y.log { y0 } else { 0.0f64.clamp(y0, y1) });
-                    let mut d = String::new();
-                    for (px, py) in &pts {
-                        if px.is_finite() && py.is_finite() {
-                            let _ = write!(d, "M{px:.1},{base:.1}L{px:.1},{py:.1}");
-                        }
+                s.push_str("</g>");
+            }
+            Kind::Stems => {
+                let base = f.ty(if self.y.log { f.y0 } else { 0.0f64.clamp(f.y0, f.y1) });
+                let mut d = String::new();
+                for (px, py) in &pts {
+                    if px.is_finite() && py.is_finite() {
+                        let _ = write!(d, "M{px:.1},{base:.1}L{px:.1},{py:.1}");
                     }
-                    let _ = write!(s, r#"<path d="{d}" stroke="{}" stroke-width="1.5" fill="none"/>"#, series.color);
                 }
+                let _ = write!(s, r#"<path d="{d}" stroke="{}" stroke-width="1.5" fill="none"/>"#, series.color);
             }
         }
+    }
+
+    /// The vertical lines, over the series.
+    fn write_vlines(&self, s: &mut String, f: &Frame) {
+        let Frame { mt, ph, .. } = *f;
         for (x, color, _) in &self.vlines {
-            let p = tx(*x);
+            let p = f.tx(*x);
             let _ = write!(
                 s,
                 r#"<line x1="{p:.1}" y1="{mt}" x2="{p:.1}" y2="{}" stroke="{color}" stroke-width="1.2" stroke-dasharray="4,3"/>"#,
                 mt + ph
             );
         }
-        s.push_str("</g>");
+    }
 
-        // legend
+    /// The legend's entries (label, color, drawn as a line rather than a patch): the labelled
+    /// series, bands, spans and lines, a label given twice listed once.
+    fn legend_entries(&self) -> Vec<(String, String, bool)> {
         let mut entries: Vec<(String, String, bool)> = Vec::new();
         for series in &self.series {
             if !series.label.is_empty() {
@@ -361,9 +389,15 @@ impl Plot {
                 entries.push((label.clone(), color.clone(), true));
             }
         }
+        entries
+    }
+
+    /// The legend, right-aligned along the top of the plotting area, the last entry rightmost.
+    fn write_legend(&self, s: &mut String, f: &Frame) {
+        let Frame { ml, mt, pw, .. } = *f;
         let mut lx = ml + pw - 8.0;
-        for (label, color, line) in entries.iter().rev() {
-            let tw = 6.5 * label.chars().count() as f64;
+        for (label, color, line) in self.legend_entries().iter().rev() {
+            let tw = LEGEND_CHAR_PX * label.chars().count() as f64;
             lx -= tw + 26.0;
             let ly = mt + 12.0;
             let _ = write!(
@@ -390,8 +424,66 @@ impl Plot {
             }
             let _ = write!(s, r#"<text x="{:.1}" y="{ly:.1}">{}</text>"#, lx + 20.0, esc(label));
         }
-        s.push_str("</svg>");
-        s
+    }
+}
+
+/// Left margin (px): the y axis's tick labels and its turned label.
+const MARGIN_LEFT: f64 = 64.0;
+/// Right margin (px).
+const MARGIN_RIGHT: f64 = 16.0;
+/// Top margin (px): the title.
+const MARGIN_TOP: f64 = 26.0;
+/// Bottom margin (px): the x axis's tick labels and its label.
+const MARGIN_BOTTOM: f64 = 40.0;
+/// Narrowest shaded span drawn (px): a span shorter than a pixel would vanish.
+const MIN_SPAN_PX: f64 = 1.0;
+/// Width of a legend character (px) at the plots' font size (11 px, Helvetica), for the room
+/// each entry takes.
+const LEGEND_CHAR_PX: f64 = 6.5;
+
+/// Where a plot draws: its size and margins (px) and the data ranges its axes span.
+#[derive(Clone, Copy, Debug)]
+struct Frame {
+    /// Width and height of the whole plot (px).
+    w: f64,
+    h: f64,
+    /// Left and top margins (px).
+    ml: f64,
+    mt: f64,
+    /// Width and height of the plotting area (px).
+    pw: f64,
+    ph: f64,
+    /// The x axis's range, in data units.
+    x0: f64,
+    x1: f64,
+    /// The y axis's range, in data units.
+    y0: f64,
+    y1: f64,
+    x_log: bool,
+    y_log: bool,
+}
+
+impl Frame {
+    /// The pixel column of data value `v` on the x axis.
+    fn tx(&self, v: f64) -> f64 {
+        let (x0, x1) = (self.x0, self.x1);
+        let f = if self.x_log {
+            (libm::log10(v) - libm::log10(x0)) / (libm::log10(x1) - libm::log10(x0))
+        } else {
+            (v - x0) / (x1 - x0)
+        };
+        self.ml + f * self.pw
+    }
+
+    /// The pixel row of data value `v` on the y axis (down the screen).
+    fn ty(&self, v: f64) -> f64 {
+        let (y0, y1) = (self.y0, self.y1);
+        let f = if self.y_log {
+            (libm::log10(v) - libm::log10(y0)) / (libm::log10(y1) - libm::log10(y0))
+        } else {
+            (v - y0) / (y1 - y0)
+        };
+        self.mt + (1.0 - f) * self.ph
     }
 }
 

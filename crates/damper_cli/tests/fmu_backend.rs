@@ -4,7 +4,7 @@ use crate::common;
 
 use damper_cli::json_summary::diagnosed as summary;
 use damper_engine::comparison::CompareOptions;
-use damper_engine::diagnosed::{diagnose_measurement, Diagnosed};
+use damper_engine::diagnose_measurement::{diagnose_measurement, Diagnosed};
 use damper_engine::fmu_model::FmuModel;
 use damper_engine::summary::to_json;
 use std::io::Write;
@@ -82,7 +82,7 @@ fn the_fmu_gives_the_in_process_diagnosis_bit_for_bit() {
     assert_eq!(da.nrmse_baseline.to_bits(), db.nrmse_baseline.to_bits());
     assert_eq!(da.nrmse_noise_floor.to_bits(), db.nrmse_noise_floor.to_bits());
     assert_eq!((da.verdict, da.best_effect), (db.verdict, db.best_effect));
-    assert_eq!(da.verdict, "effect", "{}", da.explanation);
+    assert_eq!(da.verdict, damper_engine::verdict::Verdict::Effect, "{}", da.explanation);
     assert_eq!(da.candidates.len(), db.candidates.len());
     for (ca, cb) in da.candidates.iter().zip(&db.candidates) {
         assert_eq!(ca.effect, cb.effect);

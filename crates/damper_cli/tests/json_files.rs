@@ -33,7 +33,7 @@ fn compare_and_diagnose_summaries_follow_the_schema() {
     let out = dir.join("diagnose");
     damper(&["diagnose", csv_s, "--out", out.to_str().unwrap(), "--load-cell-lowpass", "400"]);
     let d = checked_summary(&v, &out);
-    assert_eq!(d.verdict.as_deref(), Some("effect"));
+    assert_eq!(d.verdict, Some(damper_engine::verdict::Verdict::Effect));
     assert_eq!(d.best_effect.as_deref(), Some("seal_friction"));
     let diagnosis = d.diagnosis.as_ref().expect("diagnose writes the diagnosis");
     assert_eq!(diagnosis.effects, ["seal_friction"]);

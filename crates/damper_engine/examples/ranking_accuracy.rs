@@ -26,11 +26,12 @@
 //! (≤ 1.3× floor), the fitted size parameter against the truth, and the wall time.
 
 use damper_engine::comparison::CompareOptions;
-use damper_engine::diagnose::Diagnosis;
-use damper_engine::diagnosed::diagnose_measurement;
+use damper_engine::diagnose_measurement::diagnose_measurement;
 use damper_engine::generate::{self, GenerateOptions, Generated, InputStyle};
+use damper_engine::missing_effect::Diagnosis;
 use damper_engine::parameters::{effect, get_real};
 use damper_engine::summary::to_json;
+use damper_engine::verdict::Verdict;
 use indexmap::IndexMap;
 use serde::Serialize;
 use std::io::Write as _;
@@ -138,7 +139,8 @@ impl FitCheck {
 struct Record {
     case: Case,
     error: Option<String>,
-    verdict: String,
+    /// None when the run failed.
+    verdict: Option<Verdict>,
     best_effect: Option<String>,
     effects: Vec<String>,
     /// The ladder's kept effects, whatever the verdict.
@@ -164,6 +166,10 @@ struct Record {
 }
 
 impl Record {
+    /// The verdict's name, or `error` for a failed run.
+    fn verdict_name(&self) -> &'static str {
+        self.verdict.map_or("error", Verdict::as_str)
+    }
     fn reduction(&self) -> f64 {
         1.0 - self.nrmse_after / self.nrmse_baseline
     }
@@ -180,7 +186,7 @@ impl Record {
         self.ranks.contains(&Some(1))
     }
     fn names_it(&self) -> bool {
-        self.verdict == "effect" && self.best_effect.as_deref() == self.case.hidden.first().copied()
+        self.verdict == Some(Verdict::Effect) && self.best_effect.as_deref() == self.case.hidden.first().copied()
     }
     fn all_found(&self) -> bool {
         self.case.hidden.iter().all(|h| self.effects.iter().any(|e| e == h))
@@ -198,14 +204,14 @@ impl Record {
                     && self.fits.iter().all(FitCheck::ok)
             }
             Kind::Pair => {
-                self.verdict == "effect"
+                self.verdict == Some(Verdict::Effect)
                     && self.all_found()
                     && self.at_floor()
                     && (!self.room_for_halving() || self.halved())
                     && self.fits.iter().all(FitCheck::ok)
             }
-            Kind::Nothing => self.verdict == "none",
-            Kind::Drift => self.verdict == "unexplained",
+            Kind::Nothing => self.verdict == Some(Verdict::NothingMissing),
+            Kind::Drift => self.verdict == Some(Verdict::Unexplained),
         }
     }
 
@@ -219,7 +225,7 @@ impl Record {
             seed: c.seed,
             duration_s: c.duration,
             error: self.error.as_deref(),
-            verdict: &self.verdict,
+            verdict: self.verdict_name(),
             best_effect: self.best_effect.as_deref(),
             effects: &self.effects,
             ladder_effects: &self.ladder_effects,
@@ -446,7 +452,7 @@ fn run_case(c: &Case, dir: &Path) -> Result<Record, String> {
     Ok(Record {
         case: c.clone(),
         error: None,
-        verdict: d.verdict.to_string(),
+        verdict: Some(d.verdict),
         best_effect: d.best_effect.map(String::from),
         effects: d.effects.iter().map(|e| e.to_string()).collect(),
         ladder_effects: d.ladder.effects.iter().map(|e| e.to_string()).collect(),
@@ -475,7 +481,7 @@ fn failed(c: &Case, e: String) -> Record {
     Record {
         case: c.clone(),
         error: Some(e),
-        verdict: "error".into(),
+        verdict: None,
         best_effect: None,
         effects: Vec::new(),
         ladder_effects: Vec::new(),
@@ -552,7 +558,8 @@ fn row(r: &Record) -> String {
     if let Some(e) = &r.error {
         return format!("{:<21} {:>4} ERROR {e}", c.label(), c.seed);
     }
-    let verdict = format!("{}{}", r.verdict, r.best_effect.as_ref().map_or(String::new(), |b| format!(" ({b})")));
+    let verdict =
+        format!("{}{}", r.verdict_name(), r.best_effect.as_ref().map_or(String::new(), |b| format!(" ({b})")));
     let yes = |b: bool| if b { "yes" } else { "NO" };
     let mark = if r.ok() { "" } else { "  <-- FAIL" };
     match c.kind {
@@ -575,7 +582,7 @@ fn row(r: &Record) -> String {
             "{:<38} {:>4} {:<11} {:<52} {:>5} {:>8.4} {:>8.4} {:>8.4} {:>5.0}% {:>5}  {:<80} {:>6}{mark}",
             c.label(),
             c.seed,
-            r.verdict,
+            r.verdict_name(),
             match (r.effects.is_empty(), r.ladder_effects.is_empty()) {
                 (true, false) => format!("(ladder kept {})", r.ladder_effects.join("+")),
                 _ => r.effects.join("+"),
@@ -684,7 +691,7 @@ fn summary(group: &str, kind: Kind, records: &[&Record]) -> Vec<String> {
                 "exactly the two (ladder effects = the pair): {} of {n}",
                 count(records, |r| r.error.is_none() && r.all_found() && r.effects.len() == 2)
             ));
-            s.push(format!("verdict effect: {} of {n}", count(records, |r| r.verdict == "effect")));
+            s.push(format!("verdict effect: {} of {n}", count(records, |r| r.verdict == Some(Verdict::Effect))));
             s.push(format!("one of the two ranked first: {} of {n}", count(records, Record::ranked_first)));
             s.push(fit_line(&fits));
             s.push(format!(
@@ -696,14 +703,18 @@ fn summary(group: &str, kind: Kind, records: &[&Record]) -> Vec<String> {
             s.push(format!("all checks passed: {} of {n}", count(records, Record::ok)));
         }
         Kind::Nothing => {
-            s.push(format!("verdict none: {} of {n}", count(records, |r| r.verdict == "none")));
+            s.push(format!("verdict none: {} of {n}", count(records, |r| r.verdict == Some(Verdict::NothingMissing))));
             for input in ["rig", "hil"] {
                 let rs: Vec<&Record> = records.iter().copied().filter(|r| r.case.input_name() == input).collect();
-                s.push(format!("  {input}: verdict none: {} of {}", count(&rs, |r| r.verdict == "none"), rs.len()));
+                s.push(format!(
+                    "  {input}: verdict none: {} of {}",
+                    count(&rs, |r| r.verdict == Some(Verdict::NothingMissing)),
+                    rs.len()
+                ));
             }
         }
         Kind::Drift => {
-            s.push(format!("unexplained: {} of {n}", count(records, |r| r.verdict == "unexplained")));
+            s.push(format!("unexplained: {} of {n}", count(records, |r| r.verdict == Some(Verdict::Unexplained))));
         }
     }
     if errors > 0 {

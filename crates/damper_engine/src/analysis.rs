@@ -252,11 +252,107 @@ fn lag_of(y: &[f64], yhat: &[f64], dt: f64) -> (Lag, Vec<f64>) {
     )
 }
 
+/// Two-sided 95 % quantile of the standard normal distribution (-): an autocorrelation or
+/// cross-correlation of white noise over N samples lies within ±1.96/√N 95 % of the time.
+const Z_95: f64 = 1.96;
+/// The residual's spectrum: Welch segments of at most this length (s), for a resolution of
+/// 0.25 Hz…
+const WELCH_SEGMENT: f64 = 4.0;
+/// … and at least this many segments in the record (-), so that the estimate averages…
+const WELCH_MIN_SEGMENTS: usize = 4;
+/// … and at least this many samples per segment, for a spectrum with some bins.
+const WELCH_MIN_SAMPLES: usize = 64;
+/// Fewest lags of the correlation plots (samples).
+const CORR_MIN_LAGS: usize = 2;
+/// The correlation plots' lags reach at most the validation part's length over this (-): a
+/// correlation over fewer overlapping samples is noise.
+const CORR_MAX_LAG_DIVISOR: usize = 4;
+/// Speed below which the damper stands still for the first-motion tag (m/s): the rig's noise on
+/// a velocity at rest.
+const STANDSTILL_SPEED: f64 = 2e-3;
+/// Shortest standstill after which the first motion is tagged (s): long enough for the
+/// controller's state to settle at rest, which the first motion then depends on.
+const STANDSTILL_MIN: f64 = 0.05;
+/// How long after a standstill's end a worst window counts as its first motion (s).
+const FIRST_MOTION: f64 = 0.2;
+/// Fewest samples of a worst window.
+const WORST_MIN_SAMPLES: usize = 5;
+/// A window is mostly in one direction when it has more than this many times the samples of the
+/// other (-).
+const DIRECTION_DOMINANCE: usize = 2;
+/// The hysteresis bins span the velocity up to this quantile of |v| (-): the extremes, a few
+/// samples, would stretch the bins over empty velocity.
+const VELOCITY_RANGE_QUANTILE: f64 = 0.995;
+/// Smallest velocity range of the hysteresis bins (m/s), for a record at rest.
+const MIN_VELOCITY_RANGE: f64 = 1e-3;
+/// Number of hysteresis bins over −v_max..v_max.
+const VELOCITY_BINS: usize = 40;
+/// Fewest samples of a hysteresis bin's branch for its mean to be shown.
+const MIN_BIN_SAMPLES: usize = 10;
+/// The residual's jump at a reversal compares means from this long (s) after the zero crossing…
+const JUMP_GAP: f64 = 0.005;
+/// … to this long after it (s), minus the same span before: the gap leaves out the crossing's
+/// own transient.
+const JUMP_REACH: f64 = 0.025;
+
 /// Compares a prediction with a measurement; `split` is the first validation sample.
 pub fn analyse(m: &Measurement, drive: &Drive, p: &Prediction, split: usize) -> Analysis {
     let n = m.len();
     let dt = m.median_interval();
-    let t = &m.time;
+    let (fits, lag_curve) = signal_fits(m, drive, p, split, dt);
+
+    let y = m.get(Column::FDamper).expect("F_damper");
+    let v = m.get(Column::VDamper).expect("v_damper");
+    let r: Vec<f64> = p.f_damper.iter().zip(y).map(|(model, measured)| model - measured).collect();
+    let half = ((RATE_HALF_WIDTH / dt).round() as usize).max(1);
+    let force_rate = smooth_rate(&m.time, y, half);
+    let accel = smooth_rate(&m.time, v, half);
+    let reversals = find_reversals(v);
+    let demand_steps = find_steps(drive, dt);
+    let regimes = regimes(&r, v, y, &force_rate, &reversals, &demand_steps, dt);
+
+    let fs = 1.0 / dt;
+    let spectrum = residual_spectrum(&r, y, fs);
+    let rv = &r[split..];
+    let (autocorr, whiteness) = whiteness_of(rv, dt);
+    let input_correlations = input_correlations(rv, v, drive, split, whiteness.max_lag, whiteness.band, dt);
+    let worst = worst_windows(&r, v, &m.time, &reversals, &demand_steps, split, dt);
+    let velocity_bins = velocity_bins(v, &accel, &r);
+    let reversal_jump = reversal_jump(&reversals, v, &r, dt);
+    let noise_floor_estimate = noise_sigma(rv) / std(&y[split..]);
+    let (signature, dominant_band) = signature_of(m, drive, p, &r, &force_rate, &spectrum.bands, fs);
+
+    Analysis {
+        samples: n,
+        split,
+        split_fraction: split as f64 / n as f64,
+        dt,
+        fits,
+        residual: r,
+        regimes,
+        bands: spectrum.bands,
+        psd_freq: spectrum.freq,
+        psd_residual: spectrum.residual,
+        psd_measured: spectrum.measured,
+        autocorrelation: autocorr,
+        whiteness,
+        input_correlations,
+        lag_curve,
+        worst,
+        reversals,
+        demand_steps,
+        velocity_bins,
+        reversal_jump,
+        noise_floor_estimate,
+        signature,
+        dominant_band,
+    }
+}
+
+/// Each compared signal's scores on the train and validation parts and its lag, with the force's
+/// measured–model cross-correlation (the lag curve).
+fn signal_fits(m: &Measurement, drive: &Drive, p: &Prediction, split: usize, dt: f64) -> (Vec<SignalFit>, Vec<f64>) {
+    let n = m.len();
     let mut fits = Vec::new();
     let mut lag_curve = Vec::new();
     for c in compared_columns(m, drive) {
@@ -276,50 +372,41 @@ pub fn analyse(m: &Measurement, drive: &Drive, p: &Prediction, split: usize) -> 
         };
         fits.push(SignalFit { column: c, train: score(0..split), validation: score(split..n), lag });
     }
+    (fits, lag_curve)
+}
 
-    let y = m.get(Column::FDamper).expect("F_damper");
-    let v = m.get(Column::VDamper).expect("v_damper");
-    let r: Vec<f64> = p.f_damper.iter().zip(y).map(|(model, measured)| model - measured).collect();
-    let half = ((RATE_HALF_WIDTH / dt).round() as usize).max(1);
-    let force_rate = smooth_rate(t, y, half);
-    let accel = smooth_rate(t, v, half);
+/// Flags the samples within `before` samples before and `after` samples after each event, in a
+/// record of `n` samples.
+fn near_events(events: &[usize], before: usize, after: usize, n: usize) -> Vec<bool> {
+    let mut near = vec![false; n];
+    for &i in events {
+        for flag in &mut near[i.saturating_sub(before)..(i + after + 1).min(n)] {
+            *flag = true;
+        }
+    }
+    near
+}
 
-    let reversals = find_reversals(v);
-    let demand_steps = find_steps(drive, dt);
+/// The force error in each regime: direction, velocity, force and force-rate bands, and the
+/// events (velocity reversals, demand steps).
+fn regimes(
+    r: &[f64],
+    v: &[f64],
+    y: &[f64],
+    force_rate: &[f64],
+    reversals: &[usize],
+    demand_steps: &[usize],
+    dt: f64,
+) -> Vec<Regime> {
+    let n = r.len();
     let rev_half = (REVERSAL_WINDOW / dt).round() as usize;
     let step_len = (STEP_WINDOW / dt).round() as usize;
-    let mut near_reversal = vec![false; n];
-    for &i in &reversals {
-        for flag in &mut near_reversal[i.saturating_sub(rev_half)..(i + rev_half + 1).min(n)] {
-            *flag = true;
-        }
-    }
-    let mut after_step = vec![false; n];
-    for &i in &demand_steps {
-        for flag in &mut after_step[i..(i + step_len + 1).min(n)] {
-            *flag = true;
-        }
-    }
-
-    // Regimes.
+    let near_reversal = near_events(reversals, rev_half, rev_half, n);
+    let after_step = near_events(demand_steps, 0, step_len, n);
     let sse_total: f64 = r.iter().map(|x| x * x).sum();
     let mut regimes = Vec::new();
     let mut add = |group: &'static str, name: String, select: &dyn Fn(usize) -> bool| {
-        let idx: Vec<usize> = (0..n).filter(|&i| select(i)).collect();
-        let res: Vec<f64> = idx.iter().map(|&i| r[i]).collect();
-        let sse: f64 = res.iter().map(|x| x * x).sum();
-        let time_share = idx.len() as f64 / n as f64;
-        let error_share = if sse_total > 0.0 { sse / sse_total } else { f64::NAN };
-        regimes.push(Regime {
-            group,
-            name,
-            samples: idx.len(),
-            time_share,
-            rms: rms(&res),
-            mean: mean(&res),
-            error_share,
-            concentration: if idx.is_empty() { f64::NAN } else { error_share / time_share },
-        });
+        regimes.push(regime(r, sse_total, group, name, select));
     };
     add("direction", format!("extension (v > {V_STANDSTILL} m/s)"), &|i| v[i] > V_STANDSTILL);
     add("direction", format!("compression (v < −{V_STANDSTILL} m/s)"), &|i| v[i] < -V_STANDSTILL);
@@ -339,11 +426,47 @@ pub fn analyse(m: &Measurement, drive: &Drive, p: &Prediction, split: usize) -> 
     add("events", format!("velocity reversal (±{:.0} ms)", ms(REVERSAL_WINDOW)), &|i| near_reversal[i]);
     add("events", format!("after a demand step (0–{:.0} ms)", ms(STEP_WINDOW)), &|i| after_step[i]);
     add("events", "neither".to_string(), &|i| !near_reversal[i] && !after_step[i]);
+    regimes
+}
 
-    // Frequency bands of the residual (whole record).
-    let fs = 1.0 / dt;
-    let segment = (n / 4).min((4.0 * fs) as usize).max(64);
-    let (psd_freq, psd_residual) = welch(&r, fs, segment);
+/// The force error of the samples `select` picks, against the record's squared error
+/// `sse_total` (N²).
+fn regime(r: &[f64], sse_total: f64, group: &'static str, name: String, select: &dyn Fn(usize) -> bool) -> Regime {
+    let n = r.len();
+    let idx: Vec<usize> = (0..n).filter(|&i| select(i)).collect();
+    let res: Vec<f64> = idx.iter().map(|&i| r[i]).collect();
+    let sse: f64 = res.iter().map(|x| x * x).sum();
+    let time_share = idx.len() as f64 / n as f64;
+    let error_share = if sse_total > 0.0 { sse / sse_total } else { f64::NAN };
+    Regime {
+        group,
+        name,
+        samples: idx.len(),
+        time_share,
+        rms: rms(&res),
+        mean: mean(&res),
+        error_share,
+        concentration: if idx.is_empty() { f64::NAN } else { error_share / time_share },
+    }
+}
+
+/// The residual's and the measured force's power spectral densities, and the residual per band.
+struct Spectrum {
+    /// Frequencies (Hz).
+    freq: Vec<f64>,
+    /// Residual PSD (N²/Hz).
+    residual: Vec<f64>,
+    /// Measured force PSD (N²/Hz).
+    measured: Vec<f64>,
+    bands: Vec<Band>,
+}
+
+/// The spectra of the residual `r` and the measured force `y` (whole record, sample rate `fs`
+/// in Hz), and the residual's power in each of [`FREQUENCY_BANDS`] below the Nyquist frequency.
+fn residual_spectrum(r: &[f64], y: &[f64], fs: f64) -> Spectrum {
+    let n = r.len();
+    let segment = (n / WELCH_MIN_SEGMENTS).min((WELCH_SEGMENT * fs) as usize).max(WELCH_MIN_SAMPLES);
+    let (psd_freq, psd_residual) = welch(r, fs, segment);
     let (_, psd_measured) = welch(y, fs, segment);
     let df = psd_freq.get(1).copied().unwrap_or(1.0);
     let total: f64 = psd_residual.iter().sum::<f64>() * df;
@@ -365,13 +488,16 @@ pub fn analyse(m: &Measurement, drive: &Drive, p: &Prediction, split: usize) -> 
             }
         })
         .collect();
+    Spectrum { freq: psd_freq, residual: psd_residual, measured: psd_measured, bands }
+}
 
-    // Whiteness and input correlations (validation part).
-    let rv = &r[split..];
+/// The validation residual `rv`'s autocorrelation and its whiteness (the share of lags outside
+/// the white-noise band, Ljung–Box).
+fn whiteness_of(rv: &[f64], dt: f64) -> (Vec<f64>, Whiteness) {
     let nv = rv.len();
-    let corr_lag = ((CORR_LAG / dt).round() as usize).clamp(2, nv / 4);
+    let corr_lag = ((CORR_LAG / dt).round() as usize).clamp(CORR_MIN_LAGS, nv / CORR_MAX_LAG_DIVISOR);
     let autocorr = autocorrelation(rv, corr_lag);
-    let band = 1.96 / (nv as f64).sqrt();
+    let band = Z_95 / (nv as f64).sqrt();
     let outside = autocorr[1..].iter().filter(|c| c.abs() > band).count();
     let lb_lags = LJUNG_BOX_LAGS.min(corr_lag);
     let q = ljung_box(&autocorr, nv, lb_lags);
@@ -385,13 +511,27 @@ pub fn analyse(m: &Measurement, drive: &Drive, p: &Prediction, split: usize) -> 
         chi2_95: chi2_95(lb_lags),
         white: q < chi2_95(lb_lags),
     };
+    (autocorr, whiteness)
+}
+
+/// The validation residual `rv`'s cross-correlation with the velocity and the demand, over
+/// ±`corr_lag` samples, with the white-noise `band`.
+fn input_correlations(
+    rv: &[f64],
+    v: &[f64],
+    drive: &Drive,
+    split: usize,
+    corr_lag: usize,
+    band: f64,
+    dt: f64,
+) -> Vec<InputCorrelation> {
     let mut inputs: Vec<(Column, &[f64])> = vec![(Column::VDamper, &v[split..])];
     match &drive.demand {
         Demand::Force(f) => inputs.push((Column::FDemand, &f[split..])),
         Demand::SpoolPosition(x) => inputs.push((Column::XSpoolDemand, &x[split..])),
         Demand::Held => {}
     }
-    let input_correlations = inputs
+    inputs
         .into_iter()
         .map(|(c, u)| {
             let values = cross_correlation(rv, u, corr_lag);
@@ -399,15 +539,17 @@ pub fn analyse(m: &Measurement, drive: &Drive, p: &Prediction, split: usize) -> 
                 values.iter().map(|x| x.abs()).enumerate().max_by(|a, b| a.1.total_cmp(&b.1)).expect("nonempty");
             InputCorrelation { input: c, at_lag_seconds: (i as f64 - corr_lag as f64) * dt, values, band, max_abs }
         })
-        .collect();
+        .collect()
+}
 
-    // Ends of standstills (|v| < 2 mm/s for at least 50 ms): the first motion after one depends on
-    // the controller's state at rest.
-    let still = (0.05 / dt).round() as usize;
+/// Ends of standstills (|v| below [`STANDSTILL_SPEED`] for at least [`STANDSTILL_MIN`]): the
+/// first motion after one depends on the controller's state at rest.
+fn standstill_ends(v: &[f64], dt: f64) -> Vec<usize> {
+    let still = (STANDSTILL_MIN / dt).round() as usize;
     let mut starts = Vec::new();
     let mut run = 0;
     for (i, vi) in v.iter().enumerate() {
-        if vi.abs() < 2e-3 {
+        if vi.abs() < STANDSTILL_SPEED {
             run += 1;
         } else {
             if run >= still {
@@ -416,10 +558,29 @@ pub fn analyse(m: &Measurement, drive: &Drive, p: &Prediction, split: usize) -> 
             run = 0;
         }
     }
-    let after_standstill = (0.2 / dt).round() as usize;
+    starts
+}
 
-    // Worst windows.
-    let wlen = ((WORST_WINDOW / dt).round() as usize).clamp(5, n);
+/// The [`N_WORST`] windows of [`WORST_WINDOW`] with the largest RMS residual, not overlapping,
+/// each tagged with what happens in it.
+fn worst_windows(
+    r: &[f64],
+    v: &[f64],
+    t: &[f64],
+    reversals: &[usize],
+    demand_steps: &[usize],
+    split: usize,
+    dt: f64,
+) -> Vec<Window> {
+    let n = r.len();
+    let events = Events {
+        reversals,
+        demand_steps,
+        step_len: (STEP_WINDOW / dt).round() as usize,
+        standstill_ends: standstill_ends(v, dt),
+        first_motion: (FIRST_MOTION / dt).round() as usize,
+    };
+    let wlen = ((WORST_WINDOW / dt).round() as usize).clamp(WORST_MIN_SAMPLES, n);
     let hop = (wlen / 2).max(1);
     let mut candidates: Vec<(f64, usize)> = (0..=n - wlen).step_by(hop).map(|s| (rms(&r[s..s + wlen]), s)).collect();
     candidates.sort_by(|a, b| b.0.total_cmp(&a.0));
@@ -433,30 +594,6 @@ pub fn analyse(m: &Measurement, drive: &Drive, p: &Prediction, split: usize) -> 
             continue;
         }
         let seg = &r[s..e];
-        let mut tags = Vec::new();
-        let nrev = reversals.iter().filter(|&&i| i >= s && i < e).count();
-        if nrev > 0 {
-            tags.push(format!("{nrev} velocity reversal{}", if nrev > 1 { "s" } else { "" }));
-        }
-        if demand_steps.iter().any(|&i| i + step_len >= s && i < e) {
-            tags.push("demand step".to_string());
-        }
-        if starts.iter().any(|&i| i < e && i + after_standstill >= s) {
-            tags.push("first motion after a standstill".to_string());
-        }
-        let ext = (s..e).filter(|&i| v[i] > V_STANDSTILL).count();
-        let comp = (s..e).filter(|&i| v[i] < -V_STANDSTILL).count();
-        tags.push(
-            if ext > 2 * comp {
-                "mostly extension"
-            } else if comp > 2 * ext {
-                "mostly compression"
-            } else {
-                "both directions"
-            }
-            .to_string(),
-        );
-        tags.push(if s >= split { "validation" } else { "train" }.to_string());
         worst.push(Window {
             start: s,
             end: e,
@@ -465,16 +602,63 @@ pub fn analyse(m: &Measurement, drive: &Drive, p: &Prediction, split: usize) -> 
             rms: rms(seg),
             mean: mean(seg),
             mean_abs_velocity: mean(&v[s..e].iter().map(|x| x.abs()).collect::<Vec<_>>()),
-            tags,
+            tags: window_tags(s, e, v, &events, split),
         });
     }
+    worst
+}
 
-    // Hysteresis: mean residual against velocity on rising and falling velocity.
+/// The events a worst window is tagged with (sample indices; lengths in samples).
+struct Events<'a> {
+    reversals: &'a [usize],
+    demand_steps: &'a [usize],
+    /// How long after a demand step it counts.
+    step_len: usize,
+    standstill_ends: Vec<usize>,
+    /// How long after a standstill's end the first motion counts.
+    first_motion: usize,
+}
+
+/// What happens in the window `s..e`: reversals, demand steps, a first motion after a
+/// standstill, the direction of motion, and the part of the record.
+fn window_tags(s: usize, e: usize, v: &[f64], events: &Events, split: usize) -> Vec<String> {
+    let mut tags = Vec::new();
+    let nrev = events.reversals.iter().filter(|&&i| i >= s && i < e).count();
+    if nrev > 0 {
+        tags.push(format!("{nrev} velocity reversal{}", if nrev > 1 { "s" } else { "" }));
+    }
+    if events.demand_steps.iter().any(|&i| i + events.step_len >= s && i < e) {
+        tags.push("demand step".to_string());
+    }
+    if events.standstill_ends.iter().any(|&i| i < e && i + events.first_motion >= s) {
+        tags.push("first motion after a standstill".to_string());
+    }
+    let ext = (s..e).filter(|&i| v[i] > V_STANDSTILL).count();
+    let comp = (s..e).filter(|&i| v[i] < -V_STANDSTILL).count();
+    tags.push(
+        if ext > DIRECTION_DOMINANCE * comp {
+            "mostly extension"
+        } else if comp > DIRECTION_DOMINANCE * ext {
+            "mostly compression"
+        } else {
+            "both directions"
+        }
+        .to_string(),
+    );
+    tags.push(if s >= split { "validation" } else { "train" }.to_string());
+    tags
+}
+
+/// Hysteresis: the mean residual against velocity, separately on rising and falling velocity
+/// (the sign of the acceleration `accel`).
+fn velocity_bins(v: &[f64], accel: &[f64], r: &[f64]) -> Vec<VelocityBin> {
+    let n = r.len();
     let mut av: Vec<f64> = v.iter().map(|x| x.abs()).collect();
     av.sort_by(|a, b| a.total_cmp(b));
-    let vmax = av[((av.len() - 1) as f64 * 0.995) as usize].max(1e-3);
-    let nbins = 40;
+    let vmax = av[((av.len() - 1) as f64 * VELOCITY_RANGE_QUANTILE) as usize].max(MIN_VELOCITY_RANGE);
+    let nbins = VELOCITY_BINS;
     let width = 2.0 * vmax / nbins as f64;
+    // per bin: the rising branch's sum and count, then the falling branch's
     let mut sums = vec![(0.0, 0usize, 0.0, 0usize); nbins];
     for i in 0..n {
         let b = ((v[i] + vmax) / width).floor();
@@ -490,18 +674,21 @@ pub fn analyse(m: &Measurement, drive: &Drive, p: &Prediction, split: usize) -> 
             s.3 += 1;
         }
     }
-    let min_count = 10;
-    let velocity_bins = sums
-        .iter()
+    sums.iter()
         .enumerate()
         .map(|(b, s)| VelocityBin {
             v: -vmax + (b as f64 + 0.5) * width,
-            rising: (s.1 >= min_count).then(|| s.0 / s.1 as f64),
-            falling: (s.3 >= min_count).then(|| s.2 / s.3 as f64),
+            rising: (s.1 >= MIN_BIN_SAMPLES).then(|| s.0 / s.1 as f64),
+            falling: (s.3 >= MIN_BIN_SAMPLES).then(|| s.2 / s.3 as f64),
         })
-        .collect();
+        .collect()
+}
 
-    let (j0, j1) = ((0.005 / dt).round() as usize, ((0.025 / dt).round() as usize).max(1));
+/// The mean jump of the residual across the velocity reversals (see
+/// [`Analysis::reversal_jump`]), or `None` without a reversal far enough from the record's ends.
+fn reversal_jump(reversals: &[usize], v: &[f64], r: &[f64], dt: f64) -> Option<f64> {
+    let n = r.len();
+    let (j0, j1) = ((JUMP_GAP / dt).round() as usize, ((JUMP_REACH / dt).round() as usize).max(1));
     let jumps: Vec<f64> = reversals
         .iter()
         .filter(|&&i| i >= j1 && i + j1 < n && j1 > j0)
@@ -510,36 +697,7 @@ pub fn analyse(m: &Measurement, drive: &Drive, p: &Prediction, split: usize) -> 
             sign * (mean(&r[i + 1 + j0..i + 1 + j1]) - mean(&r[i - j1..i - j0]))
         })
         .collect();
-    let reversal_jump = (!jumps.is_empty()).then(|| mean(&jumps));
-
-    let noise_floor_estimate = noise_sigma(rv) / std(&y[split..]);
-    let (signature, dominant_band) = signature_of(m, drive, p, &r, &force_rate, &bands, fs);
-
-    Analysis {
-        samples: n,
-        split,
-        split_fraction: split as f64 / n as f64,
-        dt,
-        fits,
-        residual: r,
-        regimes,
-        bands,
-        psd_freq,
-        psd_residual,
-        psd_measured,
-        autocorrelation: autocorr,
-        whiteness,
-        input_correlations,
-        lag_curve,
-        worst,
-        reversals,
-        demand_steps,
-        velocity_bins,
-        reversal_jump,
-        noise_floor_estimate,
-        signature,
-        dominant_band,
-    }
+    (!jumps.is_empty()).then(|| mean(&jumps))
 }
 
 /// What the force residual `r` follows over the whole record ([`residual_signature`]).

@@ -3,6 +3,7 @@
 
 use crate::analysis::{analyse, Analysis};
 use crate::comparison::Comparison;
+use crate::error::Error;
 use crate::model::{Model, Prediction};
 use semi_active_damper::physics::params::Parameters;
 
@@ -15,7 +16,7 @@ pub struct After {
 }
 
 /// Runs the comparison's model with `params` (the baseline plus the fitted effects).
-pub fn after(c: &Comparison, effects: &[&'static str], params: Parameters) -> Result<After, String> {
+pub fn after(c: &Comparison, effects: &[&'static str], params: Parameters) -> Result<After, Error> {
     let model = Model { params, ..c.setup.model };
     let prediction = c.setup.backend.run(&model, &c.drive)?;
     let analysis = analyse(&c.measurement, &c.drive, &prediction, c.analysis.split);

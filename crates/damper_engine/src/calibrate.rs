@@ -407,7 +407,7 @@ fn forces(records: &[Record], entries: &[Entry], x: &[f64]) -> Result<Vec<Vec<f6
         .map(|r| {
             let mut model = r.model;
             apply(&mut model.params, entries, x, r.setting)?;
-            model.params.validate()?;
+            model.params.validate().map_err(|e| e.to_string())?;
             Ok(r.backend
                 .run_first(&model, &r.drive, r.drive.len(), false)
                 .map_err(|e| format!("{}: {e}", r.path))?
@@ -507,83 +507,177 @@ pub fn calibrate(o: &CalibrateOptions, progress: &(dyn Fn(&Round) + Sync)) -> Re
     let entries = fit_entries(o, &settings, &records[0].model.params)?;
     let names: Vec<String> = entries.iter().map(|e| settings.display(e)).collect();
     let pool = thread_pool(o.threads)?;
-    let values = |records: &[Record]| -> Result<Vec<f64>, String> {
-        entries
-            .iter()
-            .map(|e| {
-                let r = records.iter().find(|r| e.applies_to(r.setting)).expect("every setting has a record");
-                get_real(&r.model.params, e.name)
-            })
-            .collect()
-    };
     // a parameter the records cannot pin is held at the value the user gave (the description,
     // --params, --set), not where the steady stage left it: the steady law alone may move it far
     // (a blow-off never reached, a bleed traded for a blow-off) within its wide box
-    let given_values = values(&records)?;
+    let given_values = entry_values(&entries, &records)?;
     let steady = steady_stage(&mut records, &entries, &settings, &pool)?;
     // every record's model starts where the steady stage left its setting
-    let starts = values(&records)?;
+    let starts = entry_values(&entries, &records)?;
     let base = records[0].model.params;
     let scales: Vec<Bound> =
         entries.iter().zip(&starts).map(|(e, &s)| search_box(e.name, s, &base)).collect::<Result<_, _>>()?;
-    let measured: Vec<f64> = records.iter().flat_map(|r| r.measured.iter().copied()).collect();
     let before = forces(&records, &[], &[])?;
     let inputs = inform(&mut records, &before, &pool)?;
-    let kept: Vec<bool> = records.iter().flat_map(|r| r.kept.iter().copied()).collect();
+    let problem = Problem {
+        records: &records,
+        entries: &entries,
+        names: &names,
+        measured: records.iter().flat_map(|r| r.measured.iter().copied()).collect(),
+        kept: records.iter().flat_map(|r| r.kept.iter().copied()).collect(),
+        scales: &scales,
+        pool: &pool,
+        inputs: &inputs,
+    };
+    let mut fit = problem.fit_rounds(&starts, &given_values, o, progress)?;
+    let parameters = calibrated_parameters(&fit, &entries, &names, &settings, &starts, &scales);
+    let covariance = covariance(&fit.last);
+    let after = forces(&records, &entries, &fit.x)?;
+    fit.model_runs += 1;
+    Ok(Calibration {
+        parameters,
+        records: record_fits(&records, &settings, &before, &after),
+        rounds: fit.rounds,
+        given: given_parameters(&base, &entries),
+        rtol: base.rtol,
+        model_runs: fit.model_runs,
+        seconds: t0.elapsed().as_secs_f64(),
+        threads: o.threads,
+        steady,
+        settings: settings.labels,
+        covariance,
+    })
+}
 
-    let mut x = starts.clone();
-    // the values of held entries (the others are overwritten by each fit)
-    let mut x_held = starts.clone();
-    let mut held: Vec<Option<String>> = vec![None; entries.len()];
-    let mut rounds: Vec<Round> = Vec::new();
-    let mut last: Option<(Vec<usize>, Solution)> = None;
-    let mut model_runs = 1;
-    while held.iter().any(Option::is_none) {
-        let active: Vec<usize> = (0..entries.len()).filter(|&i| held[i].is_none()).collect();
-        let active_names: Vec<String> = active.iter().map(|&i| names[i].clone()).collect();
-        let residuals = |y: &[f64]| -> Result<Vec<f64>, String> {
-            let mut all_x = x_held.clone();
-            for (k, &i) in active.iter().enumerate() {
-                all_x[i] = y[k];
-            }
-            let f = forces(&records, &entries, &all_x)?;
-            Ok(f.iter().flatten().zip(&measured).zip(&kept).filter(|(_, k)| **k).map(|((m, y), _)| m - y).collect())
-        };
-        let x0: Vec<f64> = active.iter().map(|&i| x[i]).collect();
-        let sc: Vec<Bound> = active.iter().map(|&i| scales[i]).collect();
-        let s = lm::solve(&residuals, &x0, &sc, &pool, lm::Options::default(), &inputs)?;
-        model_runs += s.model_runs;
+/// Each entry's value in the model of the first record it applies to.
+fn entry_values(entries: &[Entry], records: &[Record]) -> Result<Vec<f64>, String> {
+    entries
+        .iter()
+        .map(|e| {
+            let r = records.iter().find(|r| e.applies_to(r.setting)).expect("every setting has a record");
+            get_real(&r.model.params, e.name)
+        })
+        .collect()
+}
+
+/// What the fits minimise: the records' stacked force residuals over the samples kept, as a
+/// function of the entries' values.
+struct Problem<'a> {
+    records: &'a [Record],
+    entries: &'a [Entry],
+    /// The entries' names as reported.
+    names: &'a [String],
+    /// Every record's measured force, stacked (N).
+    measured: Vec<f64>,
+    /// Per stacked sample: scored.
+    kept: Vec<bool>,
+    /// Each entry's search box.
+    scales: &'a [Bound],
+    pool: &'a rayon::ThreadPool,
+    /// The records' model inputs for [`lm::solve`] ([`inform`]).
+    inputs: &'a [Vec<f64>],
+}
+
+/// Where the rounds of fits ended.
+struct FitRounds {
+    /// Every entry's value: fitted, or held at its given value.
+    x: Vec<f64>,
+    /// Per entry: why it is held, or `None` where it was fitted.
+    held: Vec<Option<String>>,
+    rounds: Vec<Round>,
+    /// The last fit (the one that held nothing): its entries and its solution.
+    last: Option<(Vec<usize>, Solution)>,
+    model_runs: usize,
+}
+
+impl Problem<'_> {
+    /// The stacked residuals (model − measured, N) over the samples kept, with the entries
+    /// `active` at `y` and every other at its value in `x_held`.
+    fn residuals(&self, active: &[usize], x_held: &[f64], y: &[f64]) -> Result<Vec<f64>, String> {
+        let mut all_x = x_held.to_vec();
         for (k, &i) in active.iter().enumerate() {
-            x[i] = s.x[k];
+            all_x[i] = y[k];
         }
-        let bad = worst(&s, &active_names, o);
-        let mut round = Round {
-            fitted: active_names,
-            iterations: s.iterations,
-            model_runs: s.model_runs,
-            converged: s.converged,
-            rms_residual: (s.cost / s.residuals as f64).sqrt(),
-            held: None,
-        };
-        match bad {
-            Some((k, why)) => {
-                let i = active[k];
-                x[i] = given_values[i];
-                x_held[i] = given_values[i];
-                held[i] = Some(why.clone());
-                round.held = Some((names[i].clone(), why));
-                progress(&round);
-                rounds.push(round);
-            }
-            None => {
-                progress(&round);
-                rounds.push(round);
-                last = Some((active, s));
-                break;
-            }
-        }
+        let f = forces(self.records, self.entries, &all_x)?;
+        Ok(f.iter()
+            .flatten()
+            .zip(&self.measured)
+            .zip(&self.kept)
+            .filter(|(_, k)| **k)
+            .map(|((m, y), _)| m - y)
+            .collect())
     }
-    let parameters = entries
+
+    /// Fits every entry not yet held, from `starts`; holds the worst one the data cannot pin at
+    /// its `given_values` and fits again, until every fitted entry is pinned.
+    fn fit_rounds(
+        &self,
+        starts: &[f64],
+        given_values: &[f64],
+        o: &CalibrateOptions,
+        progress: &(dyn Fn(&Round) + Sync),
+    ) -> Result<FitRounds, String> {
+        let n_entries = self.entries.len();
+        let mut x = starts.to_vec();
+        // the values of held entries (the others are overwritten by each fit)
+        let mut x_held = starts.to_vec();
+        let mut held: Vec<Option<String>> = vec![None; n_entries];
+        let mut rounds: Vec<Round> = Vec::new();
+        let mut last: Option<(Vec<usize>, Solution)> = None;
+        let mut model_runs = 1;
+        while held.iter().any(Option::is_none) {
+            let active: Vec<usize> = (0..n_entries).filter(|&i| held[i].is_none()).collect();
+            let active_names: Vec<String> = active.iter().map(|&i| self.names[i].clone()).collect();
+            let residuals = |y: &[f64]| self.residuals(&active, &x_held, y);
+            let x0: Vec<f64> = active.iter().map(|&i| x[i]).collect();
+            let sc: Vec<Bound> = active.iter().map(|&i| self.scales[i]).collect();
+            let s = lm::solve(&residuals, &x0, &sc, self.pool, lm::Options::default(), self.inputs)?;
+            model_runs += s.model_runs;
+            for (k, &i) in active.iter().enumerate() {
+                x[i] = s.x[k];
+            }
+            let bad = worst(&s, &active_names, o);
+            let mut round = Round {
+                fitted: active_names,
+                iterations: s.iterations,
+                model_runs: s.model_runs,
+                converged: s.converged,
+                rms_residual: (s.cost / s.residuals as f64).sqrt(),
+                held: None,
+            };
+            match bad {
+                Some((k, why)) => {
+                    let i = active[k];
+                    x[i] = given_values[i];
+                    x_held[i] = given_values[i];
+                    held[i] = Some(why.clone());
+                    round.held = Some((self.names[i].clone(), why));
+                    progress(&round);
+                    rounds.push(round);
+                }
+                None => {
+                    progress(&round);
+                    rounds.push(round);
+                    last = Some((active, s));
+                    break;
+                }
+            }
+        }
+        Ok(FitRounds { x, held, rounds, last, model_runs })
+    }
+}
+
+/// Each entry as calibrated: its value, its uncertainty and strongest correlation from the last
+/// fit (none where held), its box and status.
+fn calibrated_parameters(
+    fit: &FitRounds,
+    entries: &[Entry],
+    names: &[String],
+    settings: &Settings,
+    starts: &[f64],
+    scales: &[Bound],
+) -> Vec<Calibrated> {
+    entries
         .iter()
         .enumerate()
         .map(|(i, e)| {
@@ -591,8 +685,8 @@ pub fn calibrate(o: &CalibrateOptions, progress: &(dyn Fn(&Round) + Sync)) -> Re
                 Ok(Param::Real(v)) => v.unit(),
                 _ => "1",
             };
-            let (std_error, correlation) = match &last {
-                Some((active, s)) if held[i].is_none() => {
+            let (std_error, correlation) = match &fit.last {
+                Some((active, s)) if fit.held[i].is_none() => {
                     let k = active.iter().position(|&a| a == i).expect("active");
                     (s.std_error(k), s.strongest_correlation(k).map(|(j, c)| (names[active[j]].clone(), c)))
                 }
@@ -603,26 +697,33 @@ pub fn calibrate(o: &CalibrateOptions, progress: &(dyn Fn(&Round) + Sync)) -> Re
                 setting: e.setting.map(|s| settings.labels[s].clone()),
                 unit,
                 start: starts[i],
-                value: x[i],
+                value: fit.x[i],
                 std_error,
                 correlation,
                 scale: scales[i],
-                status: held[i].clone().map_or(Status::Fitted, Status::Held),
+                status: fit.held[i].clone().map_or(Status::Fitted, Status::Held),
             }
         })
-        .collect();
-    let covariance = last.as_ref().and_then(|(active, s)| {
+        .collect()
+}
+
+/// The last fit's covariance of its parameters, where it has one.
+fn covariance(last: &Option<(Vec<usize>, Solution)>) -> Option<Covariance> {
+    last.as_ref().and_then(|(active, s)| {
         let c = s.covariance.as_ref()?;
         Some(Covariance {
             parameters: active.clone(),
             matrix: (0..active.len()).map(|i| (0..active.len()).map(|j| c[(i, j)]).collect()).collect(),
         })
-    });
-    let after = forces(&records, &entries, &x)?;
-    model_runs += 1;
-    let record_fits = records
+    })
+}
+
+/// Each record's force error before and after (`before`, `after`: the model's forces, N), and
+/// the white-noise floor of its residual after.
+fn record_fits(records: &[Record], settings: &Settings, before: &[Vec<f64>], after: &[Vec<f64>]) -> Vec<RecordFit> {
+    records
         .iter()
-        .zip(before.iter().zip(&after))
+        .zip(before.iter().zip(after))
         .map(|(r, (b, a))| {
             let residual: Vec<f64> = a.iter().zip(&r.measured).map(|(m, y)| m - y).collect();
             RecordFit {
@@ -634,25 +735,17 @@ pub fn calibrate(o: &CalibrateOptions, progress: &(dyn Fn(&Round) + Sync)) -> Re
                 noise_floor: noise_sigma(&residual) / std(&r.measured),
             }
         })
-        .collect();
+        .collect()
+}
+
+/// The parameters of `--params` and `--set` not fitted, for the parameter set; not the run's
+/// own settings (control mode, tare, tolerance), which the parameter set does not carry.
+fn given_parameters(base: &Parameters, entries: &[Entry]) -> Vec<(&'static str, Value)> {
     let skip = ["control_mode", "tare_load_cell", "rtol"];
-    let given = changed_parameters(&base)
+    changed_parameters(base)
         .into_iter()
         .filter(|(n, _)| !entries.iter().any(|e| e.name == *n) && !skip.contains(n))
-        .collect();
-    Ok(Calibration {
-        parameters,
-        records: record_fits,
-        rounds,
-        given,
-        rtol: base.rtol,
-        model_runs,
-        seconds: t0.elapsed().as_secs_f64(),
-        threads: o.threads,
-        steady,
-        settings: settings.labels,
-        covariance,
-    })
+        .collect()
 }
 
 /// The steady stage of a passive damper's calibration: the force–velocity law of the entries to

@@ -6,8 +6,9 @@
 use crate::bounds::Bound;
 use crate::criteria::{share, MOVED_SIGMAS};
 use crate::dsp::nrmse_kept;
+use crate::error::Error;
 use crate::lm;
-use crate::parameters::{effect_on, get_real, set_effect, set_real};
+use crate::parameters::{effect_on, real, set_effect, set_real};
 use crate::sensitivity::Informative;
 use semi_active_damper::effects::{Candidacy, EffectInfo, FittedParameter, Start};
 use semi_active_damper::physics::params::Parameters;
@@ -53,7 +54,7 @@ fn bound(f: &FittedParameter) -> Bound {
 }
 
 /// The model as the diagnosis sees it: the force for the first `n` samples of the measurement.
-pub type Simulator<'a> = dyn Fn(&Parameters, usize) -> Result<Vec<f64>, String> + Sync + 'a;
+pub type Simulator<'a> = dyn Fn(&Parameters, usize) -> Result<Vec<f64>, Error> + Sync + 'a;
 
 /// A scored candidate.
 #[derive(Clone, Debug)]
@@ -115,14 +116,14 @@ impl FitSetup<'_> {
         specs: &[&'static EffectInfo],
         params: &Parameters,
         errors: (f64, f64),
-    ) -> Result<Vec<Candidate>, String> {
+    ) -> Result<Vec<Candidate>, Error> {
         use rayon::prelude::*;
         // the costliest fits first (par_bridge hands the items out in this order), so that no
         // thread is left alone with a long one at the end
         let mut order: Vec<usize> = (0..specs.len()).collect();
         order.sort_by_key(|&i| std::cmp::Reverse(model_runs(specs[i])));
         let done = std::sync::Mutex::new(0);
-        let mut results: Vec<(usize, Result<Candidate, String>)> = self.pool.install(|| {
+        let mut results: Vec<(usize, Result<Candidate, Error>)> = self.pool.install(|| {
             order
                 .into_iter()
                 .par_bridge()
@@ -146,7 +147,7 @@ impl FitSetup<'_> {
 
 impl FitSetup<'_> {
     /// [`fit_effects`] with this setup's model and data.
-    pub fn joint(&self, params: &Parameters, keys: &[&str], fitted: &[FittedParameter]) -> Result<JointFit, String> {
+    pub fn joint(&self, params: &Parameters, keys: &[&str], fitted: &[FittedParameter]) -> Result<JointFit, Error> {
         fit_effects(self.simulate, params, self.data(), keys, fitted)
     }
 
@@ -216,12 +217,12 @@ pub fn fit_effects(
     Data { measured, keep, train: train_len, split, largest_stroke, input_error, pool }: Data<'_>,
     keys: &[&str],
     fitted: &[FittedParameter],
-) -> Result<JointFit, String> {
+) -> Result<JointFit, Error> {
     let mut start = *baseline;
     for key in keys {
         set_effect(&mut start, key, true)?;
     }
-    let with = |x: &[f64]| -> Result<Parameters, String> {
+    let with = |x: &[f64]| -> Result<Parameters, Error> {
         let mut p = start;
         for (s, &v) in fitted.iter().zip(x) {
             set_real(&mut p, s.name, v)?;
@@ -229,7 +230,7 @@ pub fn fit_effects(
         Ok(p)
     };
     let train = &measured[..train_len];
-    let residuals = |x: &[f64]| -> Result<Vec<f64>, String> {
+    let residuals = |x: &[f64]| -> Result<Vec<f64>, Error> {
         let m = simulate(&with(x)?, train_len)?;
         Ok(m.iter().zip(train).zip(keep).filter(|(_, k)| **k).map(|((m, y), _)| m - y).collect())
     };
@@ -239,7 +240,7 @@ pub fn fit_effects(
         .map(|s| {
             let value = match s.start {
                 Start::OfLargestStroke(share) if switched_on.iter().any(|&on| on) => Ok(share * largest_stroke),
-                _ => get_real(&start, s.name),
+                _ => real(&start, s.name),
             };
             value.map(|v| v.clamp(s.search.0.max(1e-300), s.search.1))
         })
@@ -423,7 +424,7 @@ pub fn try_candidate(
     data: Data<'_>,
     errors: (f64, f64),
     spec: &EffectInfo,
-) -> Result<Candidate, String> {
+) -> Result<Candidate, Error> {
     let action = if effect_on(baseline, spec.key)? { "refitted" } else { "switched on" };
     let fit = fit_effects(simulate, baseline, data, &[spec.key], spec.fitted)?;
     Ok(fit.candidate(spec, action, errors))
@@ -455,12 +456,12 @@ mod tests {
         for e in catalog() {
             set_effect(&mut p, e.key, true).unwrap();
             for s in e.fitted {
-                let v = get_real(&p, s.name).unwrap();
+                let v = real(&p, s.name).unwrap();
                 set_real(&mut p, s.name, v).unwrap();
                 assert!(s.plausible.0 >= s.search.0 && s.plausible.1 <= s.search.1, "{}", s.name);
             }
             for s in e.secondary {
-                let v = get_real(&p, s.name).unwrap();
+                let v = real(&p, s.name).unwrap();
                 set_real(&mut p, s.name, v).unwrap();
             }
         }

@@ -3,6 +3,7 @@
 
 use crate::analysis::{analyse, Analysis};
 use crate::dsp::mean;
+use crate::error::{Error, Place};
 use crate::fmu_model::FmuModel;
 use crate::measurement::{Mapping, Measurement, DEFAULT_MAX_GAP};
 use crate::model::{Backend, Drive, InProcess, Model, Prediction};
@@ -106,17 +107,16 @@ pub struct ModelSetup {
 /// Builds the model for a drive: defaults, `--damper`, control mode from the drive, the starting
 /// stroke from a measured displacement, tare, `--params`, `--with`, `--without`, then `--set`;
 /// the FMU of `--fmu` imported and checked against the parameters.
-pub fn build_model(opts: &CompareOptions, drive: &Drive) -> Result<ModelSetup, String> {
+pub fn build_model(opts: &CompareOptions, drive: &Drive) -> Result<ModelSetup, Error> {
     let mut p = Parameters::default();
     if let Some(file) = &opts.damper_file {
         let description = crate::description::Description::read(file)?;
         description.apply(&mut p)?;
         if description.kind == crate::description::Kind::Passive && drive.control_mode() != 2 {
-            return Err(format!(
-                "{}: a passive damper, but the measurement has {}: a passive damper has no demand",
-                file.display(),
-                if drive.control_mode() == 0 { "F_demand" } else { "x_spool_demand" }
-            ));
+            return Err(Error::PassiveWithDemand {
+                path: file.clone(),
+                demand: if drive.control_mode() == 0 { "F_demand" } else { "x_spool_demand" },
+            });
         }
     }
     p.control_mode = drive.control_mode();
@@ -133,43 +133,45 @@ pub fn build_model(opts: &CompareOptions, drive: &Drive) -> Result<ModelSetup, S
             None => (w.trim(), None),
         };
         let e = effect(key)?;
-        if opts.without.iter().any(|o| effect(o).map(|x| x.key) == Ok(e.key)) {
-            return Err(format!("effect {} is both in --with and --without", e.key));
+        if opts.without.iter().any(|o| effect(o).ok().map(|x| x.key) == Some(e.key)) {
+            return Err(Error::WithAndWithout { effect: e.key });
         }
         set_effect(&mut p, e.key, true)?;
         if let Some(v) = value {
-            set_parameter(&mut p, e.size_parameter(), v).map_err(|err| format!("--with {w}: {err}"))?;
+            set_parameter(&mut p, e.size_parameter(), v).map_err(|err| err.context(format!("--with {w}")))?;
         }
     }
     for w in &opts.without {
         set_effect(&mut p, w, false)?;
     }
     for (name, value) in &opts.sets {
-        set_parameter(&mut p, name, value).map_err(|e| format!("--set {name}={value}: {e}"))?;
+        set_parameter(&mut p, name, value).map_err(|e| e.context(format!("--set {name}={value}")))?;
     }
     if let Some(rtol) = opts.rtol_at_most.filter(|_| !opts.sets.iter().any(|(name, _)| name == "rtol")) {
         p.rtol = p.rtol.min(rtol);
     }
     if p.control_mode != drive.control_mode() {
-        return Err(format!(
-            "--set control_mode={} contradicts the measurement: it has {} (control_mode {})",
-            p.control_mode,
-            match drive.control_mode() {
+        return Err(Error::ControlMode {
+            set: p.control_mode,
+            has: match drive.control_mode() {
                 0 => "F_demand",
                 1 => "only x_spool_demand",
                 _ => "no demand",
             },
-            drive.control_mode()
-        ));
+            mode: drive.control_mode(),
+        });
     }
-    p.validate().map_err(|e| format!("model parameters: {e}"))?;
+    p.validate().map_err(Error::ModelParameters)?;
     if let Some(fc) = opts.load_cell_lowpass_hz {
         if !(fc > 0.0 && fc.is_finite()) {
-            return Err(format!("--load-cell-lowpass {fc}: must be a positive frequency in Hz"));
+            return Err(Error::BadOption {
+                option: format!("--load-cell-lowpass {fc}"),
+                problem: "must be a positive frequency in Hz".into(),
+            });
         }
     }
     let backend: Arc<dyn Backend> = match &opts.fmu {
-        Some(path) => Arc::new(FmuModel::load(path)?),
+        Some(path) => Arc::new(FmuModel::open(path)?),
         None => Arc::new(InProcess),
     };
     let effects = effects().map(|e| (e.key, effect_on(&p, e.key).unwrap_or(false))).collect();
@@ -182,22 +184,25 @@ pub fn build_model(opts: &CompareOptions, drive: &Drive) -> Result<ModelSetup, S
 }
 
 /// The split index, or an error naming the file, the last line and the time column.
-pub fn split_index(m: &Measurement, fraction: f64) -> Result<usize, String> {
+pub fn split_index(m: &Measurement, fraction: f64) -> Result<usize, Error> {
     if !(fraction > 0.0 && fraction < 1.0) {
-        return Err(format!("--split {fraction}: must be between 0 and 1 (the train share)"));
+        return Err(Error::BadOption {
+            option: format!("--split {fraction}"),
+            problem: "must be between 0 and 1 (the train share)".into(),
+        });
     }
     let n = m.len();
     let split = (fraction * n as f64).round() as usize;
     if split < MIN_PART || n - split < MIN_PART {
-        return Err(format!(
-            "{}, line {}, {}: the record has only {n} samples ({:.3} s); --split {fraction} leaves {split} for training \
-             and {} for validation, and each part needs at least {MIN_PART}",
-            m.path,
-            m.lines.last().copied().unwrap_or(0),
-            m.describe_column(Column::Time),
-            m.time[n - 1] - m.time[0],
-            n - split
-        ));
+        return Err(Error::InFile {
+            at: Place::field(&m.path, m.lines.last().copied().unwrap_or(0), m.describe_column(Column::Time)),
+            problem: format!(
+                "the record has only {n} samples ({:.3} s); --split {fraction} leaves {split} for training \
+                 and {} for validation, and each part needs at least {MIN_PART}",
+                m.time[n - 1] - m.time[0],
+                n - split
+            ),
+        });
     }
     Ok(split)
 }
@@ -216,7 +221,8 @@ pub struct Comparison {
     pub warnings: Vec<String>,
 }
 
-/// Reads, runs and analyses (no files written).
+/// Reads, runs and analyses (no files written). The error is a message: [`read_checked`]'s is one
+/// until measurement.rs is converted.
 pub fn compare(opts: &CompareOptions) -> Result<Comparison, String> {
     let m = read_checked(opts, &opts.measurement)?;
     let split = split_index(&m, opts.split)?;
@@ -224,7 +230,7 @@ pub fn compare(opts: &CompareOptions) -> Result<Comparison, String> {
     let drive = Drive::from_measurement(&m);
     let setup = build_model(opts, &drive)?;
     let t0 = Instant::now();
-    let prediction = setup.backend.run(&setup.model, &drive).map_err(|e| format!("{}: {e}", m.path))?;
+    let prediction = setup.backend.run(&setup.model, &drive).map_err(|e| e.context(&m.path))?;
     let run_seconds = t0.elapsed().as_secs_f64();
     let analysis = analyse(&m, &drive, &prediction, split);
     let mut warnings = m.notes.clone();
@@ -239,7 +245,8 @@ pub fn compare(opts: &CompareOptions) -> Result<Comparison, String> {
 
 /// Reads a record with the options' columns, flips and gaps, and checks its traps
 /// ([`crate::record_traps`]): the samples a clipped force leaves out are marked in `excluded`, the
-/// warnings added to its notes.
+/// warnings added to its notes. The error is a message: [`Measurement::read_flipped`]'s is one
+/// until measurement.rs is converted.
 pub fn read_checked(opts: &CompareOptions, path: &std::path::Path) -> Result<Measurement, String> {
     let mut m = Measurement::read_flipped(path, &opts.maps, opts.max_gap, &opts.flips)?;
     if opts.velocity_made_again {

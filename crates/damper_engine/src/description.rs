@@ -3,6 +3,7 @@
 //! pre-charge and volume, the valves' data) in any unit, mapped onto the model's parameters.
 //! Every problem names the file, the line and the key.
 
+use crate::error::{Error, Place};
 use crate::parameters::{lookup, set_parameter, Param};
 use crate::quantity::{parse_quantity, parse_unit, Dimension};
 use semi_active_damper::physics::params::Parameters;
@@ -156,16 +157,16 @@ fn closest<'a>(name: &str, names: impl Iterator<Item = &'a str>) -> String {
 
 impl Description {
     /// Reads and checks a description file.
-    pub fn read(path: &Path) -> Result<Description, String> {
-        let text = std::fs::read_to_string(path).map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
+    pub fn read(path: &Path) -> Result<Description, Error> {
+        let text = std::fs::read_to_string(path).map_err(|source| Error::Read { path: path.to_path_buf(), source })?;
         Description::parse(&path.display().to_string(), &text)
     }
 
     /// Parses description text; `name` is used in messages.
-    pub fn parse(name: &str, text: &str) -> Result<Description, String> {
-        let table: toml::Table = text.parse().map_err(|e: toml::de::Error| {
-            let line = e.span().map_or(0, |s| text[..s.start.min(text.len())].lines().count().max(1));
-            format!("{name}, line {line}: not TOML: {}", e.message())
+    pub fn parse(name: &str, text: &str) -> Result<Description, Error> {
+        let table: toml::Table = text.parse().map_err(|source: toml::de::Error| {
+            let line = source.span().map_or(0, |s| text[..s.start.min(text.len())].lines().count().max(1));
+            Error::Toml { file: name.to_string(), line, source: Box::new(source) }
         })?;
         let at = lines(text);
         let line = |section: &str, key: &str| at.get(&(section.to_string(), key.to_string())).copied().unwrap_or(0);
@@ -179,28 +180,30 @@ impl Description {
                         "passive" => Kind::Passive,
                         "semi_active" => Kind::SemiActive,
                         other => {
-                            return Err(format!(
-                                "{name}, line {}, kind: '{other}' is not a kind (passive or semi_active)",
-                                line("", "kind")
-                            ))
+                            return Err(Error::InFile {
+                                at: Place::field(name, line("", "kind"), "kind"),
+                                problem: format!("'{other}' is not a kind (passive or semi_active)"),
+                            })
                         }
                     }
                 }
                 ("name", toml::Value::String(n)) => d.name = n.clone(),
                 (s, toml::Value::Table(_)) if known.contains(&s) => {}
                 (s, toml::Value::Table(_)) => {
-                    return Err(format!(
-                        "{name}, line {}: unknown section [{s}]{} (sections: {})",
-                        line(s, ""),
-                        closest(s, known.iter().copied()),
-                        known.join(", ")
-                    ))
+                    return Err(Error::InFile {
+                        at: Place::line(name, line(s, "")),
+                        problem: format!(
+                            "unknown section [{s}]{} (sections: {})",
+                            closest(s, known.iter().copied()),
+                            known.join(", ")
+                        ),
+                    })
                 }
                 (k, _) => {
-                    return Err(format!(
-                        "{name}, line {}: unknown top-level key '{k}' (kind, name, or a section)",
-                        line("", k)
-                    ))
+                    return Err(Error::InFile {
+                        at: Place::line(name, line("", k)),
+                        problem: format!("unknown top-level key '{k}' (kind, name, or a section)"),
+                    })
                 }
             }
         }
@@ -208,7 +211,7 @@ impl Description {
         for (section, value) in &table {
             let toml::Value::Table(entries) = value else { continue };
             for (k, v) in entries {
-                let place = format!("{name}, line {}, [{section}] {k}", line(section, k));
+                let place = Place::field(name, line(section, k), format!("[{section}] {k}"));
                 d.settings.extend(setting(section, k, v, &place)?);
             }
         }
@@ -216,11 +219,11 @@ impl Description {
     }
 
     /// Applies the settings to `p`, in order.
-    pub fn apply(&self, p: &mut Parameters) -> Result<(), String> {
+    pub fn apply(&self, p: &mut Parameters) -> Result<(), Error> {
         for s in &self.settings {
-            set_parameter(p, &s.parameter, &s.value).map_err(|e| format!("{}: {e}", s.source))?;
+            set_parameter(p, &s.parameter, &s.value).map_err(|e| e.context(&s.source))?;
         }
-        p.validate().map_err(|e| format!("{}: the damper it describes is not valid: {e}", self.path))
+        p.validate().map_err(|source| Error::InvalidDamper { path: self.path.clone(), source })
     }
 }
 
@@ -247,24 +250,25 @@ fn kind_settings(kind: Kind, name: &str) -> Vec<Setting> {
 }
 
 /// The settings of `[section] key = value`.
-fn setting(section: &str, key: &str, value: &toml::Value, place: &str) -> Result<Vec<Setting>, String> {
+fn setting(section: &str, key: &str, value: &toml::Value, place: &Place) -> Result<Vec<Setting>, Error> {
     let at = |parameter: &str, value: String| Setting { parameter: parameter.into(), value, source: place.to_string() };
+    let problem = |problem: String| Error::InFile { at: place.clone(), problem };
     if section == "parameters" {
-        let param = lookup(key).map_err(|e| format!("{place}: {e}"))?;
+        let param = lookup(key).map_err(|e| e.at(place.clone()))?;
         let text = match (param, value) {
             (Param::Real(v), _) => format!("{}", si_value(value, v.unit(), place, Convert::Same)?),
             (_, toml::Value::Boolean(b)) => b.to_string(),
             (_, toml::Value::Integer(i)) => i.to_string(),
-            (_, other) => return Err(format!("{place}: {other} is not a value of {key}")),
+            (_, other) => return Err(problem(format!("{other} is not a value of {key}"))),
         };
         return Ok(vec![at(key, text)]);
     }
     let Some(k) = KEYS.iter().find(|k| k.section == section && k.key == key) else {
         let keys = KEYS.iter().filter(|k| k.section == section).map(|k| k.key);
         let listed: Vec<&str> = KEYS.iter().filter(|k| k.section == section).map(|k| k.key).collect();
-        return Err(format!("{place}: unknown key{} (keys of [{section}]: {})", closest(key, keys), listed.join(", ")));
+        return Err(problem(format!("unknown key{} (keys of [{section}]: {})", closest(key, keys), listed.join(", "))));
     };
-    let unit = match lookup(k.parameter).map_err(|e| format!("{place}: {e}"))? {
+    let unit = match lookup(k.parameter).map_err(|e| e.at(place.clone()))? {
         Param::Real(v) => v.unit(),
         _ => unreachable!("the description's keys are Real parameters"),
     };
@@ -279,8 +283,10 @@ fn setting(section: &str, key: &str, value: &toml::Value, place: &str) -> Result
 
 /// The SI value of `value` (a number in SI, or a string with a unit) for a parameter in `unit`,
 /// through `convert`; the unit's dimension must be the parameter's (a length for a diameter).
-fn si_value(value: &toml::Value, unit: &str, place: &str, convert: Convert) -> Result<f64, String> {
-    let target = parse_unit(unit).map_err(|e| format!("{place}: the model's unit {unit}: {e}"))?.dimension;
+fn si_value(value: &toml::Value, unit: &str, place: &Place, convert: Convert) -> Result<f64, Error> {
+    let problem = |problem: String| Error::InFile { at: place.clone(), problem };
+    let target =
+        parse_unit(unit).map_err(|e| e.context(format!("the model's unit {unit}")).at(place.clone()))?.dimension;
     let wanted = match convert {
         Convert::CircleArea => parse_unit("m").expect("metre").dimension,
         _ => target,
@@ -288,16 +294,16 @@ fn si_value(value: &toml::Value, unit: &str, place: &str, convert: Convert) -> R
     let (x, dimension) = match value {
         toml::Value::Float(x) => (*x, wanted),
         toml::Value::Integer(i) => (*i as f64, wanted),
-        toml::Value::String(s) => parse_quantity(s).map_err(|e| format!("{place}: {e}"))?,
-        other => return Err(format!("{place}: {other} is not a quantity (a number in SI, or \"36 mm\")")),
+        toml::Value::String(s) => parse_quantity(s).map_err(|e| e.at(place.clone()))?,
+        other => return Err(problem(format!("{other} is not a quantity (a number in SI, or \"36 mm\")"))),
     };
     if dimension != wanted {
-        return Err(format!(
-            "{place}: {value} is {} but {} is wanted{}",
+        return Err(problem(format!(
+            "{value} is {} but {} is wanted{}",
             describe(dimension),
             describe(wanted),
             if matches!(convert, Convert::CircleArea) { " (a diameter)" } else { "" }
-        ));
+        )));
     }
     Ok(match convert {
         Convert::Same => x,
@@ -311,21 +317,21 @@ fn describe(d: Dimension) -> String {
 }
 
 /// Writes `TEMPLATE` to `path`, refusing to overwrite a file.
-pub fn write_template(path: &Path) -> Result<(), String> {
+pub fn write_template(path: &Path) -> Result<(), Error> {
     if path.exists() {
-        return Err(format!("{}: exists; choose another name or remove it", path.display()));
+        return Err(Error::Exists { path: path.to_path_buf() });
     }
     if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
-        std::fs::create_dir_all(dir).map_err(|e| format!("{}: cannot create: {e}", dir.display()))?;
+        std::fs::create_dir_all(dir).map_err(|source| Error::CreateDir { path: dir.to_path_buf(), source })?;
     }
-    std::fs::write(path, TEMPLATE).map_err(|e| format!("{}: {e}", path.display()))
+    std::fs::write(path, TEMPLATE).map_err(|source| Error::Io { path: path.to_path_buf(), source })
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
 
-    fn applied(text: &str) -> Result<Parameters, String> {
+    fn applied(text: &str) -> Result<Parameters, Error> {
         let mut p = Parameters::default();
         Description::parse("d.toml", text)?.apply(&mut p)?;
         Ok(p)
@@ -366,7 +372,7 @@ mod tests {
             ("[cylinder\n", "d.toml, line 1: not TOML"),
         ];
         for (text, expected) in cases {
-            let e = applied(text).unwrap_err();
+            let e = applied(text).unwrap_err().to_string();
             assert!(e.contains(expected), "{text:?}: {e}");
         }
     }

@@ -11,6 +11,7 @@
 //! concurrently.
 
 use crate::dsp::Lowpass;
+use crate::error::Error;
 use crate::model::{substeps, Backend, Drive, Model, Prediction};
 use crate::parameters::{get_parameter, parameter_names, Value};
 use fmi::fmi2::import::Fmi2Import;
@@ -80,23 +81,31 @@ fn kind_of_value(v: Value) -> Kind {
 }
 
 impl FmuModel {
-    /// Imports the FMU at `path`; the errors name the path and what does not match.
+    /// Imports the FMU at `path`; the errors name the path and what does not match. The error is
+    /// [`FmuModel::open`]'s message: crates/damper_cli's tests read it as a `String`; this goes once
+    /// they take the [`Error`].
     pub fn load(path: &Path) -> Result<FmuModel, String> {
-        let at = format!("--fmu {}", path.display());
+        Ok(FmuModel::open(path)?)
+    }
+
+    /// Imports the FMU at `path` and checks it against this program's parameters, inputs and
+    /// outputs ([`FmuModel::load`] with the error as it is).
+    pub fn open(path: &Path) -> Result<FmuModel, Error> {
+        let refused = |problem: String| Error::FmuLoad { path: path.to_path_buf(), problem };
         if !path.is_file() {
-            return Err(format!("{at}: no such file (package the FMU with python3 scripts/package_fmu.py)"));
+            return Err(refused("no such file (package the FMU with python3 scripts/package_fmu.py)".into()));
         }
-        let import: Fmi2Import = fmi::import::from_path(path)
-            .map_err(|e| format!("{at}: not an FMI 2.0 FMU this program can import: {e}"))?;
+        let import: Fmi2Import =
+            fmi::import::from_path(path).map_err(|source| Error::FmuImport { path: path.to_path_buf(), source })?;
         let md = import.model_description();
         let Some(cs) = &md.co_simulation else {
-            return Err(format!("{at}: the FMU has no Co-Simulation interface"));
+            return Err(refused("the FMU has no Co-Simulation interface".into()));
         };
         if cs.model_identifier != MODEL_IDENTIFIER {
-            return Err(format!(
-                "{at}: not the damper FMU (its modelIdentifier is {}, the damper's {MODEL_IDENTIFIER})",
+            return Err(refused(format!(
+                "not the damper FMU (its modelIdentifier is {}, the damper's {MODEL_IDENTIFIER})",
                 cs.model_identifier
-            ));
+            )));
         }
         let known = parameter_names();
         let defaults = Parameters::default();
@@ -128,17 +137,17 @@ impl FmuModel {
             problems.push(format!("parameters of another type: {}", some(&mistyped)));
         }
         if !problems.is_empty() {
-            return Err(format!(
-                "{at}: a different build of the damper model ({}); repackage it from this source \
+            return Err(refused(format!(
+                "a different build of the damper model ({}); repackage it from this source \
                  (python3 scripts/package_fmu.py)",
                 problems.join("; ")
-            ));
+            )));
         }
-        let vr = |name: &str, causality: Causality| -> Result<u32, String> {
+        let vr = |name: &str, causality: Causality| -> Result<u32, Error> {
             md.get_model_variables()
                 .find(|v| v.name == name && v.causality == causality && kind_of(&v.elem) == Some(Kind::Real))
                 .map(|v| v.value_reference)
-                .ok_or_else(|| format!("{at}: the FMU has no Real {causality} {name} (is it the damper FMU?)"))
+                .ok_or_else(|| refused(format!("the FMU has no Real {causality} {name} (is it the damper FMU?)")))
         };
         let mut inputs = [0; INPUTS.len()];
         for (slot, name) in inputs.iter_mut().zip(INPUTS) {
@@ -149,7 +158,9 @@ impl FmuModel {
             *slot = vr(name, Causality::Output)?;
         }
         // a missing or foreign binary shows here once, not in every run of every thread
-        import.instantiate_cs("damper", false, false).map_err(|e| format!("{at}: cannot instantiate the FMU: {e}"))?;
+        import
+            .instantiate_cs("damper", false, false)
+            .map_err(|source| Error::FmuInstantiate { path: path.to_path_buf(), source })?;
         Ok(FmuModel { path: path.to_path_buf(), import, parameters, inputs, outputs })
     }
 }
@@ -157,7 +168,7 @@ impl FmuModel {
 impl Backend for FmuModel {
     /// As [`Model::run_first`], through the FMU: the first `n` samples; `all` records every
     /// signal, otherwise only the force. Each call has its own FMU instance.
-    fn run_first(&self, model: &Model, drive: &Drive, n: usize, all: bool) -> Result<Prediction, String> {
+    fn run_first(&self, model: &Model, drive: &Drive, n: usize, all: bool) -> Result<Prediction, Error> {
         let n = n.min(drive.len());
         let t = &drive.time;
         let mut out = Prediction::default();
@@ -165,11 +176,11 @@ impl Backend for FmuModel {
             return Ok(out);
         }
         let fail =
-            |call: &str, e: Fmi2Error| format!("the FMU {} failed at t = {} s: {call}: {e}", self.path.display(), t[0]);
+            |call: &'static str, source: Fmi2Error| Error::FmuFailed { path: self.path.clone(), t: t[0], call, source };
         let mut fmu = self
             .import
             .instantiate_cs("damper", false, false)
-            .map_err(|e| format!("the FMU {}: fmi2Instantiate failed: {e}", self.path.display()))?;
+            .map_err(|source| Error::FmuInstance { path: self.path.clone(), source })?;
         fmu.setup_experiment(None, t[0], None).map_err(|e| fail("fmi2SetupExperiment", e))?;
         self.set_parameters(&mut fmu, &model.params)?;
         // the in-process model starts at rest with the inputs of the first sample
@@ -190,13 +201,11 @@ impl Backend for FmuModel {
             let h = (t[k] - t[k - 1]) / m as f64;
             for j in 0..m {
                 self.set(&mut fmu, drive, drive.substep_inputs(k - 1, j, m), k - 1)?;
-                fmu.do_step(now, h, true).map_err(|e| {
-                    format!(
-                        "the FMU {} failed between t = {} s and {} s: fmi2DoStep: {e}",
-                        self.path.display(),
-                        t[k - 1],
-                        t[k]
-                    )
+                fmu.do_step(now, h, true).map_err(|source| Error::FmuStep {
+                    path: self.path.clone(),
+                    from: t[k - 1],
+                    to: t[k],
+                    source,
                 })?;
                 now += h;
                 if j + 1 < m {
@@ -211,7 +220,7 @@ impl Backend for FmuModel {
                 *last = f.step(h, *last);
             }
         }
-        fmu.terminate().map_err(|e| format!("the FMU {}: fmi2Terminate: {e}", self.path.display()))?;
+        fmu.terminate().map_err(|source| Error::FmuCall { path: self.path.clone(), call: "fmi2Terminate", source })?;
         // dropping the instance frees it (fmi2FreeInstance)
         drop(fmu);
         Ok(out)
@@ -232,53 +241,56 @@ impl Backend for FmuModel {
 
 impl FmuModel {
     /// Sets every parameter of the FMU by name, from `params`.
-    fn set_parameters(&self, fmu: &mut InstanceCS, params: &Parameters) -> Result<(), String> {
+    fn set_parameters(&self, fmu: &mut InstanceCS, params: &Parameters) -> Result<(), Error> {
         for p in &self.parameters {
             let value = get_parameter(params, p.name)?;
             let result = match (p.kind, value) {
                 (Kind::Real, Value::Real(x)) => fmu.set_real(&[p.vr], &[x]),
                 (Kind::Integer, Value::Integer(i)) => fmu.set_integer(&[p.vr], &[i]),
                 (Kind::Boolean, Value::Boolean(b)) => fmu.set_boolean(&[p.vr], &[i32::from(b)]),
-                _ => return Err(format!("parameter {} changed its type", p.name)),
+                _ => return Err(Error::TypeChanged { name: p.name }),
             };
-            result.map_err(|e| format!("the FMU {} refused {} = {value}: {e}", self.path.display(), p.name))?;
+            result.map_err(|source| Error::FmuRefusedParameter {
+                path: self.path.clone(),
+                name: p.name,
+                value: value.to_string(),
+                source,
+            })?;
         }
         Ok(())
     }
 
-    fn set_inputs(&self, fmu: &mut InstanceCS, drive: &Drive, k: usize) -> Result<(), String> {
+    fn set_inputs(&self, fmu: &mut InstanceCS, drive: &Drive, k: usize) -> Result<(), Error> {
         self.set(fmu, drive, drive.inputs(k), k)
     }
 
     /// Sets `i`, the inputs at sample `k` (which the error names).
-    fn set(&self, fmu: &mut InstanceCS, drive: &Drive, i: Inputs, k: usize) -> Result<(), String> {
+    fn set(&self, fmu: &mut InstanceCS, drive: &Drive, i: Inputs, k: usize) -> Result<(), Error> {
         let values = [i.v_damper, i.a_damper, i.force_demand, i.x_spool_demand, i.t_oil];
-        fmu.set_real(&self.inputs, &values).map(|_| ()).map_err(|e| {
+        fmu.set_real(&self.inputs, &values).map(|_| ()).map_err(|source| {
             let named: Vec<String> = INPUTS.iter().zip(values).map(|(name, x)| format!("{name} {x}")).collect();
-            format!(
-                "the FMU {} refused the inputs at t = {} s ({}): {e}",
-                self.path.display(),
-                drive.time[k],
-                named.join(", ")
-            )
+            Error::FmuRefusedInputs { path: self.path.clone(), t: drive.time[k], inputs: named.join(", "), source }
         })
     }
 
     /// The first `y.len()` outputs (of [`OUTPUTS`]) at time `t` (s).
-    fn read(&self, fmu: &mut InstanceCS, t: f64, y: &mut [f64]) -> Result<(), String> {
-        fmu.get_real(&self.outputs[..y.len()], y)
-            .map(|_| ())
-            .map_err(|e| format!("the FMU {} failed at t = {t} s: fmi2GetReal: {e}", self.path.display()))
+    fn read(&self, fmu: &mut InstanceCS, t: f64, y: &mut [f64]) -> Result<(), Error> {
+        fmu.get_real(&self.outputs[..y.len()], y).map(|_| ()).map_err(|source| Error::FmuFailed {
+            path: self.path.clone(),
+            t,
+            call: "fmi2GetReal",
+            source,
+        })
     }
 
     /// The load-cell force at time `t` (s) between two samples.
-    fn load_cell(&self, fmu: &mut InstanceCS, t: f64) -> Result<f64, String> {
+    fn load_cell(&self, fmu: &mut InstanceCS, t: f64) -> Result<f64, Error> {
         let mut y = [0.0];
         self.read(fmu, t, &mut y)?;
         Ok(y[0])
     }
 
-    fn read_outputs(&self, fmu: &mut InstanceCS, t: f64, all: bool, out: &mut Prediction) -> Result<(), String> {
+    fn read_outputs(&self, fmu: &mut InstanceCS, t: f64, all: bool, out: &mut Prediction) -> Result<(), Error> {
         let mut y = [0.0; 8];
         let count = if all { 8 } else { 1 };
         self.read(fmu, t, &mut y[..count])?;

@@ -48,8 +48,7 @@ use std::path::PathBuf;
 /// The truth model's tolerance (unless `--set rtol=…`): converged (0.02 N RMS force error on
 /// `cargo bench`'s input), so that a record carries the effects and the sensors it is told to and
 /// not the integrator's error at the FMU's default tolerance (17 N there, 0.86 load-cell σ), which a
-/// diagnosis fits: it moved the mount stiffness fitted from a 60 s record by 4.3 standard errors
-/// (JOURNAL.md, performance, eleventh round).
+/// diagnosis fits: it moved the mount stiffness fitted from a 60 s record by 4.3 standard errors.
 const TRUTH_RTOL: f64 = 1e-6;
 
 /// How the damper is driven.
@@ -173,7 +172,8 @@ pub struct GenerateOptions {
     pub displacement: bool,
     /// Only the required columns (no spool, current, pressures).
     pub minimal: bool,
-    /// Drive the truth with the true velocity, not the measured one (see [`generate`]).
+    /// Drive the truth with the true velocity, not the measured one (see the module's
+    /// documentation, "The velocity").
     pub errors_in_variables: bool,
     /// Load-cell low-pass (Hz); None: no filter.
     pub lowpass_hz: Option<f64>,
@@ -455,107 +455,205 @@ fn taper(tau: f64, len: f64, w: f64) -> f64 {
     edge(tau) * edge(len - tau)
 }
 
+/// Ramp time of the rig's velocity at the ends of a block, sweep or random stretch (s).
+const RAMP: f64 = 0.015;
+/// Constant-velocity blocks: speeds drawn in this range (m/s)…
+const BLOCK_SPEED: (f64, f64) = (0.05, 0.25);
+/// … each block moving about this far (m)…
+const BLOCK_STROKE: f64 = 0.06;
+/// … for at most this long (s).
+const BLOCK_MAX_LEN: f64 = 0.35;
+/// A block ending this close (s) before the sweep takes the rest of the first third: no
+/// standstill before the sweep.
+const BLOCK_MIN_REST: f64 = 0.05;
+/// Beyond this stroke (m) the next block moves back towards the middle.
+const BLOCK_STROKE_LIMIT: f64 = 0.01;
+/// Spool-position demand levels (m), in the blocks, the sweep and the random part.
+const SPOOL_LEVEL: (f64, f64) = (0.9e-3, 3.5e-3);
+/// Force demand levels of the blocks (N).
+const FORCE_LEVEL: (f64, f64) = (1e3, 20e3);
+/// Time between the blocks' demand steps (s).
+const BLOCK_STEP_EVERY: (f64, f64) = (0.08, 0.15);
+/// The sweep's start frequency (Hz)…
+const SWEEP_F0: f64 = 0.5;
+/// … and its end frequency (Hz), at most [`SWEEP_MAX_CYCLES_PER_SAMPLE`] cycles per sample.
+const SWEEP_F1: f64 = 12.0;
+/// Most cycles of the sweep per sample (-): at least 20 samples per period.
+const SWEEP_MAX_CYCLES_PER_SAMPLE: f64 = 0.05;
+/// The sweep's displacement amplitude (m)…
+const SWEEP_AMPLITUDE: f64 = 0.03;
+/// … with its velocity amplitude capped at this (m/s).
+const SWEEP_MAX_SPEED: f64 = 0.15;
+/// Damping coefficient of the force demand C·v in the sweep (N·s/m).
+const SWEEP_GAIN: (f64, f64) = (10e3, 60e3);
+/// Time between the sweep's demand changes (s).
+const SWEEP_CHANGE_EVERY: (f64, f64) = (0.4, 0.8);
+/// Corner frequency of the two first-order low-passes that colour the random velocity (Hz).
+const RANDOM_CORNER: f64 = 8.0;
+/// RMS of the random velocity (m/s).
+const RANDOM_RMS: f64 = 0.1;
+/// Time constant of the position feedback that holds the random motion near mid-stroke (s).
+const RANDOM_CENTRING: f64 = 0.5;
+/// Damping coefficient of the random part's force demand C·v + F0·tanh(v/v0) (N·s/m)…
+const RANDOM_GAIN: (f64, f64) = (5e3, 40e3);
+/// … its friction-like part F0 (N)…
+const RANDOM_COULOMB: (f64, f64) = (0.0, 3e3);
+/// … rounded off over v0 (m/s).
+const RANDOM_COULOMB_WIDTH: f64 = 0.01;
+/// Time between the random part's demand changes (s).
+const RANDOM_CHANGE_EVERY: (f64, f64) = (0.3, 0.6);
+
+/// A demand as the rig's digital controller writes it: spool positions to 0.1 µm, forces to
+/// 0.1 N.
+fn round_demand(spool: bool, x: f64) -> f64 {
+    if spool {
+        (x * 1e7).round() / 1e7
+    } else {
+        (x * 10.0).round() / 10.0
+    }
+}
+
 /// Rig-style inputs on the grid `t`: (true velocity, demand).
 fn rig_inputs(t: &[f64], rng: &mut Rng, spool: bool, x_spool_rest: f64) -> (Vec<f64>, Vec<f64>) {
     let n = t.len();
-    let dt = t[1] - t[0];
     let duration = t[n - 1] - t[0];
     // The record starts at rest and moves at once: a standstill with a zero force demand would let
     // the force loop's integrator wind up in the direction of sign(v), which at rest is the sign
     // of the velocity noise, so the first motion would depend on noise the model cannot know.
     let rest = 0.0;
     let part = (duration - rest) / 3.0;
-    let mut v = vec![0.0; n];
-    let mut demand = vec![if spool { x_spool_rest } else { 0.0 }; n];
-    let round_demand = |x: f64| if spool { (x * 1e7).round() / 1e7 } else { (x * 10.0).round() / 10.0 };
-
-    // Part A: constant-velocity blocks (15 ms ramps), the demand stepping inside each block.
+    let mut rig = RigRecord {
+        t,
+        dt: t[1] - t[0],
+        spool,
+        v: vec![0.0; n],
+        demand: vec![if spool { x_spool_rest } else { 0.0 }; n],
+    };
     let a_end = rest + part;
-    let mut ts = rest;
-    let mut x = 0.0f64;
-    let mut dir = 1.0f64;
-    while ts < a_end - 1e-9 {
-        let speed = rng.range(0.05, 0.25);
-        let mut len = (0.06 / speed).min(0.35).min(a_end - ts);
-        if a_end - (ts + len) < 0.05 {
-            len = a_end - ts; // no standstill before the sweep
-        }
-        if x.abs() > 0.01 {
-            dir = -x.signum();
-        }
-        let (i0, i1) = (((ts - t[0]) / dt).round() as usize, (((ts + len - t[0]) / dt).round() as usize).min(n));
-        let mut next_change = f64::NEG_INFINITY;
-        let mut level = 0.0;
-        for i in i0..i1 {
-            let tau = t[i] - ts;
-            v[i] = dir * speed * taper(tau, len, 0.015);
-            if t[i] >= next_change {
-                level = if spool { rng.range(0.9e-3, 3.5e-3) } else { rng.range(1e3, 20e3) };
-                next_change = t[i] + rng.range(0.08, 0.15);
-            }
-            demand[i] = round_demand(if spool { level } else { dir * level });
-        }
-        x += dir * speed * (len - 0.015);
-        dir = -dir;
-        ts += len;
-    }
-
-    // Part B: logarithmic sweep 0.5 → 12 Hz, displacement amplitude 30 mm (velocity ≤ 0.15 m/s),
-    // velocity a cosine so that the displacement has no offset.
+    rig.velocity_blocks(rng, rest, a_end);
     let b_end = a_end + part;
-    let (f0, f1) = (0.5, 12.0f64.min(0.05 / dt));
-    let k = libm::log(f1 / f0) / part;
-    let mut next_change = f64::NEG_INFINITY;
-    let mut gain = 0.0;
-    let mut level = 0.0;
-    for i in 0..n {
-        if t[i] < a_end || t[i] >= b_end {
-            continue;
+    rig.sine_sweep(rng, a_end, b_end, part);
+    rig.random_velocity(rng, b_end);
+    (rig.v, rig.demand)
+}
+
+/// The rig's inputs as they are made, part by part, on the grid `t` (interval `dt`, s).
+struct RigRecord<'a> {
+    t: &'a [f64],
+    dt: f64,
+    /// Spool-position control (else force control).
+    spool: bool,
+    /// True velocity (m/s).
+    v: Vec<f64>,
+    /// Demand (m or N).
+    demand: Vec<f64>,
+}
+
+impl RigRecord<'_> {
+    /// Part A, from `start` to `end` (s): constant-velocity blocks ([`RAMP`] ramps), the demand
+    /// stepping inside each block.
+    fn velocity_blocks(&mut self, rng: &mut Rng, start: f64, end: f64) {
+        let (t, dt, n) = (self.t, self.dt, self.t.len());
+        let mut ts = start;
+        let mut x = 0.0f64;
+        let mut dir = 1.0f64;
+        while ts < end - 1e-9 {
+            let speed = rng.range(BLOCK_SPEED.0, BLOCK_SPEED.1);
+            let mut len = (BLOCK_STROKE / speed).min(BLOCK_MAX_LEN).min(end - ts);
+            if end - (ts + len) < BLOCK_MIN_REST {
+                len = end - ts; // no standstill before the sweep
+            }
+            if x.abs() > BLOCK_STROKE_LIMIT {
+                dir = -x.signum();
+            }
+            let (i0, i1) = (((ts - t[0]) / dt).round() as usize, (((ts + len - t[0]) / dt).round() as usize).min(n));
+            let mut next_change = f64::NEG_INFINITY;
+            let mut level = 0.0;
+            for (i, &ti) in t.iter().enumerate().take(i1).skip(i0) {
+                let tau = ti - ts;
+                self.v[i] = dir * speed * taper(tau, len, RAMP);
+                if ti >= next_change {
+                    level = if self.spool {
+                        rng.range(SPOOL_LEVEL.0, SPOOL_LEVEL.1)
+                    } else {
+                        rng.range(FORCE_LEVEL.0, FORCE_LEVEL.1)
+                    };
+                    next_change = ti + rng.range(BLOCK_STEP_EVERY.0, BLOCK_STEP_EVERY.1);
+                }
+                self.demand[i] = round_demand(self.spool, if self.spool { level } else { dir * level });
+            }
+            x += dir * speed * (len - RAMP);
+            dir = -dir;
+            ts += len;
         }
-        let tau = t[i] - a_end;
-        let growth = libm::exp(k * tau);
-        let f = f0 * growth;
-        let phase = 2.0 * PI * f0 * (growth - 1.0) / k;
-        let amp = (2.0 * PI * f * 0.03).min(0.15);
-        v[i] = amp * libm::cos(phase) * taper(tau, part, 0.015);
-        if t[i] >= next_change {
-            gain = rng.range(10e3, 60e3);
-            level = rng.range(0.9e-3, 3.5e-3);
-            next_change = t[i] + rng.range(0.4, 0.8);
-        }
-        demand[i] = round_demand(if spool { level } else { gain * v[i] });
     }
 
-    // Part C: random velocity (white noise through two 8 Hz first-order low-passes, 0.1 m/s RMS),
-    // held near mid-stroke by a 0.5 s position feedback.
-    let a = libm::exp(-2.0 * PI * 8.0 * dt);
-    let idx: Vec<usize> = (0..n).filter(|&i| t[i] >= b_end).collect();
-    let (mut s1, mut s2) = (0.0, 0.0);
-    let raw: Vec<f64> = idx
-        .iter()
-        .map(|_| {
-            s1 = a * s1 + (1.0 - a) * rng.normal();
-            s2 = a * s2 + (1.0 - a) * s1;
-            s2
-        })
-        .collect();
-    let scale = 0.1 / crate::dsp::rms(&raw).max(1e-12);
-    let mut pos: f64 = (0..n).filter(|&i| t[i] < b_end).map(|i| v[i] * dt).sum();
-    let (mut gain, mut f_coulomb) = (0.0, 0.0);
-    let mut next_change = f64::NEG_INFINITY;
-    let c_len = t[n - 1] - b_end;
-    for (j, &i) in idx.iter().enumerate() {
-        v[i] = (scale * raw[j] - pos / 0.5) * taper(t[i] - b_end, c_len, 0.015);
-        pos += v[i] * dt;
-        if t[i] >= next_change {
-            gain = rng.range(5e3, 40e3);
-            f_coulomb = rng.range(0.0, 3e3);
-            level = rng.range(0.9e-3, 3.5e-3);
-            next_change = t[i] + rng.range(0.3, 0.6);
+    /// Part B, from `start` to `end` (s), `len` long: a logarithmic sweep [`SWEEP_F0`] →
+    /// [`SWEEP_F1`], displacement amplitude [`SWEEP_AMPLITUDE`] (velocity ≤ [`SWEEP_MAX_SPEED`]),
+    /// the velocity a cosine so that the displacement has no offset.
+    fn sine_sweep(&mut self, rng: &mut Rng, start: f64, end: f64, len: f64) {
+        let t = self.t;
+        let (f0, f1) = (SWEEP_F0, SWEEP_F1.min(SWEEP_MAX_CYCLES_PER_SAMPLE / self.dt));
+        let k = libm::log(f1 / f0) / len;
+        let mut next_change = f64::NEG_INFINITY;
+        let mut gain = 0.0;
+        let mut level = 0.0;
+        for (i, &ti) in t.iter().enumerate() {
+            if ti < start || ti >= end {
+                continue;
+            }
+            let tau = ti - start;
+            let growth = libm::exp(k * tau);
+            let f = f0 * growth;
+            let phase = 2.0 * PI * f0 * (growth - 1.0) / k;
+            let amp = (2.0 * PI * f * SWEEP_AMPLITUDE).min(SWEEP_MAX_SPEED);
+            self.v[i] = amp * libm::cos(phase) * taper(tau, len, RAMP);
+            if ti >= next_change {
+                gain = rng.range(SWEEP_GAIN.0, SWEEP_GAIN.1);
+                level = rng.range(SPOOL_LEVEL.0, SPOOL_LEVEL.1);
+                next_change = ti + rng.range(SWEEP_CHANGE_EVERY.0, SWEEP_CHANGE_EVERY.1);
+            }
+            self.demand[i] = round_demand(self.spool, if self.spool { level } else { gain * self.v[i] });
         }
-        demand[i] = round_demand(if spool { level } else { gain * v[i] + f_coulomb * libm::tanh(v[i] / 0.01) });
     }
-    (v, demand)
+
+    /// Part C, from `start` (s) to the end: random velocity (white noise through two
+    /// [`RANDOM_CORNER`] first-order low-passes, [`RANDOM_RMS`]), held near mid-stroke by a
+    /// [`RANDOM_CENTRING`] position feedback.
+    fn random_velocity(&mut self, rng: &mut Rng, start: f64) {
+        let (t, dt, n) = (self.t, self.dt, self.t.len());
+        let a = libm::exp(-2.0 * PI * RANDOM_CORNER * dt);
+        let idx: Vec<usize> = (0..n).filter(|&i| t[i] >= start).collect();
+        let (mut s1, mut s2) = (0.0, 0.0);
+        let raw: Vec<f64> = idx
+            .iter()
+            .map(|_| {
+                s1 = a * s1 + (1.0 - a) * rng.normal();
+                s2 = a * s2 + (1.0 - a) * s1;
+                s2
+            })
+            .collect();
+        let scale = RANDOM_RMS / crate::dsp::rms(&raw).max(1e-12);
+        let mut pos: f64 = (0..n).filter(|&i| t[i] < start).map(|i| self.v[i] * dt).sum();
+        let (mut gain, mut f_coulomb, mut level) = (0.0, 0.0, 0.0);
+        let mut next_change = f64::NEG_INFINITY;
+        let len = t[n - 1] - start;
+        for (j, &i) in idx.iter().enumerate() {
+            let v = (scale * raw[j] - pos / RANDOM_CENTRING) * taper(t[i] - start, len, RAMP);
+            self.v[i] = v;
+            pos += v * dt;
+            if t[i] >= next_change {
+                gain = rng.range(RANDOM_GAIN.0, RANDOM_GAIN.1);
+                f_coulomb = rng.range(RANDOM_COULOMB.0, RANDOM_COULOMB.1);
+                level = rng.range(SPOOL_LEVEL.0, SPOOL_LEVEL.1);
+                next_change = t[i] + rng.range(RANDOM_CHANGE_EVERY.0, RANDOM_CHANGE_EVERY.1);
+            }
+            self.demand[i] = round_demand(
+                self.spool,
+                if self.spool { level } else { gain * v + f_coulomb * libm::tanh(v / RANDOM_COULOMB_WIDTH) },
+            );
+        }
+    }
 }
 
 /// ISO 8608 G_d(n0) (m³) of a road name or class.
@@ -650,169 +748,47 @@ fn decimals(quantum: f64) -> usize {
     (-libm::log10(quantum)).ceil().max(0.0) as usize
 }
 
+/// Fewest samples of a generated record: the analysis's spectra and correlations need some
+/// hundreds.
+const MIN_SAMPLES: usize = 400;
+/// The share of the record the noise floor's train part takes (-), compare's default split.
+const TRAIN_FRACTION: f64 = 0.7;
+/// Salts of the seed for the three random streams, so that the effects' sizes, the inputs and the
+/// sensor noise are independent of one another: the effects' sizes…
+const EFFECT_STREAM: u64 = 0x0E55_EC75;
+/// … the inputs…
+const INPUT_STREAM: u64 = 0x1A7B_0115;
+/// … and the sensor noise.
+const NOISE_STREAM: u64 = 0x5E45_0125;
+
 /// Generates the data (no files written).
 pub fn generate(o: &GenerateOptions) -> Result<Generated, String> {
-    if !(o.rate > 0.0 && o.rate.is_finite()) {
-        return Err(format!("--rate {}: must be a positive number of Hz", o.rate));
-    }
-    if !(o.duration > 0.0 && o.duration.is_finite()) {
-        return Err(format!("--duration {}: must be a positive number of seconds", o.duration));
-    }
-    let n = (o.duration * o.rate).round() as usize + 1;
-    if n < 400 {
-        return Err(format!(
-            "--duration {} at --rate {} gives {n} samples; at least 400 are needed",
-            o.duration, o.rate
-        ));
-    }
-    if o.displacement && o.input == InputStyle::Hil {
-        return Err("--displacement works with --input rig only".into());
-    }
-    if o.spool_control && o.input == InputStyle::Hil {
-        return Err("--control spool works with --input rig only (the HiL truck demands a force)".into());
-    }
-    if let Some(fc) = o.lowpass_hz {
-        if fc.is_nan() || fc <= 0.0 {
-            return Err(format!("--lowpass {fc}: must be positive (or 'off')"));
-        }
-    }
-    let mut effect_rng = Rng::new(o.seed ^ 0x0E55_EC75);
-    let mut input_rng = Rng::new(o.seed ^ 0x1A7B_0115);
-    let mut noise_rng = Rng::new(o.seed ^ 0x5E45_0125);
+    let n = checked_samples(o)?;
+    let mut effect_rng = Rng::new(o.seed ^ EFFECT_STREAM);
+    let mut input_rng = Rng::new(o.seed ^ INPUT_STREAM);
+    let mut noise_rng = Rng::new(o.seed ^ NOISE_STREAM);
     let (params, effect_records) = truth_parameters(o, &mut effect_rng)?;
     let t: Vec<f64> = (0..n).map(|k| k as f64 / o.rate).collect();
     let t_oil = oil_temperature(o, &params, &t)?;
-
-    // The velocity the damper is driven with. The FMU has one velocity input, used by the
-    // hydraulics and by the controller (semi-active clip, loop direction, feedforward). A rig's
-    // digital controller works with its measured velocity, so by default the truth is driven by
-    // the velocity as measured (true motion + sensor noise, quantised; or differentiated from the
-    // measured displacement): compare then drives its model with the same signal. With
-    // `errors_in_variables` the truth moves with the true velocity and only the CSV gets the
-    // sensor's version (the controller is then given a velocity it could not have measured).
-    let nz = o.noise;
-    // a passive damper (the valve held) has no demand: none is written
-    let held = params.control_mode == 2;
-    let demand_of = |d: &Vec<f64>| match (held, o.spool_control) {
-        (true, _) => Demand::Held,
-        (false, true) => Demand::SpoolPosition(d.clone()),
-        (false, false) => Demand::Force(d.clone()),
+    let run = match o.input {
+        InputStyle::Rig => rig_run(o, &params, &t, &t_oil, &mut input_rng, &mut noise_rng)?,
+        InputStyle::Hil => hil_truth_run(o, &params, &t, &t_oil, &mut input_rng, &mut noise_rng)?,
     };
-    let (velocity_column, v_drive, demand, clean) = match o.input {
-        InputStyle::Rig => {
-            let (v_true, d) = rig_inputs(&t, &mut input_rng, o.spool_control, params.x_spool_start);
-            let (column, v_measured) = if o.displacement {
-                let mut x_true = vec![params.x_damper_start; n];
-                for k in 1..n {
-                    x_true[k] = x_true[k - 1] + v_true[k - 1] * (t[k] - t[k - 1]);
-                }
-                let x = measure(&x_true, nz.x_damper, &mut noise_rng);
-                // the velocity compare makes of the displacement (the rig controller's)
-                let motion = crate::motion::motion(&t, Some(crate::dsp::differentiate(&t, &x)), Some(&x), true)?;
-                let v = motion.v.unwrap_or_default();
-                ((Column::XDamper, x), v)
-            } else {
-                let v = measure(&v_true, nz.v_damper, &mut noise_rng);
-                ((Column::VDamper, v.clone()), v)
-            };
-            let drive_truth = if o.errors_in_variables { v_true } else { v_measured.clone() };
-            let drive = Drive {
-                time: t.clone(),
-                v_damper: drive_truth,
-                demand: demand_of(&d),
-                t_oil: t_oil.clone(),
-                x_damper_start: None,
-            };
-            let pred = Model { params, load_cell_lowpass_hz: o.lowpass_hz }.run(&drive)?;
-            (column, v_measured, d, pred)
-        }
-        InputStyle::Hil => {
-            // the closed loop makes the motion and the demand; the truth's force is then the
-            // damper's under that motion as sampled, stepped as the rig inputs are (the velocity
-            // interpolated between samples), as the motion of a real truck is continuous
-            let (v_measured, v_true, d) = hil_run(o, &params, &t, &mut input_rng, &mut noise_rng)?;
-            let drive_truth = if o.errors_in_variables { v_true } else { v_measured.clone() };
-            let drive = Drive {
-                time: t.clone(),
-                v_damper: drive_truth,
-                demand: demand_of(&d),
-                t_oil: t_oil.clone(),
-                x_damper_start: None,
-            };
-            let pred = Model { params, load_cell_lowpass_hz: o.lowpass_hz }.run(&drive)?;
-            ((Column::VDamper, v_measured.clone()), v_measured, d, pred)
-        }
-    };
+    let TruthRun { velocity_column, v_drive, demand, clean } = run;
 
     // Measurement chain of the other sensors.
-    let f_meas = measure(&clean.f_damper, nz.f_damper, &mut noise_rng);
-    let mut columns: Vec<(Column, Vec<f64>)> = vec![(Column::Time, t.clone()), velocity_column];
-    if !held {
-        columns.push((if o.spool_control { Column::XSpoolDemand } else { Column::FDemand }, demand.clone()));
-    }
-    columns.push((Column::FDamper, f_meas.clone()));
-    if let Some(temperature) = &t_oil {
-        columns.push((Column::TOil, measure(temperature, nz.t_oil, &mut noise_rng)));
-    }
-    if !o.minimal {
-        // a held valve's spool and coil are still: nothing to measure
-        if !held {
-            columns.push((Column::XSpool, measure(&clean.x_spool, nz.x_spool, &mut noise_rng)));
-            columns.push((Column::ISol, measure(&clean.i_sol, nz.i_sol, &mut noise_rng)));
-        }
-        columns.push((Column::PExt, measure(&clean.p_ext, nz.pressure, &mut noise_rng)));
-        columns.push((Column::PComp, measure(&clean.p_comp, nz.pressure, &mut noise_rng)));
-    }
+    let f_meas = measure(&clean.f_damper, o.noise.f_damper, &mut noise_rng);
+    let held = params.control_mode == 2;
+    let columns = measured_columns(o, held, &t, velocity_column, &demand, &f_meas, &clean, &t_oil, &mut noise_rng);
 
-    // Noise floor: what the force sensor alone leaves (analytic), and what the truth model
-    // leaves when driven by the measured inputs (the oracle; equal unless errors-in-variables).
-    let split = (0.7 * n as f64).round() as usize;
-    let (noise, quantum) = (nz.f_damper.noise, nz.f_damper.quantum);
-    let sigma_f = (noise * noise + quantum * quantum / 12.0).sqrt();
-    let expected_floor = sigma_f / std(&f_meas[split..]);
     let oracle_drive = Drive {
         time: t.clone(),
         v_damper: v_drive,
-        demand: demand_of(&demand),
-        t_oil: t_oil.clone(),
+        demand: demand_of(o, &params, &demand),
+        t_oil,
         x_damper_start: None,
     };
-    let oracle = Model { params, load_cell_lowpass_hz: o.lowpass_hz }.force(&oracle_drive, n)?;
-    let oracle_nrmse = crate::dsp::metrics(&f_meas[split..], &oracle[split..]).nrmse;
-
-    let optional = |s: Sensor| (!o.minimal).then(|| s.into());
-    let sensors = TruthSensors {
-        f_damper: LoadCell {
-            noise_std: nz.f_damper.noise,
-            quantum: nz.f_damper.quantum,
-            lowpass_hz: o.lowpass_hz,
-            lowpass: "first-order, on the force at the controller's rate before noise and quantisation (exact for a force linear between those points)"
-                .into(),
-        },
-        x_damper: o.displacement.then(|| nz.x_damper.into()),
-        v_damper: (!o.displacement).then(|| nz.v_damper.into()),
-        x_spool: optional(nz.x_spool),
-        i_sol: optional(nz.i_sol),
-        p_ext: optional(nz.pressure),
-        p_comp: optional(nz.pressure),
-    };
-    let inputs = match o.input {
-        InputStyle::Rig => TruthInputs::Rig {
-            description: "thirds, starting at rest and moving at once: constant-velocity blocks 0.05-0.25 m/s with 15 ms ramps and demand steps \
-                 (1-20 kN, or spool 0.9-3.5 mm) every 80-150 ms; a logarithmic sweep 0.5-12 Hz, 30 mm \
-                 (<= 0.15 m/s), demand = C*v with C 10-60 kNs/m; random velocity (8 Hz band, 0.1 m/s RMS), \
-                 demand = C*v + F0*tanh(v/0.01 m/s)"
-                .into(),
-        },
-        InputStyle::Hil => TruthInputs::Hil {
-            road: o.road.clone(),
-            road_gd_n0_m3: road_gd0(&o.road)?,
-            speed_m_s: o.speed,
-            description: "quarter truck (Table 1, clipped Modified Skyhook) on an ISO 8608 road (300 sinusoids, \
-                 0.01-10 cycle/m, 1 s fade-in), coupled to the truth damper at every sample"
-                .into(),
-        },
-    };
+    let (expected_floor, oracle_nrmse) = noise_floor(o, &params, &f_meas, &oracle_drive, n)?;
     let truth = Truth {
         generator: format!("damper generate {}", env!("CARGO_PKG_VERSION")),
         note: "the truth: compare and diagnose never read this file".into(),
@@ -829,13 +805,13 @@ pub fn generate(o: &GenerateOptions) -> Result<Generated, String> {
             "the measured velocity, as the rig controller sees it (the CSV's velocity, or its derivative)"
         }
         .into(),
-        inputs,
+        inputs: truth_inputs(o)?,
         effects: effect_records,
         set: o.sets.iter().map(|(name, _)| (name.clone(), get_parameter(&params, name).ok().map(Into::into))).collect(),
         changed_parameters: changed_parameters(&params).into_iter().map(|(n, v)| (n.to_string(), v.into())).collect(),
-        sensors,
+        sensors: truth_sensors(o),
         noise_floor: TruthNoiseFloor {
-            train_fraction: 0.7,
+            train_fraction: TRAIN_FRACTION,
             expected_nrmse_validation: expected_floor,
             expected_definition: "sqrt(noise_std^2 + quantum^2/12) / std(measured F_damper, validation part)".into(),
             oracle_nrmse_validation: oracle_nrmse,
@@ -844,6 +820,221 @@ pub fn generate(o: &GenerateOptions) -> Result<Generated, String> {
         },
     };
     Ok(Generated { params, time: t, columns, clean, truth, expected_floor, oracle_nrmse })
+}
+
+/// The number of samples the options ask for, or why they cannot be generated.
+fn checked_samples(o: &GenerateOptions) -> Result<usize, String> {
+    if !(o.rate > 0.0 && o.rate.is_finite()) {
+        return Err(format!("--rate {}: must be a positive number of Hz", o.rate));
+    }
+    if !(o.duration > 0.0 && o.duration.is_finite()) {
+        return Err(format!("--duration {}: must be a positive number of seconds", o.duration));
+    }
+    let n = (o.duration * o.rate).round() as usize + 1;
+    if n < MIN_SAMPLES {
+        return Err(format!(
+            "--duration {} at --rate {} gives {n} samples; at least 400 are needed",
+            o.duration, o.rate
+        ));
+    }
+    if o.displacement && o.input == InputStyle::Hil {
+        return Err("--displacement works with --input rig only".into());
+    }
+    if o.spool_control && o.input == InputStyle::Hil {
+        return Err("--control spool works with --input rig only (the HiL truck demands a force)".into());
+    }
+    if let Some(fc) = o.lowpass_hz {
+        if fc.is_nan() || fc <= 0.0 {
+            return Err(format!("--lowpass {fc}: must be positive (or 'off')"));
+        }
+    }
+    Ok(n)
+}
+
+/// The demand the truth is driven with: none for a passive damper (the valve held), else the
+/// spool position or the force.
+fn demand_of(o: &GenerateOptions, params: &Parameters, d: &[f64]) -> Demand {
+    let held = params.control_mode == 2;
+    match (held, o.spool_control) {
+        (true, _) => Demand::Held,
+        (false, true) => Demand::SpoolPosition(d.to_vec()),
+        (false, false) => Demand::Force(d.to_vec()),
+    }
+}
+
+/// What driving the truth gave: the velocity (or displacement) column as measured, the velocity
+/// the model is driven with, the demand, and the truth model's outputs.
+struct TruthRun {
+    velocity_column: (Column, Vec<f64>),
+    v_drive: Vec<f64>,
+    demand: Vec<f64>,
+    clean: Prediction,
+}
+
+/// The truth model's outputs, driven by the demand `d` and the velocity as measured,
+/// `v_measured` (as the rig's controller sees it), or with `errors_in_variables` the true one,
+/// `v_true` (the module's documentation says why and what that does).
+fn truth_prediction(
+    o: &GenerateOptions,
+    params: &Parameters,
+    t: &[f64],
+    t_oil: &Option<Vec<f64>>,
+    (v_true, v_measured): (Vec<f64>, &[f64]),
+    d: &[f64],
+) -> Result<Prediction, String> {
+    let drive_truth = if o.errors_in_variables { v_true } else { v_measured.to_vec() };
+    let drive = Drive {
+        time: t.to_vec(),
+        v_damper: drive_truth,
+        demand: demand_of(o, params, d),
+        t_oil: t_oil.clone(),
+        x_damper_start: None,
+    };
+    Model { params: *params, load_cell_lowpass_hz: o.lowpass_hz }.run(&drive)
+}
+
+/// The rig run: the rig's inputs, the motion measured (velocity, or displacement and the velocity
+/// compare makes of it), and the truth driven by it.
+fn rig_run(
+    o: &GenerateOptions,
+    params: &Parameters,
+    t: &[f64],
+    t_oil: &Option<Vec<f64>>,
+    input_rng: &mut Rng,
+    noise_rng: &mut Rng,
+) -> Result<TruthRun, String> {
+    let n = t.len();
+    let nz = o.noise;
+    let (v_true, d) = rig_inputs(t, input_rng, o.spool_control, params.x_spool_start);
+    let (column, v_measured) = if o.displacement {
+        let mut x_true = vec![params.x_damper_start; n];
+        for k in 1..n {
+            x_true[k] = x_true[k - 1] + v_true[k - 1] * (t[k] - t[k - 1]);
+        }
+        let x = measure(&x_true, nz.x_damper, noise_rng);
+        // the velocity compare makes of the displacement (the rig controller's)
+        let motion = crate::motion::motion(t, Some(crate::dsp::differentiate(t, &x)), Some(&x), true)?;
+        let v = motion.v.unwrap_or_default();
+        ((Column::XDamper, x), v)
+    } else {
+        let v = measure(&v_true, nz.v_damper, noise_rng);
+        ((Column::VDamper, v.clone()), v)
+    };
+    let clean = truth_prediction(o, params, t, t_oil, (v_true, &v_measured), &d)?;
+    Ok(TruthRun { velocity_column: column, v_drive: v_measured, demand: d, clean })
+}
+
+/// The HiL run: the closed loop makes the motion and the demand; the truth's force is then the
+/// damper's under that motion as sampled, stepped as the rig inputs are (the velocity
+/// interpolated between samples), as the motion of a real truck is continuous.
+fn hil_truth_run(
+    o: &GenerateOptions,
+    params: &Parameters,
+    t: &[f64],
+    t_oil: &Option<Vec<f64>>,
+    input_rng: &mut Rng,
+    noise_rng: &mut Rng,
+) -> Result<TruthRun, String> {
+    let (v_measured, v_true, d) = hil_run(o, params, t, input_rng, noise_rng)?;
+    let clean = truth_prediction(o, params, t, t_oil, (v_true, &v_measured), &d)?;
+    Ok(TruthRun { velocity_column: (Column::VDamper, v_measured.clone()), v_drive: v_measured, demand: d, clean })
+}
+
+/// The CSV's columns: time, the motion, the demand (unless passive), the force, the oil
+/// temperature where it moves, and (unless minimal) the spool, the current and the pressures,
+/// each through its sensor.
+#[allow(clippy::too_many_arguments, reason = "the columns' sources, each used once")]
+fn measured_columns(
+    o: &GenerateOptions,
+    held: bool,
+    t: &[f64],
+    velocity_column: (Column, Vec<f64>),
+    demand: &[f64],
+    f_meas: &[f64],
+    clean: &Prediction,
+    t_oil: &Option<Vec<f64>>,
+    noise_rng: &mut Rng,
+) -> Vec<(Column, Vec<f64>)> {
+    let nz = o.noise;
+    let mut columns: Vec<(Column, Vec<f64>)> = vec![(Column::Time, t.to_vec()), velocity_column];
+    if !held {
+        columns.push((if o.spool_control { Column::XSpoolDemand } else { Column::FDemand }, demand.to_vec()));
+    }
+    columns.push((Column::FDamper, f_meas.to_vec()));
+    if let Some(temperature) = t_oil {
+        columns.push((Column::TOil, measure(temperature, nz.t_oil, noise_rng)));
+    }
+    if !o.minimal {
+        // a held valve's spool and coil are still: nothing to measure
+        if !held {
+            columns.push((Column::XSpool, measure(&clean.x_spool, nz.x_spool, noise_rng)));
+            columns.push((Column::ISol, measure(&clean.i_sol, nz.i_sol, noise_rng)));
+        }
+        columns.push((Column::PExt, measure(&clean.p_ext, nz.pressure, noise_rng)));
+        columns.push((Column::PComp, measure(&clean.p_comp, nz.pressure, noise_rng)));
+    }
+    columns
+}
+
+/// Noise floor: what the force sensor alone leaves (analytic), and what the truth model leaves
+/// when driven by the measured inputs `oracle_drive` (the oracle; equal unless
+/// errors-in-variables), both as validation NRMSEs of the measured force `f_meas` (`n` samples).
+fn noise_floor(
+    o: &GenerateOptions,
+    params: &Parameters,
+    f_meas: &[f64],
+    oracle_drive: &Drive,
+    n: usize,
+) -> Result<(f64, f64), String> {
+    let split = (TRAIN_FRACTION * n as f64).round() as usize;
+    let (noise, quantum) = (o.noise.f_damper.noise, o.noise.f_damper.quantum);
+    let sigma_f = (noise * noise + quantum * quantum / 12.0).sqrt();
+    let expected_floor = sigma_f / std(&f_meas[split..]);
+    let oracle = Model { params: *params, load_cell_lowpass_hz: o.lowpass_hz }.force(oracle_drive, n)?;
+    let oracle_nrmse = crate::dsp::metrics(&f_meas[split..], &oracle[split..]).nrmse;
+    Ok((expected_floor, oracle_nrmse))
+}
+
+/// The truth file's sensors: the load cell and each sensor written.
+fn truth_sensors(o: &GenerateOptions) -> TruthSensors {
+    let nz = o.noise;
+    let optional = |s: Sensor| (!o.minimal).then(|| s.into());
+    TruthSensors {
+        f_damper: LoadCell {
+            noise_std: nz.f_damper.noise,
+            quantum: nz.f_damper.quantum,
+            lowpass_hz: o.lowpass_hz,
+            lowpass: "first-order, on the force at the controller's rate before noise and quantisation (exact for a force linear between those points)"
+                .into(),
+        },
+        x_damper: o.displacement.then(|| nz.x_damper.into()),
+        v_damper: (!o.displacement).then(|| nz.v_damper.into()),
+        x_spool: optional(nz.x_spool),
+        i_sol: optional(nz.i_sol),
+        p_ext: optional(nz.pressure),
+        p_comp: optional(nz.pressure),
+    }
+}
+
+/// The truth file's description of the inputs.
+fn truth_inputs(o: &GenerateOptions) -> Result<TruthInputs, String> {
+    Ok(match o.input {
+        InputStyle::Rig => TruthInputs::Rig {
+            description: "thirds, starting at rest and moving at once: constant-velocity blocks 0.05-0.25 m/s with 15 ms ramps and demand steps \
+                 (1-20 kN, or spool 0.9-3.5 mm) every 80-150 ms; a logarithmic sweep 0.5-12 Hz, 30 mm \
+                 (<= 0.15 m/s), demand = C*v with C 10-60 kNs/m; random velocity (8 Hz band, 0.1 m/s RMS), \
+                 demand = C*v + F0*tanh(v/0.01 m/s)"
+                .into(),
+        },
+        InputStyle::Hil => TruthInputs::Hil {
+            road: o.road.clone(),
+            road_gd_n0_m3: road_gd0(&o.road)?,
+            speed_m_s: o.speed,
+            description: "quarter truck (Table 1, clipped Modified Skyhook) on an ISO 8608 road (300 sinusoids, \
+                 0.01-10 cycle/m, 1 s fade-in), coupled to the truth damper at every sample"
+                .into(),
+        },
+    })
 }
 
 /// The CSV text of generated columns.

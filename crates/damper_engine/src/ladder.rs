@@ -21,6 +21,7 @@
 use crate::candidate::{Candidate, FitSetup, JointFit, NOTHING_MOVED};
 use crate::criteria::share;
 use crate::criteria::{EXPLAINED_FACTOR, FLOOR_FACTOR, MIN_EXPLAINED};
+use crate::error::Error;
 use crate::parameters::{set_effect, set_real};
 use semi_active_damper::effects::EffectInfo;
 use semi_active_damper::physics::params::Parameters;
@@ -60,7 +61,7 @@ pub struct Ladder {
 
 impl Ladder {
     /// Adds `c` as a kept rung (an effect named near the noise floor, where the ladder stops).
-    pub fn add(&mut self, c: &Candidate) -> Result<(), String> {
+    pub fn add(&mut self, c: &Candidate) -> Result<(), Error> {
         if self.effects.contains(&c.effect) {
             return Ok(());
         }
@@ -68,7 +69,7 @@ impl Ladder {
     }
 
     /// Records `c` as a rung (`refit`: of an effect already kept); a kept one enters the model.
-    fn push(&mut self, c: &Candidate, refit: bool, kept: bool) -> Result<(), String> {
+    fn push(&mut self, c: &Candidate, refit: bool, kept: bool) -> Result<(), Error> {
         if kept {
             self.params = with_effect(&self.params, c.effect, &c.params)?;
             self.nrmse_validation = c.nrmse_validation;
@@ -93,7 +94,7 @@ pub fn with_effect(
     p: &Parameters,
     effect: &str,
     params: &[(&'static str, f64, Option<f64>)],
-) -> Result<Parameters, String> {
+) -> Result<Parameters, Error> {
     let mut q = *p;
     set_effect(&mut q, effect, true)?;
     for (name, value, _) in params {
@@ -103,8 +104,8 @@ pub fn with_effect(
 }
 
 /// The effect of `key` among `specs` (the candidates' effects).
-fn spec_of(specs: &[&'static EffectInfo], key: &str) -> Result<&'static EffectInfo, String> {
-    specs.iter().copied().find(|s| s.key == key).ok_or_else(|| format!("{key} is not among the candidate effects"))
+fn spec_of(specs: &[&'static EffectInfo], key: &str) -> Result<&'static EffectInfo, Error> {
+    specs.iter().copied().find(|s| s.key == key).ok_or_else(|| Error::NotACandidate { key: key.to_string() })
 }
 
 /// The candidates of the effects not yet kept, fitted on top of the ladder's model.
@@ -113,7 +114,7 @@ fn next_round(
     specs: &[&'static EffectInfo],
     ladder: &Ladder,
     nrmse_floor: f64,
-) -> Result<Vec<Candidate>, String> {
+) -> Result<Vec<Candidate>, Error> {
     let rest: Vec<&'static EffectInfo> = specs.iter().copied().filter(|s| !ladder.effects.contains(&s.key)).collect();
     if rest.is_empty() {
         return Ok(Vec::new());
@@ -123,7 +124,7 @@ fn next_round(
 
 /// Refits the just-kept effect `spec` with its secondary parameters; kept when it lowers the
 /// validation error with plausible values.
-fn refine(fit: &FitSetup<'_>, spec: &'static EffectInfo, ladder: &mut Ladder, nrmse_floor: f64) -> Result<(), String> {
+fn refine(fit: &FitSetup<'_>, spec: &'static EffectInfo, ladder: &mut Ladder, nrmse_floor: f64) -> Result<(), Error> {
     if spec.secondary.is_empty() {
         return Ok(());
     }
@@ -167,7 +168,7 @@ fn best_pair(
     specs: &[&'static EffectInfo],
     round: &[Candidate],
     params: &Parameters,
-) -> Result<Option<Pair>, String> {
+) -> Result<Option<Pair>, Error> {
     let Some(top) = round.first().filter(|c| !c.plausible && !c.flags.iter().any(|f| f.ends_with(NOTHING_MOVED)))
     else {
         return Ok(None);
@@ -183,9 +184,9 @@ fn fit_pairs(
     specs: &[&'static EffectInfo],
     pairs: &[(&'static str, &'static str)],
     params: &Parameters,
-) -> Result<Option<Pair>, String> {
+) -> Result<Option<Pair>, Error> {
     use rayon::prelude::*;
-    let fits: Vec<Result<Pair, String>> = fit.pool.install(|| {
+    let fits: Vec<Result<Pair, Error>> = fit.pool.install(|| {
         pairs
             .par_iter()
             .map(|&(a, b)| {
@@ -207,7 +208,7 @@ fn fit_pairs(
 }
 
 /// `ladder` with the effects of `pair` kept.
-fn keep_pair(ladder: &mut Ladder, pair: Pair, errors: (f64, f64)) -> Result<(), String> {
+fn keep_pair(ladder: &mut Ladder, pair: Pair, errors: (f64, f64)) -> Result<(), Error> {
     for c in pair.candidates(errors) {
         ladder.push(&c, false, true)?;
     }
@@ -233,7 +234,7 @@ pub fn climb(
     baseline: &Parameters,
     ranked: &[Candidate],
     (nrmse_baseline, nrmse_floor): (f64, f64),
-) -> Result<Ladder, String> {
+) -> Result<Ladder, Error> {
     let base = Rung {
         added: "baseline",
         refit: false,
@@ -291,7 +292,7 @@ fn rise(
     mut ladder: Ladder,
     mut round: Vec<Candidate>,
     nrmse_floor: f64,
-) -> Result<Ladder, String> {
+) -> Result<Ladder, Error> {
     while ladder.nrmse_validation > FLOOR_FACTOR * nrmse_floor && !round.is_empty() {
         let Some(best) = round.iter().find(|c| c.plausible).or(round.first()) else { break };
         let least = if ladder.effects.is_empty() { 0.5 * MIN_EXPLAINED } else { MIN_EXPLAINED };

@@ -12,17 +12,18 @@
 //! - [`analysis`]: fit per signal and where the error lives; [`comparison`]: read, run, analyse;
 //! - [`floor`]: what no effect can explain (sensor noise, numerics, the velocity's noise carried
 //!   through the model), [`sensitivity`]: the samples that inform nothing;
-//! - [`diagnose`]: which catalog effect is missing, by the thresholds of [`criteria`], from the
+//! - [`missing_effect`]: which catalog effect is missing, by the thresholds of [`criteria`], from the
 //!   [`candidate`] fits ([`lm`]: bounded Levenberg–Marquardt, parameter uncertainty), with [`ladder`]
 //!   (the effects added in turn) and [`before_after`] (the model with the named effects);
 //!   [`propagation`]: the uncertainty a named effect's size inherits from the calibration;
-//!   [`diagnosed`] runs it all on a measurement;
+//!   [`diagnose_measurement`] runs it all on a measurement;
 //! - [`summary`]: the typed `summary.json` and the JSON writing shared with the truth file;
 //! - [`calibrate`]: nominal parameters fitted on calibration records ([`lm`]: bounded
 //!   Levenberg–Marquardt with covariance), written as an SSP parameter set ([`ssv`]) and
 //!   `calibration.json` ([`calibration_file`]); [`settings`]: several settings of an adjustable
 //!   damper in one calibration;
-//! - [`generate`]: measurement-like data with hidden effects ([`rng`]), and their truth.
+//! - [`generate`]: measurement-like data with hidden effects ([`rng`]), and their truth;
+//! - [`error`]: the crate's one error type, [`Error`].
 pub mod analysis;
 pub mod before_after;
 pub mod bounds;
@@ -32,9 +33,9 @@ pub mod candidate;
 pub mod comparison;
 pub mod criteria;
 pub mod description;
-pub mod diagnose;
-pub mod diagnosed;
+pub mod diagnose_measurement;
 pub mod dsp;
+pub mod error;
 pub mod floor;
 pub mod fmu_model;
 pub mod force_velocity;
@@ -42,6 +43,7 @@ pub mod generate;
 pub mod ladder;
 pub mod lm;
 pub mod measurement;
+pub mod missing_effect;
 pub mod model;
 pub mod motion;
 pub mod parameters;
@@ -61,3 +63,5 @@ pub mod summary;
 pub mod units;
 pub mod velocity_noise;
 pub mod verdict;
+
+pub use error::Error;

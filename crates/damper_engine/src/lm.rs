@@ -20,6 +20,7 @@
 //! eigenvalues, after scaling it to unit diagonal, span more than [`MAX_CONDITION`]; the parameters
 //! that carry the smallest eigenvector are named.
 
+use crate::error::Error;
 use nalgebra::{DMatrix, DVector};
 use rayon::prelude::*;
 
@@ -96,7 +97,9 @@ impl Solution {
 }
 
 /// The residual function: parameters (physical scale) → residuals, the same length every call.
-pub type Residuals<'a> = dyn Fn(&[f64]) -> Result<Vec<f64>, String> + Sync + 'a;
+/// Its error `E` is [`Error`] or anything an [`Error`] converts into (calibrate.rs's residuals
+/// still return a `String`; the parameter goes once that module is converted).
+pub type Residuals<'a, E = Error> = dyn Fn(&[f64]) -> Result<Vec<f64>, E> + Sync + 'a;
 
 fn sum_sq(r: &[f64]) -> f64 {
     r.iter().map(|v| v * v).sum()
@@ -107,21 +110,21 @@ fn sum_sq(r: &[f64]) -> f64 {
 /// at a trial step it counts as a rejected step. `inputs`: draws of the residuals' change that the
 /// noise of the measured inputs makes (each as long as the residuals; may be empty), whose spread
 /// the fitted parameters inherit ([`covariance`]).
-pub fn solve(
-    f: &Residuals<'_>,
+pub fn solve<E: From<Error> + Send>(
+    f: &Residuals<'_, E>,
     x0: &[f64],
     scales: &[Bound],
     pool: &rayon::ThreadPool,
     opts: Options,
     inputs: &[Vec<f64>],
-) -> Result<Solution, String> {
+) -> Result<Solution, E> {
     let n = x0.len();
     if scales.len() != n || n == 0 {
-        return Err(format!("{n} parameters but {} scales", scales.len()));
+        return Err(Error::ScaleCount { parameters: n, scales: scales.len() }.into());
     }
     for s in scales {
         if s.lo.partial_cmp(&s.hi) != Some(std::cmp::Ordering::Less) || (s.log && s.lo <= 0.0) {
-            return Err(format!("bad search box [{}, {}] (log {})", s.lo, s.hi, s.log));
+            return Err(Error::SearchBox { lo: s.lo, hi: s.hi, log: s.log }.into());
         }
     }
     let runs = std::sync::atomic::AtomicUsize::new(0);
@@ -141,10 +144,10 @@ pub fn solve(
     let mut r = eval(&physical(&u))?;
     let m = r.len();
     if m <= n {
-        return Err(format!("{m} residuals for {n} parameters"));
+        return Err(Error::TooFewResiduals { residuals: m, parameters: n }.into());
     }
     if inputs.iter().any(|d| d.len() != m) {
-        return Err(format!("an input noise draw is not as long as the {m} residuals"));
+        return Err(Error::NoiseDrawLength { residuals: m }.into());
     }
     let mut cost = sum_sq(&r);
     let mut lambda = 1e-3;
@@ -229,16 +232,16 @@ pub fn solve(
 }
 
 /// ∂r/∂u by forward differences (backward at the upper bound), columns in parallel.
-fn jacobian(
-    eval: &Residuals<'_>,
+fn jacobian<E: From<Error> + Send>(
+    eval: &Residuals<'_, E>,
     u: &[f64],
     r: &[f64],
     scales: &[Bound],
     pool: &rayon::ThreadPool,
     step: f64,
-) -> Result<DMatrix<f64>, String> {
+) -> Result<DMatrix<f64>, E> {
     let n = u.len();
-    let columns: Vec<Result<Vec<f64>, String>> = pool.install(|| {
+    let columns: Vec<Result<Vec<f64>, E>> = pool.install(|| {
         (0..n)
             .into_par_iter()
             .map(|k| {
@@ -251,7 +254,7 @@ fn jacobian(
                 let x: Vec<f64> = v.iter().zip(scales).map(|(&u, s)| s.to_physical(u)).collect();
                 let rk = eval(&x)?;
                 if rk.len() != r.len() {
-                    return Err(format!("the residuals changed length ({} → {})", r.len(), rk.len()));
+                    return Err(Error::ResidualsChangedLength { before: r.len(), after: rk.len() }.into());
                 }
                 Ok(rk.iter().zip(r).map(|(a, b)| (a - b) / h).collect())
             })
@@ -399,7 +402,7 @@ mod tests {
                 2.0 + e
             })
             .collect();
-        let f = |x: &[f64]| -> Result<Vec<f64>, String> { Ok(y.iter().map(|y| x[0] - y).collect()) };
+        let f = |x: &[f64]| -> Result<Vec<f64>, Error> { Ok(y.iter().map(|y| x[0] - y).collect()) };
         let s =
             solve(&f, &[0.0], &[Bound { lo: -10.0, hi: 10.0, log: false }], &pool(1), Options::default(), &[]).unwrap();
         let variance = s.std_error(0).unwrap().powi(2) * n as f64;
@@ -424,7 +427,7 @@ mod tests {
     #[test]
     fn fits_an_exponential_with_its_uncertainty_whatever_the_thread_count() {
         let (t, y) = data();
-        let f = |x: &[f64]| -> Result<Vec<f64>, String> {
+        let f = |x: &[f64]| -> Result<Vec<f64>, Error> {
             Ok(t.iter().zip(&y).map(|(t, y)| x[0] * (-x[1] * t).exp() + x[2] - y).collect())
         };
         let scales = [
@@ -449,7 +452,7 @@ mod tests {
     fn stays_in_the_box_and_names_a_parameter_the_data_do_not_see() {
         let (t, y) = data();
         // the minimum of a is 3, outside [0.1, 2]
-        let f = |x: &[f64]| -> Result<Vec<f64>, String> {
+        let f = |x: &[f64]| -> Result<Vec<f64>, Error> {
             Ok(t.iter().zip(&y).map(|(t, y)| x[0] * (-0.7 * t).exp() + 0.5 - y).collect())
         };
         let s = solve(&f, &[1.0], &[Bound { lo: 0.1, hi: 2.0, log: true }], &pool(1), Options::default(), &[]).unwrap();
@@ -458,7 +461,7 @@ mod tests {
             "{s:?}"
         );
         // the second parameter does not enter the residuals: singular, and named
-        let g = |x: &[f64]| -> Result<Vec<f64>, String> {
+        let g = |x: &[f64]| -> Result<Vec<f64>, Error> {
             Ok(t.iter().zip(&y).map(|(t, y)| x[0] * (-0.7 * t).exp() + 0.5 - y + 0.0 * x[1]).collect())
         };
         let scales = [Bound { lo: 0.1, hi: 10.0, log: true }, Bound { lo: 0.1, hi: 10.0, log: false }];
@@ -474,7 +477,7 @@ mod tests {
         let y: Vec<f64> =
             t.iter().enumerate().map(|(i, t)| 1.0 + 0.5 * t + if i % 2 == 0 { 0.1 } else { -0.1 }).collect();
         let times = t.clone();
-        let f = move |x: &[f64]| -> Result<Vec<f64>, String> {
+        let f = move |x: &[f64]| -> Result<Vec<f64>, Error> {
             Ok(times.iter().zip(&y).map(|(t, y)| x[0] + x[1] * t - y).collect())
         };
         (t, Box::new(f), [Bound { lo: -10.0, hi: 10.0, log: false }; 2])

@@ -202,241 +202,18 @@ impl Measurement {
         flips: &[Column],
     ) -> Result<Measurement, String> {
         let bytes = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
-        let comments: Vec<(usize, String)> = bytes
-            .split(|&b| b == b'\n')
-            .enumerate()
-            .filter_map(|(i, l)| {
-                l.trim_ascii().strip_prefix(b"#").map(|c| (i + 1, String::from_utf8_lossy(c).trim().to_string()))
-            })
-            .collect();
+        let comments = comment_lines(bytes);
         let table = Table::read(name, bytes)?;
-        let header_line = table.header_line;
-        let cells = &table.header;
-        let listed = cells.iter().map(|c| format!("'{c}'")).collect::<Vec<_>>().join(", ");
-
-        // Resolve every header cell to a variable, a unit and a factor.
-        let mut chosen: BTreeMap<Column, ColumnSource> = BTreeMap::new();
-        let mut ignored = Vec::new();
         let mut notes = Vec::new();
-        for m in maps {
-            if !cells.iter().any(|c| c == &m.source || strip_unit(c).0 == m.source) {
-                return Err(format!(
-                    "{name}, line {header_line}: --map names column '{}', which the header does not have (columns: {listed})",
-                    m.source
-                ));
-            }
-        }
-        for (i, cell) in cells.iter().enumerate() {
-            let (bare, header_unit) = strip_unit(cell);
-            let map = maps.iter().find(|m| &m.source == cell || m.source == bare);
-            let column = match map {
-                Some(m) => Some(m.target),
-                None => Column::from_name(&bare),
-            };
-            let Some(column) = column else {
-                ignored.push(cell.clone());
-                continue;
-            };
-            let where_ = format!("{name}, line {header_line}, column {} ('{cell}')", i + 1);
-            let unit_text = match (map.and_then(|m| m.unit.clone()), header_unit) {
-                (Some(u), Some(h)) if !u.eq_ignore_ascii_case(&h) => {
-                    notes.push(format!("column '{cell}': --map unit {u} used instead of the header's {h}"));
-                    u
-                }
-                (Some(u), _) => u,
-                (None, Some(h)) => h,
-                (None, None) => column.si_unit().to_string(),
-            };
-            let factor = check_unit(&unit_text, column).map_err(|e| format!("{where_}: {e}"))?;
-            if let Some(prev) = chosen.get(&column) {
-                return Err(format!(
-                    "{where_}: is {} again, already given by column {} ('{}'); drop one or --map it to another name",
-                    column.name(),
-                    prev.index,
-                    prev.header
-                ));
-            }
-            let offset = crate::units::unit_offset(&unit_text);
-            chosen.insert(
-                column,
-                ColumnSource { column, header: cell.clone(), index: i + 1, unit: unit_text, factor, offset },
-            );
-        }
-
-        let missing = |c: Column, also: &str| -> String {
-            let mut msg = format!(
-                "{name}, line {header_line}: missing column '{}' ({}, {}){also}; the header has: {listed}",
-                c.name(),
-                c.meaning(),
-                c.si_unit(),
-            );
-            if let Some(close) = cells.iter().find(|h| {
-                let b = strip_unit(h).0;
-                b.eq_ignore_ascii_case(c.name()) || b.replace([' ', '-'], "_").eq_ignore_ascii_case(c.name())
-            }) {
-                msg += &format!(". Did you mean '{close}'? Use --map '{}={}:UNIT'", strip_unit(close).0, c.name());
-            } else {
-                msg += &format!(". If it is named differently, use --map SOURCE={}:UNIT", c.name());
-            }
-            msg
-        };
-        if !chosen.contains_key(&Column::Time) {
-            return Err(missing(Column::Time, ""));
-        }
-        if !chosen.contains_key(&Column::VDamper) && !chosen.contains_key(&Column::XDamper) {
-            return Err(missing(Column::VDamper, " (or x_damper, the displacement)"));
-        }
-        if !chosen.contains_key(&Column::FDamper) {
-            return Err(missing(Column::FDamper, ""));
-        }
-        if !chosen.contains_key(&Column::FDemand) && !chosen.contains_key(&Column::XSpoolDemand) {
-            notes.push(
-                "no F_demand or x_spool_demand column: a passive record, the model's valve held at x_spool_start \
-                 without a controller (control_mode 2)"
-                    .to_string(),
-            );
-        }
-        if let (Some(v), Some(x)) = (chosen.get(&Column::VDamper), chosen.get(&Column::XDamper)) {
-            notes.push(format!(
-                "v_damper (column {}) and x_damper (column {}) both given: the notes below say how they make the \
-                 model's motion and its starting stroke",
-                v.index, x.index
-            ));
-        }
+        let (chosen, ignored) = resolve_columns(name, &table, maps, &mut notes)?;
+        check_required_columns(name, &table, &chosen, &mut notes)?;
 
         // Data rows: the cells of the columns used, as written.
-        let used: Vec<&ColumnSource> = chosen.values().collect();
-        let ts = &chosen[&Column::Time];
-        let n_fields = cells.len();
-        let mut raw: Vec<Vec<&str>> = Vec::with_capacity(table.rows.len());
-        for row in &table.rows {
-            if row.cells.len() != n_fields {
-                let col = row.cells.len().min(n_fields) + 1;
-                let hint = if row.cells.len() > n_fields && table.delimiter == b',' {
-                    "; a decimal comma splits a number in a comma-separated file: quote such numbers, or export \
-                     with ';' as the delimiter"
-                } else {
-                    ""
-                };
-                return Err(format!(
-                    "{name}, line {}, column {col}: {} fields, but the header (line {header_line}) has {n_fields}{hint}",
-                    row.line,
-                    row.cells.len()
-                ));
-            }
-            raw.push(used.iter().map(|s| row.cells[s.index - 1].as_str()).collect());
-        }
         let lines: Vec<usize> = table.rows.iter().map(|r| r.line).collect();
-        let where_ =
-            |k: usize, j: usize| format!("{name}, line {}, column {} ('{}')", lines[k], used[j].index, used[j].header);
-
-        let time_j = used.iter().position(|s| s.column == Column::Time).expect("time");
-        let first_stamp = raw.first().and_then(|r| parse_timestamp(r[time_j]));
-        let timestamps = first_stamp.is_some();
-        let numeric = |j: usize| !(timestamps && j == time_j);
-        let decimal_comma = decimal_comma(&raw, &numeric, &where_, table.delimiter)?;
-        if let Some(note) = &decimal_comma {
-            notes.push(note.clone());
-        }
-
-        let mut data: BTreeMap<Column, Vec<f64>> =
-            used.iter().map(|s| (s.column, Vec::with_capacity(raw.len()))).collect();
-        for (k, row) in raw.iter().enumerate() {
-            for (j, (s, cell)) in used.iter().zip(row).enumerate() {
-                if cell.is_empty() {
-                    return Err(format!("{}: empty cell", where_(k, j)));
-                }
-                let value = if numeric(j) {
-                    let text = if decimal_comma.is_some() { cell.replace(',', ".") } else { cell.to_string() };
-                    let value: f64 = text.parse().map_err(|_| format!("{}: not a number: '{cell}'", where_(k, j)))?;
-                    if !value.is_finite() {
-                        return Err(format!("{}: {cell} is not a finite number", where_(k, j)));
-                    }
-                    value * s.factor + s.offset
-                } else {
-                    let (ns, zoned) = parse_timestamp(cell).ok_or_else(|| {
-                        format!(
-                            "{}: '{cell}' is not an ISO 8601 timestamp like the first sample's '{}'",
-                            where_(k, j),
-                            raw[0][j]
-                        )
-                    })?;
-                    let (ns0, zoned0) = first_stamp.expect("the time column holds timestamps");
-                    if zoned != zoned0 {
-                        return Err(format!(
-                            "{}: '{cell}' {} a time zone, the first sample's '{}' {}; the timestamps must agree",
-                            where_(k, j),
-                            if zoned { "has" } else { "has no" },
-                            raw[0][j],
-                            if zoned0 { "has one" } else { "has none" }
-                        ));
-                    }
-                    // nanoseconds as integers: no rounding in the difference of two long timestamps
-                    (ns - ns0) as f64 * 1e-9
-                };
-                data.get_mut(&s.column).expect("column").push(value);
-            }
-        }
-        if timestamps {
-            notes.push(format!(
-                "time column {} ('{}') holds timestamps: converted to seconds from the first sample ({})",
-                ts.index, ts.header, raw[0][time_j]
-            ));
-        }
-
-        if raw.len() < 3 {
-            return Err(format!(
-                "{name}, line {}, column {} ('{}'): only {} samples; a measurement needs many more",
-                lines.last().copied().unwrap_or(header_line),
-                ts.index,
-                ts.header,
-                raw.len()
-            ));
-        }
-        let time = data.remove(&Column::Time).expect("time");
-        for k in 1..time.len() {
-            if time[k] <= time[k - 1] {
-                let what = if time[k] == time[k - 1] { "repeats" } else { "is before" };
-                return Err(format!(
-                    "{}: time {} {what} the previous sample's {} (line {}); time must increase",
-                    where_(k, time_j),
-                    raw[k][time_j],
-                    raw[k - 1][time_j],
-                    lines[k - 1]
-                ));
-            }
-        }
-
-        for &c in flips {
-            let motion = [Column::VDamper, Column::XDamper];
-            let negated: Vec<Column> = if motion.contains(&c) { motion.to_vec() } else { vec![c] };
-            let mut done = Vec::new();
-            for column in negated {
-                if let Some(x) = data.get_mut(&column) {
-                    x.iter_mut().for_each(|v| *v = -*v);
-                    done.push(column.name());
-                }
-            }
-            if done.is_empty() {
-                return Err(format!("{name}: --flip {}: the file has no such column", c.name()));
-            }
-            notes.push(format!(
-                "{} negated (--flip {}): the file's sign convention is the other one",
-                done.join(" and "),
-                c.name()
-            ));
-        }
-        let mut velocity_from_displacement = false;
-        if !data.contains_key(&Column::VDamper) {
-            let v = differentiate(&time, &data[&Column::XDamper]);
-            data.insert(Column::VDamper, v);
-            velocity_from_displacement = true;
-            notes.push(
-                "v_damper derived from x_damper by central differences (second order, one-sided at the ends); \
-                 displacement noise is amplified by about 1/(sqrt(2)·dt)"
-                    .to_string(),
-            );
-        }
+        let cells = Cells::read(name, &table, &chosen, &lines)?;
+        let (time, mut data) = cells.samples(&table, &chosen[&Column::Time], &mut notes)?;
+        flip_columns(name, &mut data, flips, &mut notes)?;
+        let velocity_from_displacement = derive_missing_velocity(&time, &mut data, &mut notes);
         if data.contains_key(&Column::FDemand) && data.contains_key(&Column::XSpoolDemand) {
             notes.push(
                 "F_demand and x_spool_demand both given: force control; x_spool_demand is compared with the \
@@ -444,37 +221,10 @@ impl Measurement {
                     .to_string(),
             );
         }
-
-        let gaps = gaps(&time, max_gap, |k| {
-            format!("{} (previous sample {} at line {})", where_(k, time_j), raw[k - 1][time_j], lines[k - 1])
-        })?;
-        let (time, lines) = match uniform_grid(&time, &lines, &gaps, max_gap, &mut notes) {
-            Some((grid, grid_lines)) => {
-                for x in data.values_mut() {
-                    *x = interpolate(&time, x, &grid);
-                }
-                (grid, grid_lines)
-            }
-            None => (time, lines),
-        };
-
-        // the model's motion: a noisy velocity smoothed, then made to follow a measured displacement
-        let m = crate::motion::motion(
-            &time,
-            data.remove(&Column::VDamper),
-            data.get(&Column::XDamper).map(Vec::as_slice),
-            velocity_from_displacement,
-        )
-        .map_err(|e| {
-            let v_column =
-                chosen.get(&Column::VDamper).map_or("derived".to_string(), |c| format!("column {}", c.index));
-            let x_column = chosen.get(&Column::XDamper).map_or(0, |c| c.index);
-            format!("{name}: v_damper ({v_column}) and x_damper (column {x_column}): {e}")
-        })?;
+        let gaps = gaps(&time, max_gap, |k| cells.previous_sample(k))?;
+        let (time, lines) = on_uniform_grid(time, lines, &gaps, max_gap, &mut data, &mut notes);
+        let m = model_motion(name, &time, &mut data, &chosen, velocity_from_displacement)?;
         notes.extend(m.notes);
-        if let Some(v) = m.v {
-            data.insert(Column::VDamper, v);
-        }
         let (x_start, velocity_noise, made_again) = (m.x_start, m.velocity_noise, m.made_again);
         let mut sources: Vec<ColumnSource> = chosen.into_values().collect();
         sources.sort_by_key(|s| s.index);
@@ -495,6 +245,431 @@ impl Measurement {
             made_again,
         })
     }
+}
+
+/// Every variable's values but the time's, in SI, by variable.
+type Channels = BTreeMap<Column, Vec<f64>>;
+
+/// Fewest samples of a measurement: the median interval and the central differences need three.
+const MIN_SAMPLES: usize = 3;
+/// Seconds per nanosecond: timestamps are differenced in integer nanoseconds.
+const SECONDS_PER_NANOSECOND: f64 = 1e-9;
+
+/// The `#` comment lines: (line, text after the `#`, trimmed).
+fn comment_lines(bytes: &[u8]) -> Vec<(usize, String)> {
+    bytes
+        .split(|&b| b == b'\n')
+        .enumerate()
+        .filter_map(|(i, l)| {
+            l.trim_ascii().strip_prefix(b"#").map(|c| (i + 1, String::from_utf8_lossy(c).trim().to_string()))
+        })
+        .collect()
+}
+
+/// The header's cells quoted and listed, for messages.
+fn listed(header: &[String]) -> String {
+    header.iter().map(|c| format!("'{c}'")).collect::<Vec<_>>().join(", ")
+}
+
+/// Resolves every header cell to a variable, a unit and a factor: the columns read (by variable)
+/// and the cells not read. `notes` gets each `--map` unit used instead of the header's.
+fn resolve_columns(
+    name: &str,
+    table: &Table,
+    maps: &[Mapping],
+    notes: &mut Vec<String>,
+) -> Result<(BTreeMap<Column, ColumnSource>, Vec<String>), String> {
+    let header_line = table.header_line;
+    let cells = &table.header;
+    for m in maps {
+        if !cells.iter().any(|c| c == &m.source || strip_unit(c).0 == m.source) {
+            return Err(format!(
+                "{name}, line {header_line}: --map names column '{}', which the header does not have (columns: {})",
+                m.source,
+                listed(cells)
+            ));
+        }
+    }
+    let mut chosen: BTreeMap<Column, ColumnSource> = BTreeMap::new();
+    let mut ignored = Vec::new();
+    for (i, cell) in cells.iter().enumerate() {
+        let (bare, header_unit) = strip_unit(cell);
+        let map = maps.iter().find(|m| &m.source == cell || m.source == bare);
+        let column = match map {
+            Some(m) => Some(m.target),
+            None => Column::from_name(&bare),
+        };
+        let Some(column) = column else {
+            ignored.push(cell.clone());
+            continue;
+        };
+        let where_ = format!("{name}, line {header_line}, column {} ('{cell}')", i + 1);
+        let unit_text = column_unit(cell, column, map, header_unit, notes);
+        let factor = check_unit(&unit_text, column).map_err(|e| format!("{where_}: {e}"))?;
+        if let Some(prev) = chosen.get(&column) {
+            return Err(format!(
+                "{where_}: is {} again, already given by column {} ('{}'); drop one or --map it to another name",
+                column.name(),
+                prev.index,
+                prev.header
+            ));
+        }
+        let offset = crate::units::unit_offset(&unit_text);
+        chosen.insert(
+            column,
+            ColumnSource { column, header: cell.clone(), index: i + 1, unit: unit_text, factor, offset },
+        );
+    }
+    Ok((chosen, ignored))
+}
+
+/// The unit of header cell `cell` read as `column`: the `--map`'s (noted where it overrides the
+/// header's), the header's, or the variable's SI unit.
+fn column_unit(
+    cell: &str,
+    column: Column,
+    map: Option<&Mapping>,
+    header_unit: Option<String>,
+    notes: &mut Vec<String>,
+) -> String {
+    match (map.and_then(|m| m.unit.clone()), header_unit) {
+        (Some(u), Some(h)) if !u.eq_ignore_ascii_case(&h) => {
+            notes.push(format!("column '{cell}': --map unit {u} used instead of the header's {h}"));
+            u
+        }
+        (Some(u), _) => u,
+        (None, Some(h)) => h,
+        (None, None) => column.si_unit().to_string(),
+    }
+}
+
+/// The message for a missing column `c` (`also`: what may replace it), naming a header cell
+/// that looks like it.
+fn missing_column(name: &str, table: &Table, c: Column, also: &str) -> String {
+    let cells = &table.header;
+    let mut msg = format!(
+        "{name}, line {}: missing column '{}' ({}, {}){also}; the header has: {}",
+        table.header_line,
+        c.name(),
+        c.meaning(),
+        c.si_unit(),
+        listed(cells),
+    );
+    if let Some(close) = cells.iter().find(|h| {
+        let b = strip_unit(h).0;
+        b.eq_ignore_ascii_case(c.name()) || b.replace([' ', '-'], "_").eq_ignore_ascii_case(c.name())
+    }) {
+        msg += &format!(". Did you mean '{close}'? Use --map '{}={}:UNIT'", strip_unit(close).0, c.name());
+    } else {
+        msg += &format!(". If it is named differently, use --map SOURCE={}:UNIT", c.name());
+    }
+    msg
+}
+
+/// Time, a motion and the force must be there; notes a passive record (no demand) and a record
+/// with both velocity and displacement.
+fn check_required_columns(
+    name: &str,
+    table: &Table,
+    chosen: &BTreeMap<Column, ColumnSource>,
+    notes: &mut Vec<String>,
+) -> Result<(), String> {
+    if !chosen.contains_key(&Column::Time) {
+        return Err(missing_column(name, table, Column::Time, ""));
+    }
+    if !chosen.contains_key(&Column::VDamper) && !chosen.contains_key(&Column::XDamper) {
+        return Err(missing_column(name, table, Column::VDamper, " (or x_damper, the displacement)"));
+    }
+    if !chosen.contains_key(&Column::FDamper) {
+        return Err(missing_column(name, table, Column::FDamper, ""));
+    }
+    if !chosen.contains_key(&Column::FDemand) && !chosen.contains_key(&Column::XSpoolDemand) {
+        notes.push(
+            "no F_demand or x_spool_demand column: a passive record, the model's valve held at x_spool_start \
+             without a controller (control_mode 2)"
+                .to_string(),
+        );
+    }
+    if let (Some(v), Some(x)) = (chosen.get(&Column::VDamper), chosen.get(&Column::XDamper)) {
+        notes.push(format!(
+            "v_damper (column {}) and x_damper (column {}) both given: the notes below say how they make the \
+             model's motion and its starting stroke",
+            v.index, x.index
+        ));
+    }
+    Ok(())
+}
+
+/// Each data row's cells of the columns `used`, as written; a row with another number of fields
+/// than the header is an error.
+fn used_cells<'a>(name: &str, table: &'a Table, used: &[&ColumnSource]) -> Result<Vec<Vec<&'a str>>, String> {
+    let n_fields = table.header.len();
+    let header_line = table.header_line;
+    let mut raw: Vec<Vec<&str>> = Vec::with_capacity(table.rows.len());
+    for row in &table.rows {
+        if row.cells.len() != n_fields {
+            let col = row.cells.len().min(n_fields) + 1;
+            let hint = if row.cells.len() > n_fields && table.delimiter == b',' {
+                "; a decimal comma splits a number in a comma-separated file: quote such numbers, or export \
+                 with ';' as the delimiter"
+            } else {
+                ""
+            };
+            return Err(format!(
+                "{name}, line {}, column {col}: {} fields, but the header (line {header_line}) has {n_fields}{hint}",
+                row.line,
+                row.cells.len()
+            ));
+        }
+        raw.push(used.iter().map(|s| row.cells[s.index - 1].as_str()).collect());
+    }
+    Ok(raw)
+}
+
+/// The cells of the columns used, as written (`raw[k][j]`: row `k`, used column `j`), with the
+/// file line of each row, for the values and the messages.
+struct Cells<'a> {
+    name: &'a str,
+    used: Vec<&'a ColumnSource>,
+    lines: &'a [usize],
+    raw: Vec<Vec<&'a str>>,
+    /// The time column's index in `used`.
+    time_j: usize,
+}
+
+impl<'a> Cells<'a> {
+    /// The cells of the columns `chosen` in `table`'s rows (`lines`: each row's file line).
+    fn read(
+        name: &'a str,
+        table: &'a Table,
+        chosen: &'a BTreeMap<Column, ColumnSource>,
+        lines: &'a [usize],
+    ) -> Result<Cells<'a>, String> {
+        let used: Vec<&ColumnSource> = chosen.values().collect();
+        let raw = used_cells(name, table, &used)?;
+        let time_j = used.iter().position(|s| s.column == Column::Time).expect("time");
+        Ok(Cells { name, used, lines, raw, time_j })
+    }
+
+    /// The samples' times (s, increasing) and every other variable's values in SI: numbers (with
+    /// a decimal comma where the file writes one, noted) or timestamps (noted; `ts` is the time
+    /// column's source).
+    fn samples(
+        &self,
+        table: &Table,
+        ts: &ColumnSource,
+        notes: &mut Vec<String>,
+    ) -> Result<(Vec<f64>, Channels), String> {
+        let time_j = self.time_j;
+        let first_stamp = self.raw.first().and_then(|r| parse_timestamp(r[time_j]));
+        let timestamps = first_stamp.is_some();
+        let numeric = |j: usize| !(timestamps && j == time_j);
+        let decimal_comma = decimal_comma(&self.raw, &numeric, &|k, j| self.at(k, j), table.delimiter)?;
+        if let Some(note) = &decimal_comma {
+            notes.push(note.clone());
+        }
+        let mut data = self.values(&numeric, decimal_comma.is_some(), first_stamp)?;
+        if timestamps {
+            notes.push(format!(
+                "time column {} ('{}') holds timestamps: converted to seconds from the first sample ({})",
+                ts.index, ts.header, self.raw[0][time_j]
+            ));
+        }
+        if self.raw.len() < MIN_SAMPLES {
+            return Err(format!(
+                "{}, line {}, column {} ('{}'): only {} samples; a measurement needs many more",
+                self.name,
+                self.lines.last().copied().unwrap_or(table.header_line),
+                ts.index,
+                ts.header,
+                self.raw.len()
+            ));
+        }
+        let time = data.remove(&Column::Time).expect("time");
+        self.check_time_increases(&time)?;
+        Ok((time, data))
+    }
+
+    /// Where cell (`k`, `j`) is, for messages: file, line, column.
+    fn at(&self, k: usize, j: usize) -> String {
+        format!("{}, line {}, column {} ('{}')", self.name, self.lines[k], self.used[j].index, self.used[j].header)
+    }
+
+    /// Where sample `k`'s time is, with the previous sample's, for a gap.
+    fn previous_sample(&self, k: usize) -> String {
+        let time_j = self.time_j;
+        format!("{} (previous sample {} at line {})", self.at(k, time_j), self.raw[k - 1][time_j], self.lines[k - 1])
+    }
+
+    /// Every cell's value in SI, by variable: numbers (`numeric(j)`, with a decimal comma when
+    /// `decimal_comma`) or timestamps in seconds from `first_stamp`.
+    fn values(
+        &self,
+        numeric: &dyn Fn(usize) -> bool,
+        decimal_comma: bool,
+        first_stamp: Option<(i64, bool)>,
+    ) -> Result<Channels, String> {
+        let mut data: Channels = self.used.iter().map(|s| (s.column, Vec::with_capacity(self.raw.len()))).collect();
+        for (k, row) in self.raw.iter().enumerate() {
+            for (j, (s, cell)) in self.used.iter().zip(row).enumerate() {
+                if cell.is_empty() {
+                    return Err(format!("{}: empty cell", self.at(k, j)));
+                }
+                let value = if numeric(j) {
+                    self.number(k, j, cell, s, decimal_comma)?
+                } else {
+                    self.seconds_from_first(k, j, cell, first_stamp)?
+                };
+                data.get_mut(&s.column).expect("column").push(value);
+            }
+        }
+        Ok(data)
+    }
+
+    /// Cell (`k`, `j`), `cell`, as a finite number in SI through its column's unit `s`.
+    fn number(&self, k: usize, j: usize, cell: &str, s: &ColumnSource, decimal_comma: bool) -> Result<f64, String> {
+        let text = if decimal_comma { cell.replace(',', ".") } else { cell.to_string() };
+        let value: f64 = text.parse().map_err(|_| format!("{}: not a number: '{cell}'", self.at(k, j)))?;
+        if !value.is_finite() {
+            return Err(format!("{}: {cell} is not a finite number", self.at(k, j)));
+        }
+        Ok(value * s.factor + s.offset)
+    }
+
+    /// Cell (`k`, `j`), `cell`, a timestamp, in seconds from the first sample's, `first_stamp`
+    /// (nanoseconds, and whether it has a time zone).
+    fn seconds_from_first(
+        &self,
+        k: usize,
+        j: usize,
+        cell: &str,
+        first_stamp: Option<(i64, bool)>,
+    ) -> Result<f64, String> {
+        let (ns, zoned) = parse_timestamp(cell).ok_or_else(|| {
+            format!(
+                "{}: '{cell}' is not an ISO 8601 timestamp like the first sample's '{}'",
+                self.at(k, j),
+                self.raw[0][j]
+            )
+        })?;
+        let (ns0, zoned0) = first_stamp.expect("the time column holds timestamps");
+        if zoned != zoned0 {
+            return Err(format!(
+                "{}: '{cell}' {} a time zone, the first sample's '{}' {}; the timestamps must agree",
+                self.at(k, j),
+                if zoned { "has" } else { "has no" },
+                self.raw[0][j],
+                if zoned0 { "has one" } else { "has none" }
+            ));
+        }
+        // nanoseconds as integers: no rounding in the difference of two long timestamps
+        Ok((ns - ns0) as f64 * SECONDS_PER_NANOSECOND)
+    }
+
+    /// An error at the first sample whose `time` does not increase.
+    fn check_time_increases(&self, time: &[f64]) -> Result<(), String> {
+        let time_j = self.time_j;
+        for k in 1..time.len() {
+            if time[k] <= time[k - 1] {
+                let what = if time[k] == time[k - 1] { "repeats" } else { "is before" };
+                return Err(format!(
+                    "{}: time {} {what} the previous sample's {} (line {}); time must increase",
+                    self.at(k, time_j),
+                    self.raw[k][time_j],
+                    self.raw[k - 1][time_j],
+                    self.lines[k - 1]
+                ));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Negates the columns `flips` (the velocity and the displacement together: one motion), each
+/// noted; a flip of a column the file lacks is an error.
+fn flip_columns(name: &str, data: &mut Channels, flips: &[Column], notes: &mut Vec<String>) -> Result<(), String> {
+    for &c in flips {
+        let motion = [Column::VDamper, Column::XDamper];
+        let negated: Vec<Column> = if motion.contains(&c) { motion.to_vec() } else { vec![c] };
+        let mut done = Vec::new();
+        for column in negated {
+            if let Some(x) = data.get_mut(&column) {
+                x.iter_mut().for_each(|v| *v = -*v);
+                done.push(column.name());
+            }
+        }
+        if done.is_empty() {
+            return Err(format!("{name}: --flip {}: the file has no such column", c.name()));
+        }
+        notes.push(format!(
+            "{} negated (--flip {}): the file's sign convention is the other one",
+            done.join(" and "),
+            c.name()
+        ));
+    }
+    Ok(())
+}
+
+/// Derives `v_damper` from `x_damper` where the file has no velocity (noted); whether it did.
+fn derive_missing_velocity(time: &[f64], data: &mut Channels, notes: &mut Vec<String>) -> bool {
+    if data.contains_key(&Column::VDamper) {
+        return false;
+    }
+    let v = differentiate(time, &data[&Column::XDamper]);
+    data.insert(Column::VDamper, v);
+    notes.push(
+        "v_damper derived from x_damper by central differences (second order, one-sided at the ends); \
+         displacement noise is amplified by about 1/(sqrt(2)·dt)"
+            .to_string(),
+    );
+    true
+}
+
+/// The samples' times and file lines, every channel of `data` resampled onto the uniform grid
+/// where the sampling has gaps or jitter ([`uniform_grid`]), else as they are.
+fn on_uniform_grid(
+    time: Vec<f64>,
+    lines: Vec<usize>,
+    gaps: &[Gap],
+    max_gap: usize,
+    data: &mut Channels,
+    notes: &mut Vec<String>,
+) -> (Vec<f64>, Vec<usize>) {
+    match uniform_grid(&time, &lines, gaps, max_gap, notes) {
+        Some((grid, grid_lines)) => {
+            for x in data.values_mut() {
+                *x = interpolate(&time, x, &grid);
+            }
+            (grid, grid_lines)
+        }
+        None => (time, lines),
+    }
+}
+
+/// The model's motion: a noisy velocity smoothed, then made to follow a measured displacement
+/// ([`crate::motion::motion`]); its velocity replaces `data`'s.
+fn model_motion(
+    name: &str,
+    time: &[f64],
+    data: &mut Channels,
+    chosen: &BTreeMap<Column, ColumnSource>,
+    velocity_from_displacement: bool,
+) -> Result<crate::motion::Motion, String> {
+    let mut m = crate::motion::motion(
+        time,
+        data.remove(&Column::VDamper),
+        data.get(&Column::XDamper).map(Vec::as_slice),
+        velocity_from_displacement,
+    )
+    .map_err(|e| {
+        let v_column = chosen.get(&Column::VDamper).map_or("derived".to_string(), |c| format!("column {}", c.index));
+        let x_column = chosen.get(&Column::XDamper).map_or(0, |c| c.index);
+        format!("{name}: v_damper ({v_column}) and x_damper (column {x_column}): {e}")
+    })?;
+    if let Some(v) = m.v.take() {
+        data.insert(Column::VDamper, v);
+    }
+    Ok(m)
 }
 
 /// An interval longer than this many median intervals is a gap (dropped samples).

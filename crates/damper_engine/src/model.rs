@@ -16,6 +16,7 @@
 //! [`Model`] is plain data, so fits may call it from several threads ([`run_parallel`]).
 
 use crate::dsp::Lowpass;
+use crate::error::Error;
 use crate::measurement::Measurement;
 use crate::units::Column;
 use semi_active_damper::damper::{Damper, Inputs};
@@ -211,24 +212,27 @@ impl Model {
     }
 
     /// All predicted signals over the whole drive.
+    ///
+    /// The error is the message of [`Model::run_first`]'s: generate.rs returns it as a
+    /// `Result<_, String>`; this goes once that module is converted.
     pub fn run(&self, drive: &Drive) -> Result<Prediction, String> {
-        self.run_first(drive, drive.len(), true)
+        Ok(self.run_first(drive, drive.len(), true)?)
     }
 
     /// The predicted load-cell force over the first `n` samples (what a fit needs).
-    pub fn force(&self, drive: &Drive, n: usize) -> Result<Vec<f64>, String> {
+    pub fn force(&self, drive: &Drive, n: usize) -> Result<Vec<f64>, Error> {
         Ok(self.run_first(drive, n, false)?.f_damper)
     }
 
     /// The first `n` samples; `all` records every signal, otherwise only the force.
-    pub fn run_first(&self, drive: &Drive, n: usize, all: bool) -> Result<Prediction, String> {
+    pub fn run_first(&self, drive: &Drive, n: usize, all: bool) -> Result<Prediction, Error> {
         let n = n.min(drive.len());
         let t = &drive.time;
         let mut out = Prediction::default();
         if n == 0 {
             return Ok(out);
         }
-        let mut d = Damper::new(self.params, drive.inputs(0), t[0]).map_err(|e| format!("model parameters: {e}"))?;
+        let mut d = Damper::new(self.params, drive.inputs(0), t[0]).map_err(Error::ModelParameters)?;
         let mut filter = self.load_cell_lowpass_hz.map(|fc| Lowpass::new(fc, d.load_cell()));
         // the force from the load cell alone; the rest from the state (no evaluation of the plant)
         let push = |d: &Damper, load_cell: f64, out: &mut Prediction| {
@@ -250,7 +254,7 @@ impl Model {
             let h = (t[k] - t[k - 1]) / m as f64;
             for j in 0..m {
                 d.inputs = drive.substep_inputs(k - 1, j, m);
-                d.do_step(h).map_err(|e| format!("the model failed between t = {} s and {} s: {e}", t[k - 1], t[k]))?;
+                d.do_step(h).map_err(|cause| Error::ModelFailed { from: t[k - 1], to: t[k], cause })?;
                 if j + 1 < m {
                     if let Some(f) = filter.as_mut() {
                         f.step(h, d.load_cell());
@@ -266,22 +270,26 @@ impl Model {
 }
 
 /// Runs several models on the same drive on `threads` threads; results in input order, so they
-/// do not depend on the thread count.
+/// do not depend on the thread count. The errors are messages, as [`Model::run`]'s (one error for
+/// every model where the threads cannot start, and [`Error`] is not `Clone`).
 pub fn run_parallel(models: &[Model], drive: &Drive, threads: usize) -> Vec<Result<Prediction, String>> {
     use rayon::prelude::*;
     match thread_pool(threads) {
         Ok(pool) => pool.install(|| models.par_iter().map(|m| m.run(drive)).collect()),
-        Err(e) => models.iter().map(|_| Err(e.clone())).collect(),
+        Err(e) => {
+            let e = e.to_string();
+            models.iter().map(|_| Err(e.clone())).collect()
+        }
     }
 }
 
 /// A thread pool of its own for one command's parallel model runs: the thread count is the
 /// caller's (`--threads`), whatever else in the process uses rayon's global pool.
-pub fn thread_pool(threads: usize) -> Result<rayon::ThreadPool, String> {
+pub fn thread_pool(threads: usize) -> Result<rayon::ThreadPool, Error> {
     rayon::ThreadPoolBuilder::new()
         .num_threads(threads.max(1))
         .build()
-        .map_err(|e| format!("cannot start {threads} threads: {e}"))
+        .map_err(|source| Error::Threads { threads, source })
 }
 
 /// The force predictor a fit needs, `(parameters, n) → F_damper over the first n samples`, for
@@ -291,7 +299,7 @@ pub fn force_simulator<'a>(
     backend: &'a dyn Backend,
     drive: &'a Drive,
     load_cell_lowpass_hz: Option<f64>,
-) -> impl Fn(&Parameters, usize) -> Result<Vec<f64>, String> + Sync + 'a {
+) -> impl Fn(&Parameters, usize) -> Result<Vec<f64>, Error> + Sync + 'a {
     move |params: &Parameters, n: usize| {
         let model = Model { params: *params, load_cell_lowpass_hz };
         Ok(backend.run_first(&model, drive, n, false)?.f_damper)
@@ -302,7 +310,7 @@ pub fn force_simulator<'a>(
 /// same numbers; the FMU is the check that the packaged FMU is the model this program fits.
 pub trait Backend: std::fmt::Debug + Send + Sync {
     /// As [`Model::run_first`], on this back end.
-    fn run_first(&self, model: &Model, drive: &Drive, n: usize, all: bool) -> Result<Prediction, String>;
+    fn run_first(&self, model: &Model, drive: &Drive, n: usize, all: bool) -> Result<Prediction, Error>;
 
     /// `"in_process"` or `"fmu"` (summary.json).
     fn name(&self) -> &'static str;
@@ -316,7 +324,7 @@ pub trait Backend: std::fmt::Debug + Send + Sync {
     }
 
     /// All predicted signals over the whole drive.
-    fn run(&self, model: &Model, drive: &Drive) -> Result<Prediction, String> {
+    fn run(&self, model: &Model, drive: &Drive) -> Result<Prediction, Error> {
         self.run_first(model, drive, drive.len(), true)
     }
 }
@@ -326,7 +334,7 @@ pub trait Backend: std::fmt::Debug + Send + Sync {
 pub struct InProcess;
 
 impl Backend for InProcess {
-    fn run_first(&self, model: &Model, drive: &Drive, n: usize, all: bool) -> Result<Prediction, String> {
+    fn run_first(&self, model: &Model, drive: &Drive, n: usize, all: bool) -> Result<Prediction, Error> {
         model.run_first(drive, n, all)
     }
 

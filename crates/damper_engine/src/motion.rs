@@ -7,6 +7,7 @@
 //! displacement record's truth with the same motion.
 
 use crate::dsp::differentiate;
+use crate::error::Error;
 use crate::velocity_noise::VelocityNoise;
 
 /// The motion the model is driven with.
@@ -37,7 +38,7 @@ pub struct Motion {
 /// kept beside it ([`Motion::made_again`]): its error, noise and rounded-off corners alike, is what
 /// [`VelocityNoise::path`] draws, so a diagnosis can carry all of it into the floor, where the
 /// logger's filter leaves an error it cannot (a rig's triangle corners rounded off).
-pub fn motion(time: &[f64], v: Option<Vec<f64>>, x: Option<&[f64]>, from_displacement: bool) -> Result<Motion, String> {
+pub fn motion(time: &[f64], v: Option<Vec<f64>>, x: Option<&[f64]>, from_displacement: bool) -> Result<Motion, Error> {
     let Some(mut v) = v else {
         return Ok(Motion {
             v: None,

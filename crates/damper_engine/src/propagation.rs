@@ -17,7 +17,8 @@
 
 use crate::calibration_file::CalibrationFile;
 use crate::candidate::Simulator;
-use crate::parameters::{get_real, lookup, set_real, Param};
+use crate::error::{Error, Place};
+use crate::parameters::{lookup, real, set_real, Param};
 use nalgebra::DMatrix;
 use rayon::prelude::*;
 use semi_active_damper::physics::params::Parameters;
@@ -39,12 +40,13 @@ pub struct CalibrationCovariance {
 impl CalibrationCovariance {
     /// Reads `calibration.json`'s covariance: the shared parameters and, with `setting`, that
     /// setting's own values (the parameter set given to the diagnosis must be the same setting's).
-    pub fn read(path: &Path, setting: Option<&str>) -> Result<CalibrationCovariance, String> {
-        let at = path.display();
-        let text = std::fs::read_to_string(path).map_err(|e| format!("{at}: {e}"))?;
-        let file: CalibrationFile = serde_json::from_str(&text).map_err(|e| format!("{at}: {e}"))?;
-        let cov =
-            file.covariance.ok_or_else(|| format!("{at}: no covariance (the calibration held every parameter)"))?;
+    pub fn read(path: &Path, setting: Option<&str>) -> Result<CalibrationCovariance, Error> {
+        let text = std::fs::read_to_string(path).map_err(|source| Error::Io { path: path.to_path_buf(), source })?;
+        let file: CalibrationFile =
+            serde_json::from_str(&text).map_err(|source| Error::Json { path: path.to_path_buf(), source })?;
+        let cov = file.covariance.ok_or_else(|| Error::NoCovariance { path: path.to_path_buf() })?;
+        let at = Place { file: path.display().to_string(), line: None, field: Some("covariance".into()) };
+        let problem = |problem: String| Error::InFile { at: at.clone(), problem };
         let rows: Vec<usize> = (0..cov.parameters.len())
             .filter(|&i| cov.parameters[i].setting.as_deref().is_none_or(|s| Some(s) == setting))
             .collect();
@@ -52,12 +54,12 @@ impl CalibrationCovariance {
             .iter()
             .map(|&i| match lookup(&cov.parameters[i].name) {
                 Ok(Param::Real(v)) => Ok(v.name()),
-                _ => Err(format!("{at}, covariance: {} is not a Real parameter of the model", cov.parameters[i].name)),
+                _ => Err(problem(format!("{} is not a Real parameter of the model", cov.parameters[i].name))),
             })
             .collect::<Result<Vec<_>, _>>()?;
         let n = cov.matrix.len();
         if n != cov.parameters.len() || cov.matrix.iter().any(|r| r.len() != n || r.iter().any(|x| !x.is_finite())) {
-            return Err(format!("{at}, covariance: not a finite {n}×{n} matrix"));
+            return Err(problem(format!("not a finite {n}×{n} matrix")));
         }
         let matrix = DMatrix::from_fn(rows.len(), rows.len(), |i, j| cov.matrix[rows[i]][rows[j]]);
         Ok(CalibrationCovariance { names, matrix })
@@ -87,7 +89,7 @@ pub fn inherited(
     fitted: &[(&'static str, f64, Option<f64>)],
     calibration: &CalibrationCovariance,
     pool: &rayon::ThreadPool,
-) -> Result<Vec<Option<f64>>, String> {
+) -> Result<Vec<Option<f64>>, Error> {
     let free: Vec<&str> = fitted.iter().map(|f| f.0).collect();
     let cal = calibration.without(&free);
     let names: Vec<&'static str> = fitted.iter().map(|f| f.0).chain(cal.names.iter().copied()).collect();
@@ -99,13 +101,13 @@ pub fn inherited(
         names
             .par_iter()
             .map(|name| {
-                let value = get_real(model, name)?;
+                let value = real(model, name)?;
                 let h = STEP * value.abs().max(1e-300);
                 let mut p = *model;
                 set_real(&mut p, name, value + h)?;
                 Ok(kept(simulate(&p, train)?).iter().zip(&base).map(|(a, b)| (a - b) / h).collect())
             })
-            .collect::<Result<_, String>>()
+            .collect::<Result<_, Error>>()
     })?;
     let m = base.len();
     let (ns, nt) = (fitted.len(), cal.names.len());
@@ -136,7 +138,7 @@ mod tests {
         let n = 101;
         let t: Vec<f64> = (0..n).map(|k| 1.0 + k as f64 / (n - 1) as f64).collect();
         // the slope is F_coulomb (N) and the offset p_reservoir0 (Pa), any two Real parameters
-        let line = |p: &Parameters, len: usize| -> Result<Vec<f64>, String> {
+        let line = |p: &Parameters, len: usize| -> Result<Vec<f64>, Error> {
             Ok(t[..len].iter().map(|t| p.f_coulomb * t + p.p_reservoir0).collect())
         };
         let model = Parameters { f_coulomb: 3.0, p_reservoir0: 5.0, ..Parameters::default() };

@@ -9,6 +9,7 @@
 //! FMI unit syntax (`m3/(s.Pa)`, `N.s/m`) that the checks need on both sides, and the grammar is
 //! twenty lines.
 
+use crate::error::Error;
 use std::fmt;
 
 /// Exponents of kg, m, s, K, A.
@@ -89,10 +90,11 @@ const PREFIXES: [(&str, f64); 10] = [
 ];
 
 /// One factor such as `mm2`: a symbol, perhaps prefixed, with an integer power.
-fn factor(term: &str) -> Result<(f64, Dimension), String> {
+fn factor(term: &str) -> Result<(f64, Dimension), Error> {
     let digits = term.trim_start_matches(|c: char| !c.is_ascii_digit() && c != '-');
     let symbol = &term[..term.len() - digits.len()];
-    let power: i8 = if digits.is_empty() { 1 } else { digits.parse().map_err(|_| format!("bad power in '{term}'"))? };
+    let power: i8 =
+        if digits.is_empty() { 1 } else { digits.parse().map_err(|_| Error::BadPower { term: term.to_string() })? };
     if symbol == "1" || (symbol.is_empty() && digits == "1") {
         return Ok((1.0, Dimension::NONE));
     }
@@ -102,12 +104,12 @@ fn factor(term: &str) -> Result<(f64, Dimension), String> {
             SYMBOLS.iter().find(|(s, _, _)| *s == rest && !["min", "h"].contains(s)).map(|&(_, f, d)| (pf * f, d))
         })
     });
-    let (f, d) = base.ok_or_else(|| format!("unknown unit '{symbol}'"))?;
+    let (f, d) = base.ok_or_else(|| Error::UnknownUnit { symbol: symbol.to_string() })?;
     Ok((libm::pow(f, power as f64), Dimension::NONE.times(d, power)))
 }
 
 /// A product of factors separated by `.`, `*` or `·`.
-fn product(text: &str) -> Result<(f64, Dimension), String> {
+fn product(text: &str) -> Result<(f64, Dimension), Error> {
     let mut out = (1.0, Dimension::NONE);
     for term in text.split(['.', '*', '\u{b7}']).map(str::trim).filter(|t| !t.is_empty()) {
         let (f, d) = factor(term)?;
@@ -118,7 +120,7 @@ fn product(text: &str) -> Result<(f64, Dimension), String> {
 
 /// Parses a unit: `numerator[/denominator]`, the denominator a factor or a parenthesised product;
 /// `degC` and `degF` (or `°C`, `°F`) alone; `1`, `-` or nothing for a pure number, `%` for 0.01.
-pub fn parse_unit(text: &str) -> Result<Unit, String> {
+pub fn parse_unit(text: &str) -> Result<Unit, Error> {
     let t = text.trim();
     let affine = |offset: f64, factor: f64| Ok(Unit { factor, offset, dimension: K });
     match t {
@@ -135,7 +137,7 @@ pub fn parse_unit(text: &str) -> Result<Unit, String> {
     let (mut f, mut d) = product(num)?;
     if let Some(den) = den {
         if den.contains('/') {
-            return Err(format!("unit '{t}': one '/' at most"));
+            return Err(Error::TwoSlashes { unit: t.to_string() });
         }
         let (fd, dd) = product(den)?;
         f /= fd;
@@ -145,7 +147,7 @@ pub fn parse_unit(text: &str) -> Result<Unit, String> {
 }
 
 /// A value with its unit, `"36 mm"`, in SI with its dimension.
-pub fn parse_quantity(text: &str) -> Result<(f64, Dimension), String> {
+pub fn parse_quantity(text: &str) -> Result<(f64, Dimension), Error> {
     let t = text.trim();
     let split = t
         .char_indices()
@@ -158,9 +160,9 @@ pub fn parse_quantity(text: &str) -> Result<(f64, Dimension), String> {
         })
         .map_or(t.len(), |(i, _)| i);
     let (number, unit) = t.split_at(split);
-    let value: f64 = number.trim().parse().map_err(|_| format!("'{t}' does not start with a number"))?;
+    let value: f64 = number.trim().parse().map_err(|_| not_a_quantity(t, "does not start with a number"))?;
     if !value.is_finite() {
-        return Err(format!("'{t}' is not a finite number"));
+        return Err(not_a_quantity(t, "is not a finite number"));
     }
     let u = parse_unit(unit)?;
     // a decimal sub-unit divides by its whole reciprocal: 36 mm is 36/1000 = 0.036 m exactly
@@ -168,6 +170,10 @@ pub fn parse_quantity(text: &str) -> Result<(f64, Dimension), String> {
     let per = (1.0 / u.factor).round();
     let si = if u.factor < 1.0 && (per * u.factor - 1.0).abs() < 1e-12 { value / per } else { value * u.factor };
     Ok((si + u.offset, u.dimension))
+}
+
+fn not_a_quantity(text: &str, problem: &'static str) -> Error {
+    Error::NotAQuantity { text: text.to_string(), problem }
 }
 
 #[cfg(test)]
@@ -209,8 +215,8 @@ mod tests {
 
     #[test]
     fn bad_units_are_named() {
-        assert!(parse_quantity("3 furlongs").unwrap_err().contains("unknown unit 'furlongs'"));
-        assert!(parse_quantity("mm 3").unwrap_err().contains("does not start with a number"));
-        assert!(parse_unit("m/s/s").unwrap_err().contains("one '/'"));
+        assert!(parse_quantity("3 furlongs").unwrap_err().to_string().contains("unknown unit 'furlongs'"));
+        assert!(parse_quantity("mm 3").unwrap_err().to_string().contains("does not start with a number"));
+        assert!(parse_unit("m/s/s").unwrap_err().to_string().contains("one '/'"));
     }
 }

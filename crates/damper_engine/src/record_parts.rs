@@ -3,7 +3,7 @@
 //! cross-validation). The verdict scores the validation part; a missing effect that acts only
 //! where the validation part does not reach (an end stop hit while the stroke is large, early in
 //! the record) would leave it at the floor. No `none` is then given while a part is far above its
-//! floor ([`crate::diagnose`]), and the part that holds the error is named.
+//! floor ([`crate::missing_effect`]), and the part that holds the error is named.
 
 use crate::dsp::{kept, noise_floor, rms};
 use crate::floor::{carried, Numerics};

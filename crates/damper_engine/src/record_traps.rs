@@ -5,6 +5,7 @@
 //! its samples out of every score and fit; a drift is reported.
 
 use crate::dsp::{mean, std};
+use crate::error::{Error, Place};
 use crate::measurement::Measurement;
 use crate::units::Column;
 
@@ -36,25 +37,29 @@ pub struct Findings {
 }
 
 /// Checks `m`; `trust_time`: the time column wins over a stated sample rate.
-pub fn check(m: &Measurement, trust_time: bool) -> Result<Findings, String> {
+pub fn check(m: &Measurement, trust_time: bool) -> Result<Findings, Error> {
     let mut f = Findings { warnings: Vec::new(), excluded: vec![false; m.len()] };
     if !trust_time {
         stated_rate(m)?;
     }
     for c in [Column::VDamper, Column::XDamper] {
         if let Some((start, end)) = m.get(c).and_then(|x| rails(x).into_iter().next()) {
-            return Err(format!(
-                "{}, lines {}–{}: {} ({}) sits flat at its extreme {} for {} samples: the channel is clipped at its \
-                 amplifier's rail, and the model cannot be driven by a motion it does not know; cut the record there, \
-                 or re-range the transducer",
-                m.path,
-                m.lines[start],
-                m.lines[end - 1],
-                c.name(),
-                m.describe_column(c),
-                m.get(c).expect("checked")[start],
-                end - start
-            ));
+            return Err(Error::InFile {
+                at: Place {
+                    file: m.path.clone(),
+                    line: None,
+                    field: Some(format!("lines {}–{}", m.lines[start], m.lines[end - 1])),
+                },
+                problem: format!(
+                    "{} ({}) sits flat at its extreme {} for {} samples: the channel is clipped at its \
+                     amplifier's rail, and the model cannot be driven by a motion it does not know; cut the record \
+                     there, or re-range the transducer",
+                    c.name(),
+                    m.describe_column(c),
+                    m.get(c).expect("checked")[start],
+                    end - start
+                ),
+            });
         }
     }
     if let Some(y) = m.get(Column::FDamper) {
@@ -114,7 +119,7 @@ pub fn rails(x: &[f64]) -> Vec<(usize, usize)> {
 }
 
 /// A damper's force opposes its motion: refuses a record whose force falls as the velocity rises.
-fn sign_convention(m: &Measurement, excluded: &[bool]) -> Result<(), String> {
+fn sign_convention(m: &Measurement, excluded: &[bool]) -> Result<(), Error> {
     let (Some(y), Some(v)) = (m.get(Column::FDamper), m.get(Column::VDamper)) else { return Ok(()) };
     let largest = v.iter().fold(0.0f64, |a, x| a.max(x.abs()));
     let moving: Vec<usize> = (0..v.len()).filter(|&k| !excluded[k] && v[k].abs() > 0.05 * largest).collect();
@@ -126,15 +131,17 @@ fn sign_convention(m: &Measurement, excluded: &[bool]) -> Result<(), String> {
     let cov = fy.iter().zip(&fv).map(|(a, b)| (a - my) * (b - mv)).sum::<f64>() / fy.len() as f64;
     let corr = cov / (std(&fy) * std(&fv)).max(1e-300);
     if corr < MIN_SIGN_CORRELATION {
-        return Err(format!(
-            "{}: the force falls as the velocity rises (correlation {corr:+.2} of {} and {} where the damper moves): a \
-             damper's force opposes its motion, tension positive when extending. One of the two is written with the \
-             other sign convention (compression positive): give --flip F_damper, or --flip v_damper if the velocity \
-             (or --flip x_damper the displacement) is the one that counts compression positive",
-            m.path,
-            m.describe_column(Column::FDamper),
-            m.describe_column(Column::VDamper)
-        ));
+        return Err(Error::InFile {
+            at: Place { file: m.path.clone(), line: None, field: None },
+            problem: format!(
+                "the force falls as the velocity rises (correlation {corr:+.2} of {} and {} where the damper moves): \
+                 a damper's force opposes its motion, tension positive when extending. One of the two is written with \
+                 the other sign convention (compression positive): give --flip F_damper, or --flip v_damper if the \
+                 velocity (or --flip x_damper the displacement) is the one that counts compression positive",
+                m.describe_column(Column::FDamper),
+                m.describe_column(Column::VDamper)
+            ),
+        });
     }
     Ok(())
 }
@@ -166,17 +173,19 @@ pub fn stated_rate_of(comments: &[(usize, String)]) -> Option<(usize, f64)> {
     None
 }
 
-fn stated_rate(m: &Measurement) -> Result<(), String> {
+fn stated_rate(m: &Measurement) -> Result<(), Error> {
     let Some((line, stated)) = stated_rate_of(&m.comments) else { return Ok(()) };
     let measured = 1.0 / m.median_interval();
     if (stated - measured).abs() > RATE_TOLERANCE * measured {
-        return Err(format!(
-            "{}, line {line}: the logger states a sample rate of {stated} Hz, but the time column's median interval gives \
-             {measured:.4} Hz: one of them is wrong (a logger set to one rate and writing at another, or a time column \
-             in another unit). If the time column is right, give --trust-time-column; if the stated rate is, fix the \
-             time column's unit (e.g. 'time [ms]' or --map)",
-            m.path
-        ));
+        return Err(Error::InFile {
+            at: Place::line(&m.path, line),
+            problem: format!(
+                "the logger states a sample rate of {stated} Hz, but the time column's median interval gives \
+                 {measured:.4} Hz: one of them is wrong (a logger set to one rate and writing at another, or a time \
+                 column in another unit). If the time column is right, give --trust-time-column; if the stated rate \
+                 is, fix the time column's unit (e.g. 'time [ms]' or --map)",
+            ),
+        });
     }
     Ok(())
 }

@@ -10,6 +10,7 @@
 //! shared parameters (gas, blow-offs, seals, air, mount) see every record, which pins them better
 //! than any one setting, and the adjuster's value per setting is its click map.
 
+use crate::error::Error;
 use crate::parameters::set_real;
 use semi_active_damper::physics::params::Parameters;
 use std::path::{Path, PathBuf};
@@ -42,16 +43,20 @@ impl Settings {
     /// Groups `records` by `given` (label, records at that setting); a record named in none is a
     /// setting of its own, labelled by its file stem. Errors name the record that is not among
     /// the calibration's records or is given two settings.
-    pub fn group(records: &[PathBuf], given: &[(String, Vec<PathBuf>)]) -> Result<Settings, String> {
+    pub fn group(records: &[PathBuf], given: &[(String, Vec<PathBuf>)]) -> Result<Settings, Error> {
         let mut label_of: Vec<Option<&str>> = vec![None; records.len()];
         for (label, paths) in given {
             for path in paths {
                 let i = records
                     .iter()
                     .position(|r| same_file(r, path))
-                    .ok_or_else(|| format!("--setting {label}: {} is not one of the records", path.display()))?;
+                    .ok_or_else(|| Error::SettingStranger { label: label.clone(), path: path.clone() })?;
                 if let Some(other) = label_of[i] {
-                    return Err(format!("--setting: {} is given two settings, {other} and {label}", path.display()));
+                    return Err(Error::SettingTwice {
+                        path: path.clone(),
+                        first: other.to_string(),
+                        second: label.clone(),
+                    });
                 }
                 label_of[i] = Some(label);
             }
@@ -88,7 +93,7 @@ impl Settings {
 }
 
 /// Sets on `p` the values `x` of the entries that apply to `setting`.
-pub fn apply(p: &mut Parameters, entries: &[Entry], x: &[f64], setting: usize) -> Result<(), String> {
+pub fn apply(p: &mut Parameters, entries: &[Entry], x: &[f64], setting: usize) -> Result<(), Error> {
     for (e, &v) in entries.iter().zip(x) {
         if e.applies_to(setting) {
             set_real(p, e.name, v)?;
@@ -131,10 +136,10 @@ mod tests {
     #[test]
     fn a_setting_naming_a_stranger_or_a_record_twice_is_refused() {
         let records = paths(&["a.csv", "b.csv"]);
-        let err = Settings::group(&records, &[("x".into(), paths(&["c.csv"]))]).unwrap_err();
+        let err = Settings::group(&records, &[("x".into(), paths(&["c.csv"]))]).unwrap_err().to_string();
         assert!(err.contains("c.csv is not one of the records"), "{err}");
         let twice = vec![("x".into(), paths(&["a.csv"])), ("y".into(), paths(&["a.csv"]))];
-        let err = Settings::group(&records, &twice).unwrap_err();
+        let err = Settings::group(&records, &twice).unwrap_err().to_string();
         assert!(err.contains("two settings, x and y"), "{err}");
     }
 

@@ -15,6 +15,7 @@
 //! Reading accepts `Real`, `Integer` and `Boolean` values; every error names the file, the line
 //! and the parameter or attribute.
 
+use crate::error::{Error, Place};
 use crate::parameters::{lookup, set_parameter, Param, Value};
 use quick_xml::events::{BytesDecl, BytesStart, BytesText, Event};
 use quick_xml::{Reader, Writer};
@@ -64,12 +65,16 @@ fn line_at(text: &str, offset: usize) -> usize {
     text[..offset + skip].matches('\n').count() + 1
 }
 
-fn attr(e: &BytesStart<'_>, name: &str, where_: &str) -> Result<Option<String>, String> {
+fn attr(e: &BytesStart<'_>, name: &str, at: &Place) -> Result<Option<String>, Error> {
     for a in e.attributes() {
-        let a = a.map_err(|err| format!("{where_}: bad attribute: {err}"))?;
+        let a = a.map_err(|source| Error::BadAttribute { at: at.clone(), source })?;
         if a.key.local_name().as_ref() == name && a.key.prefix().is_none() {
             #[allow(deprecated)]
-            let v = a.unescape_value().map_err(|err| format!("{where_}, attribute {name}: {err}"))?;
+            let v = a.unescape_value().map_err(|source| Error::AttributeValue {
+                at: at.clone(),
+                name: name.to_string(),
+                source: Box::new(source),
+            })?;
             return Ok(Some(v.into_owned()));
         }
     }
@@ -84,7 +89,7 @@ fn has_ssv_namespace(e: &BytesStart<'_>) -> bool {
 }
 
 /// Reads the parameters of an .ssv file (the text of `path`).
-pub fn parse(path: &str, text: &str) -> Result<Vec<Entry>, String> {
+pub fn parse(path: &str, text: &str) -> Result<Vec<Entry>, Error> {
     let mut reader = Reader::from_str(text);
     reader.config_mut().trim_text(true);
     let mut entries: Vec<Entry> = Vec::new();
@@ -92,18 +97,20 @@ pub fn parse(path: &str, text: &str) -> Result<Vec<Entry>, String> {
     let mut current: Option<(String, usize, bool)> = None; // (name, line, has a value)
     loop {
         let before = reader.buffer_position() as usize;
-        let event = reader.read_event().map_err(|e| {
-            format!("{path}, line {}: not well-formed XML: {e}", line_at(text, reader.error_position() as usize))
+        let event = reader.read_event().map_err(|source| Error::Xml {
+            file: path.to_string(),
+            line: line_at(text, reader.error_position() as usize),
+            source,
         })?;
         let line = line_at(text, before);
-        let here = |what: &str| format!("{path}, line {line}{what}");
+        let problem = |at: Place, problem: String| Error::InFile { at, problem };
         let (e, empty) = match &event {
             Event::Start(e) => (e, false),
             Event::Empty(e) => (e, true),
             Event::End(_) => {
                 if stack.pop().as_deref() == Some("Parameter") {
                     if let Some((name, l, false)) = current.take() {
-                        return Err(format!("{path}, line {l}, parameter {name}: no Real, Integer or Boolean value"));
+                        return Err(no_value(path, l, &name));
                     }
                 }
                 continue;
@@ -114,23 +121,28 @@ pub fn parse(path: &str, text: &str) -> Result<Vec<Entry>, String> {
         let local = e.local_name().as_ref().to_string();
         if stack.is_empty() {
             if local != "ParameterSet" || !has_ssv_namespace(e) {
-                return Err(format!(
-                    "{}: the root element is <{}>, not an ssv:ParameterSet of the namespace {SSV_NAMESPACE} (SSP 1.0)",
-                    here(""),
-                    e.name().as_ref()
+                return Err(problem(
+                    Place::line(path, line),
+                    format!(
+                        "the root element is <{}>, not an ssv:ParameterSet of the namespace {SSV_NAMESPACE} (SSP 1.0)",
+                        e.name().as_ref()
+                    ),
                 ));
             }
         } else if local == "Parameter" && stack.last().map(String::as_str) == Some("Parameters") {
-            let name =
-                attr(e, "name", &here(", ssv:Parameter"))?.ok_or_else(|| here(", ssv:Parameter: no name attribute"))?;
+            let at = Place::field(path, line, "ssv:Parameter");
+            let name = attr(e, "name", &at)?.ok_or_else(|| problem(at, "no name attribute".into()))?;
             if let Some(prev) = entries.iter().find(|x| x.name == name) {
-                return Err(format!("{}, parameter {name}: given twice (first at line {})", here(""), prev.line));
+                return Err(problem(
+                    Place::field(path, line, format!("parameter {name}")),
+                    format!("given twice (first at line {})", prev.line),
+                ));
             }
             current = Some((name, line, false));
         } else if let (Some("Parameter"), Some((name, pline, seen))) =
             (stack.last().map(String::as_str), current.as_mut())
         {
-            let at = format!("{path}, line {line}, parameter {name}");
+            let at = Place::field(path, line, format!("parameter {name}"));
             let kind = match local.as_str() {
                 "Real" | "Integer" | "Boolean" => local.as_str(),
                 "Annotations" => {
@@ -138,32 +150,27 @@ pub fn parse(path: &str, text: &str) -> Result<Vec<Entry>, String> {
                     continue;
                 }
                 other => {
-                    return Err(format!(
-                        "{at}: the value is an ssv:{other}; this model takes Real, Integer or Boolean parameters"
+                    return Err(problem(
+                        at,
+                        format!("the value is an ssv:{other}; this model takes Real, Integer or Boolean parameters"),
                     ))
                 }
             };
             if *seen {
-                return Err(format!("{at}: a second value (the first at line {pline})"));
+                return Err(problem(at, format!("a second value (the first at line {pline})")));
             }
-            let text_value = attr(e, "value", &at)?.ok_or_else(|| format!("{at}, ssv:{kind}: no value attribute"))?;
+            let text_value = attr(e, "value", &at)?
+                .ok_or_else(|| problem(at.and(format!("ssv:{kind}")), "no value attribute".into()))?;
+            let bad = |kind: &str, expected: &str| {
+                problem(at.and(format!("ssv:{kind} value=\"{text_value}\"")), expected.to_string())
+            };
             let value = match kind {
-                "Real" => Value::Real(
-                    text_value
-                        .trim()
-                        .parse()
-                        .map_err(|_| format!("{at}, ssv:Real value=\"{text_value}\": not a number"))?,
-                ),
-                "Integer" => Value::Integer(
-                    text_value
-                        .trim()
-                        .parse()
-                        .map_err(|_| format!("{at}, ssv:Integer value=\"{text_value}\": not an integer"))?,
-                ),
+                "Real" => Value::Real(text_value.trim().parse().map_err(|_| bad("Real", "not a number"))?),
+                "Integer" => Value::Integer(text_value.trim().parse().map_err(|_| bad("Integer", "not an integer"))?),
                 _ => Value::Boolean(match text_value.trim() {
                     "true" | "1" => true,
                     "false" | "0" => false,
-                    _ => return Err(format!("{at}, ssv:Boolean value=\"{text_value}\": expected true or false")),
+                    _ => return Err(bad("Boolean", "expected true or false")),
                 }),
             };
             let unit = attr(e, "unit", &at)?;
@@ -173,9 +180,16 @@ pub fn parse(path: &str, text: &str) -> Result<Vec<Entry>, String> {
         push(&mut stack, &local, empty);
     }
     if let Some((name, l, false)) = current {
-        return Err(format!("{path}, line {l}, parameter {name}: no Real, Integer or Boolean value"));
+        return Err(no_value(path, l, &name));
     }
     Ok(entries)
+}
+
+fn no_value(path: &str, line: usize, name: &str) -> Error {
+    Error::InFile {
+        at: Place::field(path, line, format!("parameter {name}")),
+        problem: "no Real, Integer or Boolean value".into(),
+    }
 }
 
 fn push(stack: &mut Vec<String>, local: &str, empty: bool) {
@@ -185,18 +199,18 @@ fn push(stack: &mut Vec<String>, local: &str, empty: bool) {
 }
 
 /// Reads an .ssv file.
-pub fn read(path: &Path) -> Result<Vec<Entry>, String> {
-    let text = std::fs::read_to_string(path).map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
+pub fn read(path: &Path) -> Result<Vec<Entry>, Error> {
+    let text = std::fs::read_to_string(path).map_err(|source| Error::Read { path: path.to_path_buf(), source })?;
     parse(&path.display().to_string(), &text)
 }
 
 /// Applies the parameters of an .ssv file to `p`: every name must be a parameter of the model, of
 /// the file's type, in the model's range and unit.
-pub fn apply(p: &mut Parameters, path: &Path) -> Result<Vec<Entry>, String> {
+pub fn apply(p: &mut Parameters, path: &Path) -> Result<Vec<Entry>, Error> {
     let entries = read(path)?;
     for e in &entries {
-        let at = format!("{}, line {}, parameter {}", path.display(), e.line, e.name);
-        let param = lookup(&e.name).map_err(|err| format!("{at}: {err}"))?;
+        let at = Place::field(path.display().to_string(), e.line, format!("parameter {}", e.name));
+        let param = lookup(&e.name).map_err(|err| err.at(at.clone()))?;
         let type_ok = matches!(
             (param, e.value),
             (Param::Real(_), Value::Real(_))
@@ -208,19 +222,25 @@ pub fn apply(p: &mut Parameters, path: &Path) -> Result<Vec<Entry>, String> {
             (Param::Real(_), Value::Integer(i)) => i.to_string(),
             _ if type_ok => e.value.to_string(),
             (param, value) => {
-                return Err(format!(
-                    "{at}: the file gives {} {value}, the model's parameter is {}",
-                    kind(value),
-                    param_kind(param)
-                ))
+                return Err(Error::InFile {
+                    at,
+                    problem: format!(
+                        "the file gives {} {value}, the model's parameter is {}",
+                        kind(value),
+                        param_kind(param)
+                    ),
+                })
             }
         };
         if let (Param::Real(v), Some(unit)) = (param, &e.unit) {
             if unit != v.unit() && !(unit.is_empty() && v.unit() == "1") {
-                return Err(format!("{at}: unit \"{unit}\", the model's unit is \"{}\"", v.unit()));
+                return Err(Error::InFile {
+                    at,
+                    problem: format!("unit \"{unit}\", the model's unit is \"{}\"", v.unit()),
+                });
             }
         }
-        set_parameter(p, &e.name, &text).map_err(|err| format!("{at}: {err}"))?;
+        set_parameter(p, &e.name, &text).map_err(|err| err.at(at))?;
     }
     Ok(entries)
 }
@@ -248,7 +268,7 @@ fn base_unit(unit: &str) -> Vec<(String, String)> {
     loop {
         match reader.read_event() {
             Ok(Event::Start(e)) | Ok(Event::Empty(e)) if e.local_name().as_ref() == "Unit" => {
-                inside = attr(&e, "name", "").ok().flatten().as_deref() == Some(unit);
+                inside = attr(&e, "name", &Place::line("", 0)).ok().flatten().as_deref() == Some(unit);
             }
             Ok(Event::Start(e)) | Ok(Event::Empty(e)) if inside && e.local_name().as_ref() == "BaseUnit" => {
                 return e
@@ -422,13 +442,14 @@ mod tests {
         let e = parse("g.ssv", &good).unwrap();
         assert_eq!((e[0].value, e[0].line, e[1].value, e[1].line), (Value::Integer(3), 4, Value::Boolean(true), 5));
         let bad = format!("{head}<ssv:Parameter name=\"r_port\">\n  <ssv:Real value=\"abc\"/>\n</ssv:Parameter>\n</ssv:Parameters></ssv:ParameterSet>\n");
-        let err = parse("b.ssv", &bad).unwrap_err();
+        let err = parse("b.ssv", &bad).unwrap_err().to_string();
         assert!(err.starts_with("b.ssv, line 5, parameter r_port, ssv:Real value=\"abc\""), "{err}");
-        let err = parse("r.ssv", "<a/>").unwrap_err();
+        let err = parse("r.ssv", "<a/>").unwrap_err().to_string();
         assert!(err.contains("r.ssv, line 1") && err.contains("not an ssv:ParameterSet"), "{err}");
         let err =
             parse("x.ssv", &format!("{head}<ssv:Parameter name=\"r_port\"><ssv:Real value=\"1\"></ssv:Parameter>"))
-                .unwrap_err();
+                .unwrap_err()
+                .to_string();
         assert!(err.contains("x.ssv, line 4: not well-formed"), "{err}");
     }
 }

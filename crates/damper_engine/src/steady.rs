@@ -13,9 +13,10 @@
 //! those where the velocity changes slowly against the oil column's time constant, away from
 //! reversals ([`steady_points`]).
 
+use crate::error::Error;
 use crate::lm::{self, Bound};
 use crate::model::Drive;
-use crate::parameters::get_real;
+use crate::parameters::real;
 use crate::settings::{apply, Entry};
 use semi_active_damper::effects::PlantSignals;
 use semi_active_damper::physics::fluid::{orifice_flow, viscosity_ratio};
@@ -145,7 +146,7 @@ pub struct SteadyFit {
 }
 
 /// Residuals of the steady law with `entries` = `x` on top of `p`, each point at its setting.
-fn residuals(p: &Parameters, entries: &[Entry], x: &[f64], points: &[SteadyPoint]) -> Result<Vec<f64>, String> {
+fn residuals(p: &Parameters, entries: &[Entry], x: &[f64], points: &[SteadyPoint]) -> Result<Vec<f64>, Error> {
     let settings = points.iter().map(|pt| pt.setting + 1).max().unwrap_or(1);
     let per_setting: Vec<(Parameters, Derived)> = (0..settings)
         .map(|s| {
@@ -155,14 +156,12 @@ fn residuals(p: &Parameters, entries: &[Entry], x: &[f64], points: &[SteadyPoint
             let d = q.derive();
             Ok((q, d))
         })
-        .collect::<Result<_, String>>()?;
+        .collect::<Result<_, Error>>()?;
     points
         .iter()
         .map(|pt| {
             let (q, d) = &per_setting[pt.setting];
-            steady_force(q, d, pt)
-                .map(|f| f - pt.force)
-                .ok_or_else(|| format!("no pressure drop passes the flow at v = {} m/s", pt.v))
+            steady_force(q, d, pt).map(|f| f - pt.force).ok_or(Error::NoPressureDrop { v: pt.v })
         })
         .collect()
 }
@@ -180,14 +179,14 @@ pub fn fit_steady(
     entries: &[Entry],
     points: &[SteadyPoint],
     pool: &rayon::ThreadPool,
-) -> Result<SteadyFit, String> {
+) -> Result<SteadyFit, Error> {
     if points.len() < 4 * entries.len() {
-        return Err(format!("{} quasi-steady samples: too few to fit {} parameters", points.len(), entries.len()));
+        return Err(Error::TooFewSamples { samples: points.len(), parameters: entries.len() });
     }
     let stride = points.len().div_ceil(MAX_POINTS);
     let points: Vec<SteadyPoint> = points.iter().step_by(stride).copied().collect();
     let points = points.as_slice();
-    let starts: Vec<f64> = entries.iter().map(|e| get_real(p, e.name)).collect::<Result<_, _>>()?;
+    let starts: Vec<f64> = entries.iter().map(|e| real(p, e.name)).collect::<Result<_, _>>()?;
     let bounds: Vec<Bound> =
         entries.iter().zip(&starts).map(|(e, &s)| wide_box(e.name, s)).collect::<Result<_, _>>()?;
     let rms = |r: &[f64]| (r.iter().map(|x| x * x).sum::<f64>() / r.len() as f64).sqrt();
@@ -212,7 +211,7 @@ pub fn fit_steady(
             }
         }
     }
-    let best = best.ok_or("the steady fit failed from every start")?;
+    let best = best.ok_or(Error::SteadyFitFailed)?;
     Ok(SteadyFit {
         fitted: entries.iter().zip(&starts).zip(&best.x).map(|((&e, &s), &x)| (e, s, x)).collect(),
         rms_before,
@@ -223,10 +222,10 @@ pub fn fit_steady(
 }
 
 /// [start/30, 30·start] within the model's range, on a log scale; a linear box for a start of 0.
-fn wide_box(name: &str, start: f64) -> Result<Bound, String> {
+fn wide_box(name: &str, start: f64) -> Result<Bound, Error> {
     let v = match crate::parameters::lookup(name)? {
         crate::parameters::Param::Real(v) => v,
-        _ => return Err(format!("{name} is not a Real parameter")),
+        _ => return Err(Error::NotOfKind { name: name.to_string(), kind: "Real parameter", is: None }),
     };
     let (min, max) = (v.min().unwrap_or(f64::NEG_INFINITY), v.max().unwrap_or(f64::INFINITY));
     if start > 0.0 {
@@ -235,7 +234,7 @@ fn wide_box(name: &str, start: f64) -> Result<Bound, String> {
             return Ok(Bound { lo, hi, log: true });
         }
     }
-    Err(format!("{name} = {start}: a steady fit needs a positive start value"))
+    Err(Error::NoPositiveStart { name: name.to_string(), start })
 }
 
 #[cfg(test)]
@@ -309,7 +308,7 @@ mod tests {
         let pool = crate::model::thread_pool(1).unwrap();
         let fit = fit_steady(&start, &entries, &points, &pool).unwrap();
         for (e, _, x) in &fit.fitted {
-            let t = get_real([&truth, &opened][e.setting.unwrap_or(0)], e.name).unwrap();
+            let t = real([&truth, &opened][e.setting.unwrap_or(0)], e.name).unwrap();
             assert!((x - t).abs() <= 1e-3 * t, "{e:?}: {x} against {t}");
         }
         assert!(fit.rms_after < 1e-2 && fit.rms_before > 30.0, "{fit:?}");

@@ -18,6 +18,7 @@
 //! ```
 
 use crate::dsp::{std, Lowpass};
+use crate::error::Error;
 
 /// The lowest crossover (Hz): below it the displacement always gives the stroke.
 pub const STROKE_CROSSOVER_HZ: f64 = 1.0;
@@ -59,7 +60,7 @@ pub struct Fused {
 
 /// The velocity whose integral follows `x` below the crossover ([`Fused`]); an error when the two
 /// disagree above it by more than [`MAX_DISAGREEMENT`] of the stroke's spread (RMS).
-pub fn velocity_following_displacement(t: &[f64], v: &[f64], x: &[f64]) -> Result<Fused, String> {
+pub fn velocity_following_displacement(t: &[f64], v: &[f64], x: &[f64]) -> Result<Fused, Error> {
     let n = t.len();
     let dt = (t[n - 1] - t[0]) / (n - 1) as f64;
     let (sigma_v, sigma_x) = (white_noise(v), white_noise(x));
@@ -108,13 +109,11 @@ pub fn velocity_following_displacement(t: &[f64], v: &[f64], x: &[f64]) -> Resul
     let fast: Vec<f64> = e.iter().zip(&slow).map(|(e, s)| e - s).collect();
     let spread = std(x);
     if std(&fast) > MAX_DISAGREEMENT * spread {
-        return Err(format!(
-            "the integral of v_damper departs from x_damper by {:.3} mm RMS above {STROKE_CROSSOVER_HZ} Hz, {:.0} % of \
-             the stroke's spread: check the two columns' units and signs (velocity extension +, displacement \
-             extension +)",
-            std(&fast) * 1e3,
-            100.0 * std(&fast) / spread.max(1e-300)
-        ));
+        return Err(Error::VelocityDisplacement {
+            rms: std(&fast) * 1e3,
+            crossover_hz: STROKE_CROSSOVER_HZ,
+            share: 100.0 * std(&fast) / spread.max(1e-300),
+        });
     }
     let rate = crate::dsp::differentiate(t, &smooth);
     Ok(Fused {
@@ -160,6 +159,6 @@ mod tests {
         assert!(worst < 5e-5, "the corrected stroke is {worst} m off");
         // a displacement in the wrong unit is refused
         let x_mm: Vec<f64> = x.iter().map(|x| x * 1e3).collect();
-        assert!(velocity_following_displacement(&t, &v, &x_mm).unwrap_err().contains("units and signs"));
+        assert!(velocity_following_displacement(&t, &v, &x_mm).unwrap_err().to_string().contains("units and signs"));
     }
 }

@@ -5,6 +5,7 @@
 //! and read back as NaN.
 
 use crate::parameters::Value;
+use crate::verdict::Verdict;
 use indexmap::IndexMap;
 use serde::{Deserialize, Deserializer, Serialize};
 
@@ -95,8 +96,8 @@ pub struct Summary {
     pub model_run_s: f64,
     /// Notes on the data and the settings.
     pub warnings: Vec<String>,
-    /// Diagnose: `effect`, `partial`, `none`, `does_not_fit` or `unexplained`; compare: null.
-    pub verdict: Option<String>,
+    /// Diagnose: what it concludes ([`Verdict`]); compare: null.
+    pub verdict: Option<Verdict>,
     /// Diagnose: the best plausible candidate, if any; compare: null.
     pub best_effect: Option<String>,
     /// Diagnose: every candidate effect, best first; compare: null.

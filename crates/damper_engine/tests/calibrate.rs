@@ -7,7 +7,7 @@ use crate::common;
 use damper_engine::calibrate::{calibrate, CalibrateOptions, Calibration, Status};
 use damper_engine::calibration_file::parameter_set;
 use damper_engine::comparison::{build_model, CompareOptions};
-use damper_engine::diagnosed::diagnose_measurement;
+use damper_engine::diagnose_measurement::diagnose_measurement;
 use damper_engine::generate::GenerateOptions;
 use damper_engine::parameters::get_real;
 use damper_engine::ssv;
@@ -147,7 +147,7 @@ fn the_parameter_set_round_trips_and_a_bad_one_names_line_and_field() {
         let f = dir.join(name);
         std::fs::write(&f, text.replacen(from, to, 1)).unwrap();
         let line = text[..text.find(from).unwrap()].matches('\n').count() + 1;
-        (ssv::apply(&mut Parameters::default(), &f).unwrap_err(), f.display().to_string(), line)
+        (ssv::apply(&mut Parameters::default(), &f).unwrap_err().to_string(), f.display().to_string(), line)
     };
     // an unknown name: the line of its ssv:Parameter
     let (e, f, line) = bad("unknown.ssv", "name=\"V_hose\"", "name=\"V_hoses\"");

@@ -8,8 +8,9 @@
 use crate::common;
 
 use damper_engine::comparison::CompareOptions;
-use damper_engine::diagnosed::{diagnose_measurement, Diagnosed};
+use damper_engine::diagnose_measurement::{diagnose_measurement, Diagnosed};
 use damper_engine::parameters::get_real;
+use damper_engine::verdict::Verdict;
 use semi_active_damper::effects::Candidacy;
 
 /// The floors.
@@ -55,7 +56,7 @@ fn each_hidden_catalog_effect_is_named_and_fitted() {
                 d.verdict, d.best_effect, best.effect, best.reduction, best.nrmse_validation, d.nrmse_noise_floor
             );
             eprintln!("{what}");
-            assert_eq!(d.verdict, "effect", "{what}");
+            assert_eq!(d.verdict, Verdict::Effect, "{what}");
             assert_eq!(d.best_effect, Some(effect), "{what}");
             // room to halve the NRMSE: the baseline at least twice what "at the floor" allows
             // (a candidate at exactly the floor from a baseline of 2× it cuts exactly half)
@@ -74,7 +75,7 @@ fn nothing_hidden_gives_none() {
         let dir = common::scratch(&format!("diag_none_{seed}"));
         let (csv, _) = common::generate(&dir, "m", |o| o.seed = seed);
         let d = run(&csv).diagnosis;
-        assert_eq!(d.verdict, "none", "seed {seed}: {}", d.explanation);
+        assert_eq!(d.verdict, Verdict::NothingMissing, "seed {seed}: {}", d.explanation);
         assert_eq!(d.best_effect, None);
     }
 }
@@ -101,7 +102,7 @@ fn an_effect_outside_the_catalog_is_unexplained() {
     let drifted = dir.join("drifted.csv");
     std::fs::write(&drifted, out).unwrap();
     let d = run(&drifted).diagnosis;
-    assert_eq!(d.verdict, "unexplained", "{}", d.explanation);
+    assert_eq!(d.verdict, Verdict::Unexplained, "{}", d.explanation);
     assert_eq!(d.best_effect, None);
 }
 
@@ -120,7 +121,7 @@ fn two_hidden_effects_are_both_found_by_the_ladder() {
             d.verdict, d.effects, d.nrmse_baseline, d.ladder.nrmse_validation, d.nrmse_noise_floor, d.explanation
         );
         eprintln!("{what}");
-        assert_eq!(d.verdict, "effect", "{what}");
+        assert_eq!(d.verdict, Verdict::Effect, "{what}");
         let mut found = d.effects.clone();
         found.sort();
         let mut truth = vec![a, b];
@@ -157,12 +158,12 @@ fn a_user_written_effect_turns_unexplained_into_named() {
     o.load_cell_lowpass_hz = Some(400.0);
     o.skip = vec!["viscous_friction".into()];
     let before = diagnose_measurement(&o, 2, &|_, _, _| {}).unwrap().diagnosis;
-    assert_eq!(before.verdict, "unexplained", "{}", before.explanation);
+    assert_eq!(before.verdict, Verdict::Unexplained, "{}", before.explanation);
     assert!(before.effects.is_empty());
     o.skip.clear();
     let r = diagnose_measurement(&o, 2, &|_, _, _| {}).unwrap();
     let d = &r.diagnosis;
-    assert_eq!((d.verdict, d.best_effect), ("effect", Some("viscous_friction")), "{}", d.explanation);
+    assert_eq!((d.verdict, d.best_effect), (Verdict::Effect, Some("viscous_friction")), "{}", d.explanation);
     let fitted = d.candidates[0].params[0].1;
     let truth = get_real(&g.params, "c_viscous").unwrap();
     assert!((fitted - truth).abs() <= PARAM_TOLERANCE * truth, "c_viscous {fitted} vs {truth}");
@@ -202,7 +203,7 @@ fn hil_inputs_name_every_effect() {
             d.verdict, d.best_effect, d.nrmse_baseline, best.nrmse_validation, d.nrmse_noise_floor
         );
         eprintln!("{what}");
-        assert_eq!((d.verdict, d.best_effect), ("effect", Some(effect)), "{what}");
+        assert_eq!((d.verdict, d.best_effect), (Verdict::Effect, Some(effect)), "{what}");
         assert!(best.nrmse_validation <= FLOOR_FACTOR * d.nrmse_noise_floor, "{what}");
         // a size the record cannot pin (the oil temperature's viscosity coefficient on a damper
         // whose force has no viscous term: only the gas's temperature acts) is reported without an

@@ -200,7 +200,7 @@ impl<M: Model> Instance<M> {
         info: fn(u32) -> Option<VarInfo>,
         vrs: &[u32],
         values: &[T],
-        set: impl Fn(&mut M, u32, T) -> Result<(), String>,
+        set: impl Fn(&mut M, u32, T) -> Result<(), crate::Refusal>,
     ) -> Outcome {
         // with no variable (nvr = 0) the call is still subject to the state table
         if !allowed(self.phase, Api::SetFixed) && !allowed(self.phase, Api::SetInput) {
@@ -221,7 +221,7 @@ impl<M: Model> Instance<M> {
         &mut self,
         function: &str,
         values: impl Iterator<Item = (u32, T)>,
-        set: impl Fn(&mut M, u32, T) -> Result<(), String>,
+        set: impl Fn(&mut M, u32, T) -> Result<(), crate::Refusal>,
     ) -> Outcome {
         let before = self.slave.settable();
         for (vr, value) in values {

@@ -17,10 +17,12 @@ mod guard;
 mod instance;
 #[allow(unsafe_code)]
 mod logger;
+mod refusal;
 pub mod snapshot;
 mod state_machine;
 
 pub use instance::{Failure, Instance};
+pub use refusal::{check_integer, check_real, Refusal, Unreadable};
 pub use state_machine::Phase;
 
 /// Causality of a variable (the subset these FMUs use).
@@ -55,22 +57,22 @@ pub trait Model: Default {
     fn integer_info(vr: u32) -> Option<VarInfo>;
     fn boolean_info(vr: u32) -> Option<VarInfo>;
 
-    fn get_real(&self, vr: u32) -> Result<f64, String>;
-    fn get_integer(&self, vr: u32) -> Result<i32, String>;
-    fn get_boolean(&self, vr: u32) -> Result<bool, String>;
+    fn get_real(&self, vr: u32) -> Result<f64, Refusal>;
+    fn get_integer(&self, vr: u32) -> Result<i32, Refusal>;
+    fn get_boolean(&self, vr: u32) -> Result<bool, Refusal>;
     /// What the `set_*` functions below change (the parameters, the inputs and what goes with
     /// them). A batch of values is applied all or nothing: the FMI layer keeps a copy of this
     /// part, not of the whole model, and puts it back when one value is refused. (Copying the
-    /// damper's whole model, integrator state and tables, at every fmi2SetReal cost more than
-    /// its communication step: JOURNAL.md, performance, ninth round.)
+    /// damper's whole model, integrator state and tables, at every fmi2SetReal costs more than
+    /// its communication step.)
     type Settable;
     fn settable(&self) -> Self::Settable;
     fn restore_settable(&mut self, settable: Self::Settable);
 
     /// Sets a value, refusing non-finite or out-of-range values with a message.
-    fn set_real(&mut self, vr: u32, value: f64) -> Result<(), String>;
-    fn set_integer(&mut self, vr: u32, value: i32) -> Result<(), String>;
-    fn set_boolean(&mut self, vr: u32, value: bool) -> Result<(), String>;
+    fn set_real(&mut self, vr: u32, value: f64) -> Result<(), Refusal>;
+    fn set_integer(&mut self, vr: u32, value: i32) -> Result<(), Refusal>;
+    fn set_boolean(&mut self, vr: u32, value: bool) -> Result<(), Refusal>;
 
     /// `CoSimulation/@canInterpolateInputs` of the model description: whether
     /// [`Model::set_real_input_derivative`] takes derivatives (else fmi2SetRealInputDerivatives is
@@ -78,15 +80,15 @@ pub trait Model: Default {
     const CAN_INTERPOLATE_INPUTS: bool = false;
     /// Sets the `order`-th time derivative of the Real input `vr` (causality checked by the
     /// caller), from the start of the next communication step.
-    fn set_real_input_derivative(&mut self, vr: u32, order: i32, value: f64) -> Result<(), String> {
+    fn set_real_input_derivative(&mut self, vr: u32, order: i32, value: f64) -> Result<(), Refusal> {
         let _ = (vr, order, value);
-        Err("canInterpolateInputs is false".into())
+        Err(Refusal::NoInputDerivatives)
     }
     /// Takes the tolerance a master gives `fmi2SetupExperiment` (toleranceDefined): Ok with what
     /// the model made of it, for the log, or Err when the value is refused.
-    fn use_tolerance(&mut self, tolerance: f64) -> Result<ToleranceNote, String>;
+    fn use_tolerance(&mut self, tolerance: f64) -> Result<ToleranceNote, Refusal>;
     /// Checks the parameters and starts at `start_time` (s).
-    fn initialize(&mut self, start_time: f64) -> Result<(), String>;
+    fn initialize(&mut self, start_time: f64) -> Result<(), Refusal>;
     /// Time of the model's state (s), `None` before initialisation.
     fn time(&self) -> Option<f64>;
     /// Sets the model's clock to the master's communication point (equal to within rounding).
@@ -99,11 +101,11 @@ pub trait Model: Default {
     fn do_step(&mut self, h: f64) -> Result<Option<Self::StepWarning>, Self::StepError>;
 
     fn state(&self) -> Self::State;
-    fn set_state(&mut self, state: &Self::State) -> Result<(), String>;
+    fn set_state(&mut self, state: &Self::State) -> Result<(), Refusal>;
     /// Whether a state is initialised (then fmi2SetFMUstate leaves the instance in StepComplete).
     fn state_time(state: &Self::State) -> Option<f64>;
     fn serialize(state: &Self::State) -> Vec<u8>;
-    fn deserialize(bytes: &[u8]) -> Result<Self::State, String>;
+    fn deserialize(bytes: &[u8]) -> Result<Self::State, Refusal>;
 }
 
 /// Inside an `impl Model for …` whose Integer and Boolean variables are all parameters: the
@@ -126,28 +128,24 @@ macro_rules! parameter_access {
             BooleanVar::from_vr(vr).map(BooleanVar::info)
         }
 
-        fn get_integer(&self, vr: u32) -> Result<i32, String> {
-            IntegerVar::from_vr(vr)
-                .and_then(|v| self.params.integer(v))
-                .ok_or_else(|| format!("unknown value reference {vr}"))
+        fn get_integer(&self, vr: u32) -> Result<i32, $crate::Refusal> {
+            IntegerVar::from_vr(vr).and_then(|v| self.params.integer(v)).ok_or($crate::Refusal::UnknownReference(vr))
         }
 
-        fn get_boolean(&self, vr: u32) -> Result<bool, String> {
-            BooleanVar::from_vr(vr)
-                .and_then(|v| self.params.boolean(v))
-                .ok_or_else(|| format!("unknown value reference {vr}"))
+        fn get_boolean(&self, vr: u32) -> Result<bool, $crate::Refusal> {
+            BooleanVar::from_vr(vr).and_then(|v| self.params.boolean(v)).ok_or($crate::Refusal::UnknownReference(vr))
         }
 
-        fn set_integer(&mut self, vr: u32, value: i32) -> Result<(), String> {
-            let v = IntegerVar::from_vr(vr).ok_or_else(|| format!("unknown value reference {vr}"))?;
+        fn set_integer(&mut self, vr: u32, value: i32) -> Result<(), $crate::Refusal> {
+            let v = IntegerVar::from_vr(vr).ok_or($crate::Refusal::UnknownReference(vr))?;
             $crate::check_integer(v.name(), value, v.min(), v.max())?;
-            *self.params.integer_mut(v).ok_or_else(|| format!("{} cannot be set", v.name()))? = value;
+            *self.params.integer_mut(v).ok_or($crate::Refusal::NotSettable(v.name()))? = value;
             Ok(())
         }
 
-        fn set_boolean(&mut self, vr: u32, value: bool) -> Result<(), String> {
-            let v = BooleanVar::from_vr(vr).ok_or_else(|| format!("unknown value reference {vr}"))?;
-            *self.params.boolean_mut(v).ok_or_else(|| format!("{} cannot be set", v.name()))? = value;
+        fn set_boolean(&mut self, vr: u32, value: bool) -> Result<(), $crate::Refusal> {
+            let v = BooleanVar::from_vr(vr).ok_or($crate::Refusal::UnknownReference(vr))?;
+            *self.params.boolean_mut(v).ok_or($crate::Refusal::NotSettable(v.name()))? = value;
             Ok(())
         }
     };
@@ -522,26 +520,4 @@ macro_rules! export_fmi2 {
 pub enum ToleranceNote {
     Event(String),
     Warning(String),
-}
-
-/// Refuses a non-finite `value` for the Real variable `name`, or one outside the model
-/// description's [`min`, `max`].
-pub fn check_real(name: &str, value: f64, min: Option<f64>, max: Option<f64>) -> Result<(), String> {
-    if !value.is_finite() {
-        return Err(format!("{name} = {value} refused: not a finite number"));
-    }
-    let (lo, hi) = (min.unwrap_or(f64::NEG_INFINITY), max.unwrap_or(f64::INFINITY));
-    if value < lo || value > hi {
-        return Err(format!("{name} = {value} refused: outside [{lo}, {hi}]"));
-    }
-    Ok(())
-}
-
-/// Refuses a `value` for the Integer variable `name` outside the model description's [`min`, `max`].
-pub fn check_integer(name: &str, value: i32, min: Option<i32>, max: Option<i32>) -> Result<(), String> {
-    let (lo, hi) = (min.unwrap_or(i32::MIN), max.unwrap_or(i32::MAX));
-    if value < lo || value > hi {
-        return Err(format!("{name} = {value} refused: outside [{lo}, {hi}]"));
-    }
-    Ok(())
 }

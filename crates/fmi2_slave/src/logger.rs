@@ -58,14 +58,16 @@ impl Logger {
     }
 
     /// fmi2SetDebugLogging: all categories when `names` is empty, else the named ones.
-    pub fn set_debug_logging(&mut self, on: bool, names: &[&CStr]) -> Result<(), String> {
+    pub fn set_debug_logging(&mut self, on: bool, names: &[&CStr]) -> Result<(), crate::Refusal> {
         if names.is_empty() {
             self.enabled = [on; CATEGORIES.len()];
             return Ok(());
         }
         for name in names {
-            let k =
-                CATEGORIES.iter().position(|c| c == name).ok_or_else(|| format!("unknown log category {name:?}"))?;
+            let k = CATEGORIES
+                .iter()
+                .position(|c| c == name)
+                .ok_or_else(|| crate::Refusal::LogCategory(name.to_string_lossy().into_owned()))?;
             self.enabled[k] = on;
         }
         Ok(())

@@ -3,6 +3,8 @@
 //! format version, GUID, length), so a blob from another model, version or interface is refused
 //! by [`from_bytes`] instead of misread.
 
+use crate::Unreadable;
+
 /// Walks over numeric fields; a writer reads them, a reader overwrites them.
 pub trait Visitor {
     fn real(&mut self, x: &mut f64);
@@ -116,34 +118,33 @@ pub fn to_bytes<T: Visit + Clone>(magic: &[u8; 8], guid: &str, item: &T) -> Vec<
 /// does not read back to the same bytes (a Boolean word other than 0 or 1, an integer out of its
 /// type's range): what is accepted is exactly what a state of this layout serialises to. The
 /// values' ranges are the model's to check.
-pub fn from_bytes<T: Visit + Clone>(magic: &[u8; 8], guid: &str, bytes: &[u8], item: &mut T) -> Result<(), String> {
-    let err = |what: &str| Err(format!("serialized FMU state rejected: {what}"));
-    let Some((head, rest)) = bytes.split_first_chunk::<8>() else { return err("shorter than its header") };
+pub fn from_bytes<T: Visit + Clone>(magic: &[u8; 8], guid: &str, bytes: &[u8], item: &mut T) -> Result<(), Unreadable> {
+    let Some((head, rest)) = bytes.split_first_chunk::<8>() else { return Err(Unreadable::ShorterThanHeader) };
     if head != magic {
-        return err("not a state of this model (bad magic)");
+        return Err(Unreadable::BadMagic);
     }
     let mut r = Reader { bytes: rest, short: false };
     if u64::from_le_bytes(r.word()) != FORMAT_VERSION {
-        return err("unknown format version");
+        return Err(Unreadable::FormatVersion);
     }
     let guid_len = u64::from_le_bytes(r.word()) as usize;
     if r.bytes.len() < guid_len || &r.bytes[..guid_len] != guid.as_bytes() {
-        return err("made by a model with another GUID");
+        return Err(Unreadable::OtherGuid);
     }
     r.bytes = &r.bytes[guid_len..];
     let len = u64::from_le_bytes(r.word()) as usize;
     if r.short || r.bytes.len() != len {
-        return err("payload length does not match");
+        return Err(Unreadable::PayloadLength);
     }
     let payload = r.bytes;
     item.visit(&mut r);
     if r.short || !r.bytes.is_empty() {
-        return err("payload does not match this model's state layout");
+        return Err(Unreadable::Layout);
     }
     let mut again = Vec::with_capacity(payload.len());
     item.clone().visit(&mut Writer(&mut again));
     if again != payload {
-        return err("a field is not in its type's range (Boolean not 0 or 1, integer overflow)");
+        return Err(Unreadable::FieldRange);
     }
     Ok(())
 }

@@ -5,7 +5,7 @@
 #![allow(unsafe_code)]
 
 use fmi2_slave::api::fmi2::*;
-use fmi2_slave::{Causality, Model, ToleranceNote, VarInfo};
+use fmi2_slave::{Causality, Model, Refusal, ToleranceNote, VarInfo};
 use std::ffi::{CStr, CString};
 use std::sync::Mutex;
 
@@ -38,13 +38,13 @@ impl Model for Fragile {
     fn boolean_info(_: u32) -> Option<VarInfo> {
         None
     }
-    fn get_real(&self, vr: u32) -> Result<f64, String> {
+    fn get_real(&self, vr: u32) -> Result<f64, Refusal> {
         Ok(if vr == 1 { self.input } else { self.steps })
     }
-    fn get_integer(&self, _: u32) -> Result<i32, String> {
+    fn get_integer(&self, _: u32) -> Result<i32, Refusal> {
         unreachable!()
     }
-    fn get_boolean(&self, _: u32) -> Result<bool, String> {
+    fn get_boolean(&self, _: u32) -> Result<bool, Refusal> {
         unreachable!()
     }
     type Settable = f64;
@@ -54,20 +54,20 @@ impl Model for Fragile {
     fn restore_settable(&mut self, input: f64) {
         self.input = input;
     }
-    fn set_real(&mut self, _: u32, value: f64) -> Result<(), String> {
+    fn set_real(&mut self, _: u32, value: f64) -> Result<(), Refusal> {
         self.input = value;
         Ok(())
     }
-    fn set_integer(&mut self, _: u32, _: i32) -> Result<(), String> {
+    fn set_integer(&mut self, _: u32, _: i32) -> Result<(), Refusal> {
         unreachable!()
     }
-    fn set_boolean(&mut self, _: u32, _: bool) -> Result<(), String> {
+    fn set_boolean(&mut self, _: u32, _: bool) -> Result<(), Refusal> {
         unreachable!()
     }
-    fn use_tolerance(&mut self, _: f64) -> Result<ToleranceNote, String> {
+    fn use_tolerance(&mut self, _: f64) -> Result<ToleranceNote, Refusal> {
         Ok(ToleranceNote::Event(String::new()))
     }
-    fn initialize(&mut self, start_time: f64) -> Result<(), String> {
+    fn initialize(&mut self, start_time: f64) -> Result<(), Refusal> {
         self.time = Some(start_time);
         Ok(())
     }
@@ -89,7 +89,7 @@ impl Model for Fragile {
     fn state(&self) -> Self::State {
         self.clone()
     }
-    fn set_state(&mut self, state: &Self::State) -> Result<(), String> {
+    fn set_state(&mut self, state: &Self::State) -> Result<(), Refusal> {
         *self = state.clone();
         Ok(())
     }
@@ -99,8 +99,8 @@ impl Model for Fragile {
     fn serialize(_: &Self::State) -> Vec<u8> {
         Vec::new()
     }
-    fn deserialize(_: &[u8]) -> Result<Self::State, String> {
-        Err("not needed here".into())
+    fn deserialize(_: &[u8]) -> Result<Self::State, Refusal> {
+        Err(Refusal::Unreadable(fmi2_slave::Unreadable::ShorterThanHeader))
     }
 }
 

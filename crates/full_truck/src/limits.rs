@@ -2,6 +2,7 @@
 
 use crate::body::{Params, State, CORNERS, DOF, MODE_IDEAL, MODE_PASSIVE, MODE_TRACKING};
 
+use suspension::error::SuspensionError;
 use suspension::integration::{eigenvalue_bound, substeps};
 pub use suspension::integration::{MAX_SUBSTEPS, RK4_STABLE_RADIUS};
 
@@ -52,15 +53,15 @@ impl Params {
     }
 
     /// Refuses parameters for which RK4 with steps of `h_max` could be unstable.
-    pub fn validate(&self) -> Result<(), String> {
+    pub fn validate(&self) -> Result<(), SuspensionError> {
         let z = self.h_max * self.eigenvalue_bound();
         if z > RK4_STABLE_RADIUS {
-            return Err(format!(
-                "h_max·|λ|max = {z:.3} exceeds RK4's stable {RK4_STABLE_RADIUS}: lower h_max, or the stiffness or \
-                 damping (*.k_susp, *.k_tyre, *.k_roll, c_susp, c_tyre, Cm/c_passive/c_min) against the masses and \
-                 inertias (m_body, I_pitch, I_roll, *.m_axle, *.J_axle), or a tracking_time_constant_* shorter than \
-                 h_max/2.5"
-            ));
+            return Err(SuspensionError::Unstable {
+                z,
+                advice: "the stiffness or damping (*.k_susp, *.k_tyre, *.k_roll, c_susp, c_tyre, Cm/c_passive/c_min) \
+                         against the masses and inertias (m_body, I_pitch, I_roll, *.m_axle, *.J_axle), or a \
+                         tracking_time_constant_* shorter than h_max/2.5",
+            });
         }
         Ok(())
     }
@@ -83,6 +84,6 @@ mod tests {
     fn a_light_axle_roll_is_refused_with_its_name() {
         // an axle of 0.01 kg·m² rolling on 1.95 MN/m tyres 0.925 m out: |λ| ≈ sqrt(2 k a²/J) ≈ 18 000/s
         let p = Params { drive1_j_axle: 0.01, ..Params::default() };
-        assert!(p.validate().unwrap_err().contains("J_axle"));
+        assert!(p.validate().unwrap_err().to_string().contains("J_axle"));
     }
 }

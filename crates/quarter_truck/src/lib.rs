@@ -9,11 +9,11 @@
 //!   outputs (exhaustive matches over the generated enums);
 //! - [`limits`]: the step limit and the RK4 stability check of the parameters;
 //! - [`slave`]: variable access, initialisation and stepping, without FMI types;
-//! - [`snapshot`]: the FMU state's bytes;
+//! - [`fmu_state`]: the FMU state's bytes;
 //! - [`fmi2`]: the C API, emitted by the shared `fmi2_slave` crate.
+pub mod fmu_state;
 pub mod limits;
 pub mod slave;
-pub mod snapshot;
 pub mod truck;
 pub mod variables;
 

@@ -1,6 +1,7 @@
 //! What keeps the truck's steps bounded and its explicit integration stable (docs/robustness.md).
 
 use crate::truck::{Params, MODE_IDEAL, MODE_PASSIVE, MODE_TRACKING};
+use suspension::error::SuspensionError;
 use suspension::integration::{eigenvalue_bound, substeps};
 pub use suspension::integration::{MAX_SUBSTEPS, RK4_STABLE_RADIUS};
 
@@ -29,14 +30,14 @@ impl Params {
     }
 
     /// Refuses parameters for which RK4 with steps of `h_max` could be unstable.
-    pub fn validate(&self) -> Result<(), String> {
+    pub fn validate(&self) -> Result<(), SuspensionError> {
         let z = self.h_max * self.eigenvalue_bound();
         if z > RK4_STABLE_RADIUS {
-            return Err(format!(
-                "h_max·|λ|max = {z:.3} exceeds RK4's stable {RK4_STABLE_RADIUS}: lower h_max, or the stiffness or \
-                 damping (k_susp, k_tyre, c_susp, c_tyre, Cm/c_passive/c_min) against the masses (m_body, m_axle), \
-                 or a tracking_time_constant_* shorter than h_max/2.5"
-            ));
+            return Err(SuspensionError::Unstable {
+                z,
+                advice: "the stiffness or damping (k_susp, k_tyre, c_susp, c_tyre, Cm/c_passive/c_min) against the \
+                         masses (m_body, m_axle), or a tracking_time_constant_* shorter than h_max/2.5",
+            });
         }
         Ok(())
     }
@@ -61,6 +62,6 @@ mod tests {
         let p = Params { m_body: 1.7, k_susp: 1e9, m_axle: 1e5, k_tyre: 1.0, ..Params::default() };
         let exact = (1e9f64 / 1.7).sqrt();
         assert!(p.eigenvalue_bound() >= exact && p.eigenvalue_bound() < 2.0 * exact);
-        assert!(p.validate().unwrap_err().contains("m_body"));
+        assert!(p.validate().unwrap_err().to_string().contains("m_body"));
     }
 }

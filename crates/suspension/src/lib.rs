@@ -16,6 +16,7 @@
 //! let passive = PassiveDamper::linear(20e3);
 //! assert_eq!(passive.force(-0.05), -1000.0);
 //! ```
+pub mod error;
 pub mod integration;
 pub mod laws;
 pub mod tracking;

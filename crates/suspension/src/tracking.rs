@@ -11,6 +11,8 @@
 //! (`damper_mode` 1) exactly; a lag that never moves gives the passive floor `c_min·v`
 //! (`damper_mode` 2 with `c_passive = c_min`). docs/benefit-map.md sweeps between them.
 
+use crate::error::SuspensionError;
+
 /// Samples of the demand the history keeps: 127 ms at the default 0.25 ms internal step.
 pub const HISTORY: usize = 512;
 
@@ -44,12 +46,12 @@ impl DemandHistory {
 
     /// Whether a restored history is one [`DemandHistory::push`] could have made: finite numbers,
     /// indices inside the ring.
-    pub fn check(&self) -> Result<(), &'static str> {
+    pub fn check(&self) -> Result<(), SuspensionError> {
         if !self.time.iter().chain(&self.demand).all(|x| x.is_finite()) {
-            return Err("the demand's past holds a number that is not finite");
+            return Err(SuspensionError::PastNotFinite);
         }
         if self.len > HISTORY || self.newest >= HISTORY {
-            return Err("the demand's past has an index beyond its ring");
+            return Err(SuspensionError::PastIndex);
         }
         Ok(())
     }

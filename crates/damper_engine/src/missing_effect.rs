@@ -13,18 +13,19 @@
 
 use crate::candidate::{Candidate, FitSetup};
 use crate::dsp::nrmse_kept;
+use crate::error::Error;
 use crate::floor::{floor, Numerics};
 use crate::ladder::{climb, Ladder};
 use crate::record_parts::{self, Part};
-use crate::verdict::{judge, Judged};
+use crate::verdict::{judge, Judged, Verdict};
 use semi_active_damper::effects::EffectInfo;
 use semi_active_damper::physics::params::Parameters;
 
 /// The outcome of a diagnosis.
 #[derive(Clone, Debug)]
 pub struct Diagnosis {
-    /// `effect`, `partial`, `none`, `does_not_fit` or `unexplained` ([`crate::verdict`]).
-    pub verdict: &'static str,
+    /// What the diagnosis concludes ([`crate::verdict`]).
+    pub verdict: Verdict,
     pub best_effect: Option<&'static str>,
     pub nrmse_baseline: f64,
     /// The floor the verdict judges by ([`crate::floor::Floor::nrmse`]).
@@ -51,15 +52,12 @@ pub fn diagnose(
     specs: &[&'static EffectInfo],
     baseline: &Parameters,
     numerics: &Numerics<'_>,
-) -> Result<Diagnosis, String> {
+) -> Result<Diagnosis, Error> {
     let (measured, split, informative) = (fit.measured, fit.split, fit.informative);
     let nrmse_baseline = nrmse_kept(&measured[split..], &numerics.base[split..], &informative.keep[split..]);
     let floor = floor(measured, numerics, split, informative);
     if !nrmse_baseline.is_finite() || !floor.nrmse.is_finite() {
-        return Err(format!(
-            "nothing to diagnose: the validation NRMSE is {nrmse_baseline} and the noise floor {} (is the measured force constant?)",
-            floor.nrmse
-        ));
+        return Err(Error::NothingToDiagnose { nrmse: nrmse_baseline, floor: floor.nrmse });
     }
     let errors = (nrmse_baseline, floor.nrmse);
     let candidates = fit.all(specs, baseline, errors)?;
@@ -84,7 +82,7 @@ pub fn diagnose(
 /// No `none` while a part of the record is far above its floor ([`record_parts`]): the verdict
 /// becomes `unexplained`, naming the part.
 fn whole_record(judged: Judged, parts: &[Part]) -> Judged {
-    let Some(far) = record_parts::far_above_floor(parts).filter(|_| judged.verdict == "none") else {
+    let Some(far) = record_parts::far_above_floor(parts).filter(|_| judged.verdict == Verdict::NothingMissing) else {
         return judged;
     };
     let explanation = format!(
@@ -97,5 +95,5 @@ fn whole_record(judged: Judged, parts: &[Part]) -> Judged {
         far.rms_residual,
         far.rms_floor
     );
-    Judged { verdict: "unexplained", explanation, ..judged }
+    Judged { verdict: Verdict::Unexplained, explanation, ..judged }
 }

@@ -5,16 +5,18 @@ use crate::before_after::{self, After};
 use crate::candidate::{FitSetup, Progress, MAX_FIT_SECONDS};
 use crate::comparison::{self, CompareOptions, Comparison, ANALYSIS_RTOL};
 use crate::criteria::NUMERICS_CHECK_FACTOR;
-use crate::diagnose::{diagnose, Diagnosis};
 use crate::dsp::noise_sigma;
+use crate::error::Error;
 use crate::floor::Numerics;
 use crate::force_velocity;
+use crate::missing_effect::{diagnose, Diagnosis};
 use crate::model::{force_simulator, thread_pool, Drive};
 use crate::parameters::{set_effect, set_real};
 use crate::propagation::{inherited, CalibrationCovariance};
 use crate::residual_signature::{self, Quantity};
 use crate::sensitivity::ShiftedRuns;
 use crate::units::Column;
+use crate::verdict::Verdict;
 use semi_active_damper::physics::params::Parameters;
 
 /// A finished diagnosis with its comparison.
@@ -26,7 +28,8 @@ pub struct Diagnosed {
 }
 
 /// Reads, compares and diagnoses (no files written, nothing printed) on `threads` threads;
-/// `progress` is told of each candidate fitted.
+/// `progress` is told of each candidate fitted. The error is a message: [`comparison::compare`]'s is
+/// one until measurement.rs is converted.
 pub fn diagnose_measurement(
     opts: &CompareOptions,
     threads: usize,
@@ -35,7 +38,7 @@ pub fn diagnose_measurement(
     let opts = &CompareOptions { rtol_at_most: Some(ANALYSIS_RTOL), velocity_made_again: true, ..opts.clone() };
     let c = comparison::compare(opts)?;
     let split = comparison::split_index(&c.measurement, opts.split)?;
-    let measured = c.measurement.get(Column::FDamper).ok_or("the measurement has no F_damper column")?.to_vec();
+    let measured = c.measurement.get(Column::FDamper).ok_or(Error::NoForceColumn)?.to_vec();
     let simulate = force_simulator(c.setup.backend.as_ref(), &c.drive, opts.load_cell_lowpass_hz);
     let baseline = c.setup.model.params;
     let skipped =
@@ -44,7 +47,7 @@ pub fn diagnose_measurement(
         .filter(|e| !skipped.contains(&e.key))
         .collect();
     if candidates.is_empty() {
-        return Err("--skip leaves no candidate effect".into());
+        return Err(Error::NoCandidates.into());
     }
     let pool = thread_pool(threads)?;
     let train = split.min((MAX_FIT_SECONDS / c.measurement.median_interval()).round() as usize);
@@ -98,12 +101,12 @@ pub fn diagnose_measurement(
         effects => Some(before_after::after(&c, effects, d.ladder.params)?),
     };
     let left = after.as_ref().map_or(&c.analysis, |a| &a.analysis);
-    if d.verdict == "does_not_fit" {
+    if d.verdict == Verdict::DoesNotFit {
         let (verdict, explanation) = does_not_fit_why(&d.explanation, left, &c.drive.v_damper, &measured, base);
         (d.verdict, d.explanation) = (verdict, explanation);
     }
     // what is left unexplained, and what it follows: where to look for the effect to write
-    if matches!(d.verdict, "unexplained" | "partial" | "does_not_fit") {
+    if d.verdict.leaves_error() {
         let follows = residual_signature::sentence(&left.signature, left.dominant_band);
         d.explanation = format!("{}. What is left: {follows}.", d.explanation.trim_end_matches('.'));
     }
@@ -117,7 +120,7 @@ fn inherit(
     fit: &FitSetup<'_>,
     baseline: &Parameters,
     calibration: &CalibrationCovariance,
-) -> Result<(), String> {
+) -> Result<(), Error> {
     for c in d.candidates.iter_mut().filter(|c| d.effects.contains(&c.effect)) {
         let mut model = *baseline;
         set_effect(&mut model, c.effect, true)?;
@@ -147,13 +150,13 @@ fn does_not_fit_why(
     v: &[f64],
     measured: &[f64],
     model: &[f64],
-) -> (&'static str, String) {
+) -> (Verdict, String) {
     let local = left.signature.first().filter(|f| {
         f.share >= LOCAL_SHARE && matches!(f.quantity, Quantity::Stroke | Quantity::Time | Quantity::Temperature)
     });
     if let Some(f) = local {
         return (
-            "unexplained",
+            Verdict::Unexplained,
             format!(
                 "the model misses one effect the catalog lacks, not the damper's kind: {:.0} % of the error above the noise follows the {} alone, where the model's laws of velocity and force would spread it; write the effect (docs/effects.md) and diagnose again",
                 100.0 * f.share,
@@ -162,10 +165,11 @@ fn does_not_fit_why(
         );
     }
     match force_velocity::contrast(v, measured, model) {
-        Some(laws) => {
-            ("does_not_fit", format!("{}. The force–velocity laws differ: {laws}", explanation.trim_end_matches('.')))
-        }
-        None => ("does_not_fit", explanation.to_string()),
+        Some(laws) => (
+            Verdict::DoesNotFit,
+            format!("{}. The force–velocity laws differ: {laws}", explanation.trim_end_matches('.')),
+        ),
+        None => (Verdict::DoesNotFit, explanation.to_string()),
     }
 }
 

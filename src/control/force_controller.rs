@@ -13,7 +13,7 @@
 //! the clip ([`super::integral_at_saturation`]).
 
 use super::{integral_at_saturation, FilteredDerivative, Measurements};
-use crate::physics::params::{Derived, ForceController, Parameters};
+use crate::physics::params::{Derived, ForceLaw, Parameters};
 
 /// Smallest valve-area demand (m²).
 const A_DEMAND_MIN: f64 = 1e-7;
@@ -23,7 +23,7 @@ pub const A_FEEDFORWARD_MIN: f64 = 2e-7;
 
 /// Outer-loop state.
 #[derive(Clone, Copy, Debug, Default)]
-pub struct ForceLoop {
+pub struct ForceController {
     /// Integral term (1 for law 0, m for law 1).
     pub integral: f64,
     /// Derivative of the relative error.
@@ -37,15 +37,15 @@ pub fn clip_to_dissipative(force_demand: f64, v: f64) -> f64 {
     s * (s * force_demand).max(0.0)
 }
 
-impl ForceLoop {
+impl ForceController {
     /// Spool demand (m) for the (already clipped) force demand `f_demand` (N).
     pub fn step(&mut self, p: &Parameters, d: &Derived, f_demand: f64, m: Measurements) -> f64 {
         let ts = p.t_sample;
         let s = if m.v_damper >= 0.0 { 1.0 } else { -1.0 };
         // a product by the reciprocal: the division does not wait for the measured force
         let error = s * (f_demand - m.force) * (1.0 / f_demand.abs().max(p.f_ref_min));
-        match d.force_controller {
-            ForceController::FeedforwardLogArea => {
+        match d.force_law {
+            ForceLaw::FeedforwardLogArea => {
                 let rate = self.error_rate.update(error, ts, p.tau_df);
                 let integral = self.integral + p.ki_f * error * ts;
                 let others = p.kp_f * error + p.kd_f * rate;
@@ -66,7 +66,7 @@ impl ForceLoop {
                     .max(p.x_lap)
                     .min(d.x_demand_max)
             }
-            ForceController::PaperPid => {
+            ForceLaw::PaperPid => {
                 let rate = self.error_rate.update(error, ts, p.tau_df);
                 let integral = self.integral + p.ki_f_pid * error * ts;
                 let others = p.kp_f_pid * error + p.kd_f_pid * rate;

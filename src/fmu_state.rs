@@ -2,13 +2,13 @@
 //! parameters (the generated field lists), inputs and damper state is visited in a fixed order
 //! (destructuring makes a new field of the others a compile error until it is visited here).
 
-use crate::control::{Controller, DelayLine, FilteredDerivative, ForceLoop, SpoolLoop};
+use crate::control::{Controller, DelayLine, FilteredDerivative, ForceController, SpoolLoop};
 use crate::damper::{DamperState, Inputs};
 use crate::model_description::{Causality, IntegerVar, RealVar};
 use crate::physics::params::Parameters;
 use crate::slave::SlaveState;
 use fmi2_slave::snapshot::{all_finite, boolean, int32, uint, uint64, Visit, Visitor};
-use fmi2_slave::{check_integer, check_real};
+use fmi2_slave::{check_integer, check_real, Refusal};
 
 /// Tag of a serialised damper state.
 pub const MAGIC: &[u8; 8] = b"SADAMPER";
@@ -64,8 +64,9 @@ impl Visit for DamperState {
         for x in y.iter_mut() {
             v.real(x);
         }
-        let Controller { force_loop, spool_loop, delay, x_spool_demand, force_demand_clipped, force_tare } = controller;
-        let ForceLoop { integral, error_rate } = force_loop;
+        let Controller { force_controller, spool_loop, delay, x_spool_demand, force_demand_clipped, force_tare } =
+            controller;
+        let ForceController { integral, error_rate } = force_controller;
         v.real(integral);
         error_rate.visit(v);
         let SpoolLoop { integral, velocity } = spool_loop;
@@ -83,9 +84,9 @@ impl Visit for DamperState {
 /// parameter in its XML range, and once initialised, parameters that pass initialisation's checks,
 /// the delay line, step-size proposal and sample grid consistent with them and with the time.
 /// Inputs are only required finite: the velocity moves along its ramp beyond its range's reach.
-pub fn check_restored(s: &SlaveState) -> Result<(), String> {
+pub fn check_restored(s: &SlaveState) -> Result<(), Refusal> {
     if !all_finite(s) {
-        return Err("a number is not finite".into());
+        return Err(Refusal::StateNotFinite("a number"));
     }
     let p = &s.params;
     for v in RealVar::ALL.into_iter().filter(|v| v.causality() == Causality::Parameter) {
@@ -95,7 +96,7 @@ pub fn check_restored(s: &SlaveState) -> Result<(), String> {
         check_integer(v.name(), p.integer(v).expect("a parameter"), v.min(), v.max())?;
     }
     let Some(d) = &s.damper else { return Ok(()) };
-    s.params.validate()?;
+    s.params.validate().map_err(Refusal::model)?;
     let ts = s.params.t_sample;
     let next_sample = d.start_time + d.next_sample as f64 * ts;
     let checks = [
@@ -104,7 +105,7 @@ pub fn check_restored(s: &SlaveState) -> Result<(), String> {
         (d.next_sample < 1 << 53 && (next_sample - d.time - 0.5 * ts).abs() <= ts, "the sample grid and the time"),
     ];
     match checks.iter().find(|(ok, _)| !ok) {
-        Some((_, what)) => Err(format!("{what} do not match the parameters")),
+        Some((_, what)) => Err(Refusal::Inconsistent(what)),
         None => Ok(()),
     }
 }

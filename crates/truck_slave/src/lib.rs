@@ -1,0 +1,210 @@
+//! The co-simulation slave that `QuarterTruck.fmu` and `FullTruck.fmu` share: [`truck_slave!`]
+//! defines, inside a truck crate's `slave` module, the `Slave` struct (the FMU state: parameters,
+//! inputs, states, the demand's past, time) and its `fmi2_slave::Model` implementation: variable
+//! access through the generated enums with the XML's ranges, initialisation with the RK4 stability
+//! check, RK4 steps that put everything back when a step fails, and the FMU state's checks.
+//!
+//! A macro, not a generic type, because the slave works on each crate's own generated variable
+//! enums and parameter struct (from its `modelDescription.xml`), which share no trait, and because
+//! the crate's `Visit` impl of the state (its field order, `fmu_state.rs`) must be on a local type.
+//!
+//! The invoking module has in scope: the generated `RealVar`, `IntegerVar`, `BooleanVar`,
+//! `Causality`, `GUID`, `CAN_INTERPOLATE_INPUTS`; the truck's `Params`, `Inputs`, `State`,
+//! `Evaluation`, `At`, `MODE_TRACKING`; `MAX_SUBSTEPS`, `MAGIC`, `DemandHistory`, `real_input`; and
+//! from `fmi2_slave`: `Model`, `Refusal`, `ToleranceNote`, `check_real`, `check_integer`,
+//! `snapshot`. It implements on `Slave` what differs between the trucks:
+//!
+//! - `fn output(&self, y: &State, e: &Evaluation, v: RealVar) -> Option<f64>`: an output's value;
+//! - `fn outputs_finite(&self) -> bool`: whether every output is a finite number;
+//! - `fn pasts(&self) -> &[DemandHistory]`: the demands' pasts, for the restored state's check;
+//! - `fn hold_road_end(&mut self, h: f64)` and `fn road_finite(&self) -> bool`: the road inputs
+//!   extrapolated over a step of `h` (s), held at their end values for the outputs.
+
+/// Defines `Slave` with the demand's past of type `$past` ([crate docs](crate)).
+#[macro_export]
+macro_rules! truck_slave {
+    ($past:ty) => {
+        /// The FMU state: parameters, inputs, and once initialised the states and time.
+        #[derive(Clone, Copy, Debug, Default)]
+        pub struct Slave {
+            pub(crate) params: Params,
+            pub(crate) inputs: Inputs,
+            pub(crate) y: State,
+            /// The clipped demand's past, for the tracking damper's delay.
+            pub(crate) past: $past,
+            pub(crate) time: f64,
+            pub(crate) initialized: bool,
+        }
+
+        impl Slave {
+            /// State and evaluation for the outputs: the present state, or the start state before
+            /// initialisation. The road is taken at the end of the last step (the held inputs).
+            fn evaluation(&self) -> (State, Evaluation) {
+                let y = if self.initialized { self.y } else { self.params.start_state() };
+                let at = At { step_start: self.time, since_step: 0.0, past: &self.past };
+                (y, self.params.evaluate(&self.inputs, &y, at))
+            }
+
+            /// Checks that a restored state is one this FMU could have made: every parameter in
+            /// its XML range (and, once initialised, stable), every number finite.
+            fn check_restored(&self) -> Result<(), Refusal> {
+                let (mut p, mut u) = (self.params, self.inputs);
+                for v in RealVar::ALL {
+                    if let Some(x) = p.real_mut(v) {
+                        check_real(v.name(), *x, v.min(), v.max())?;
+                    }
+                    if let Some(x) = real_input(&mut u, v) {
+                        check_real(v.name(), *x, None, None)?;
+                    }
+                }
+                let mode = IntegerVar::DamperMode;
+                check_integer(mode.name(), self.params.damper_mode, mode.min(), mode.max())?;
+                if !self.y.iter().chain([&self.time]).all(|x| x.is_finite()) {
+                    return Err(Refusal::StateNotFinite("a state or the time"));
+                }
+                for past in self.pasts() {
+                    past.check().map_err(Refusal::model)?;
+                }
+                if self.initialized {
+                    self.params.validate().map_err(Refusal::model)?;
+                }
+                Ok(())
+            }
+        }
+
+        impl Model for Slave {
+            const GUID: &'static str = GUID;
+            const CAN_INTERPOLATE_INPUTS: bool = CAN_INTERPOLATE_INPUTS;
+            type State = Slave;
+            type StepError = &'static str;
+            type StepWarning = std::convert::Infallible;
+
+            fmi2_slave::parameter_access!();
+
+            fn get_real(&self, vr: u32) -> Result<f64, Refusal> {
+                let v = RealVar::from_vr(vr).ok_or(Refusal::UnknownReference(vr))?;
+                let (mut p, mut u) = (self.params, self.inputs);
+                if let Some(x) = p.real_mut(v).or(real_input(&mut u, v)) {
+                    return Ok(*x);
+                }
+                let (y, e) = self.evaluation();
+                let x = self.output(&y, &e, v).ok_or(Refusal::UnknownReference(vr))?;
+                if !x.is_finite() {
+                    return Err(Refusal::OutputNotFinite { name: v.name(), value: x });
+                }
+                Ok(x)
+            }
+
+            type Settable = (Params, Inputs);
+
+            fn settable(&self) -> Self::Settable {
+                (self.params, self.inputs)
+            }
+
+            fn restore_settable(&mut self, (params, inputs): Self::Settable) {
+                (self.params, self.inputs) = (params, inputs);
+            }
+
+            fn set_real(&mut self, vr: u32, value: f64) -> Result<(), Refusal> {
+                let v = RealVar::from_vr(vr).ok_or(Refusal::UnknownReference(vr))?;
+                check_real(v.name(), value, v.min(), v.max())?;
+                let field = match v.causality() {
+                    Causality::Parameter => self.params.real_mut(v),
+                    Causality::Input => real_input(&mut self.inputs, v),
+                    Causality::Output => None,
+                };
+                *field.ok_or(Refusal::Output(v.name()))? = value;
+                Ok(())
+            }
+
+            /// The truck integrates with fixed RK4 steps: a tolerance has nothing to control.
+            fn use_tolerance(&mut self, tolerance: f64) -> Result<ToleranceNote, Refusal> {
+                Ok(ToleranceNote::Event(format!(
+                    "tolerance {tolerance} not used: fixed RK4 steps no longer than the parameter h_max"
+                )))
+            }
+
+            fn initialize(&mut self, start_time: f64) -> Result<(), Refusal> {
+                self.params.validate().map_err(Refusal::model)?;
+                self.y = self.params.start_state();
+                self.past = Default::default();
+                self.time = start_time;
+                self.initialized = true;
+                Ok(())
+            }
+
+            fn time(&self) -> Option<f64> {
+                self.initialized.then_some(self.time)
+            }
+
+            fn align_time(&mut self, t: f64) {
+                self.time = t;
+            }
+
+            fn check_step(&self, h: f64) -> Result<(), &'static str> {
+                if self.params.substeps(h) > MAX_SUBSTEPS {
+                    return Err("more than 1e7 integration steps (h/h_max) in one step");
+                }
+                let dt = h / self.params.substeps(h);
+                if self.params.damper_mode == MODE_TRACKING
+                    && self.params.tracking().longest_delay() > DemandHistory::span(dt)
+                {
+                    return Err("a tracking delay longer than the demand's past holds (510 internal steps of the \
+                                step divided by h_max): raise h_max or shorten tracking_delay_*");
+                }
+                Ok(())
+            }
+
+            fn do_step(&mut self, h: f64) -> Result<Option<Self::StepWarning>, &'static str> {
+                // what a refused step puts back; the demand's past (4 kB a side and corner) only
+                // where it moves
+                let (y0, z_road0, time0) = (self.y, self.inputs.z_road, self.time);
+                let past0 = (self.params.damper_mode == MODE_TRACKING).then_some(self.past);
+                let mut y = self.y;
+                self.params.advance(&self.inputs, &mut y, h, self.time, &mut self.past);
+                let restore = |s: &mut Self| {
+                    (s.y, s.inputs.z_road, s.time) = (y0, z_road0, time0);
+                    if let Some(past) = past0 {
+                        s.past = past;
+                    }
+                };
+                if !y.iter().all(|x| x.is_finite()) {
+                    restore(self);
+                    return Err("non-finite state");
+                }
+                self.y = y;
+                self.hold_road_end(h);
+                self.time += h;
+                if !self.outputs_finite() || !self.road_finite() {
+                    restore(self);
+                    return Err("an output is not finite at the end of the step");
+                }
+                Ok(None)
+            }
+
+            fn state(&self) -> Slave {
+                *self
+            }
+
+            fn set_state(&mut self, s: &Slave) -> Result<(), Refusal> {
+                *self = *s;
+                Ok(())
+            }
+
+            fn state_time(s: &Slave) -> Option<f64> {
+                s.time()
+            }
+
+            fn serialize(s: &Slave) -> Vec<u8> {
+                snapshot::to_bytes(MAGIC, GUID, s)
+            }
+
+            fn deserialize(bytes: &[u8]) -> Result<Slave, Refusal> {
+                let mut s = Slave::default();
+                snapshot::from_bytes(MAGIC, GUID, bytes, &mut s)?;
+                s.check_restored().map_err(Refusal::restored)?;
+                Ok(s)
+            }
+        }
+    };
+}
