@@ -4,7 +4,8 @@
 #      RMS force error against a converged run at each tolerance; one against six dampers;
 #   2. the FMU against the plain-Python cross-check on the same input (damper-crosscheck);
 #   3. the diagnosis of a 60 s, 1 kHz record (damper generate, then damper diagnose), timed.
-# Writes out/benchmark/benchmark.md (and prints it). About 3 minutes on 2 cores.
+# Writes out/benchmark/benchmark.md (and prints it) and its headline figures, out/benchmark/figures.json
+# (damper_tools.benchmark_figures). About 3 minutes on 2 cores.
 #
 #   bash scripts/benchmark.sh
 set -euo pipefail
@@ -49,3 +50,7 @@ print(f"- one model run {s['model_run_s']:.2f} s at rtol {s['floor']['rtol']:g};
 PY
 } | tee -a "$report"
 echo "report: $report"
+# the headline figures, as docs/benchmark.json holds them (write them there with
+# `.venv/bin/python -m damper_tools.benchmark_figures out/benchmark/benchmark.md --docs`)
+.venv/bin/python -m damper_tools.benchmark_figures "$report" >"$out/figures.json"
+echo "figures: $out/figures.json"
