@@ -530,7 +530,7 @@ fn threads_arg(text: &str) -> Result<usize, String> {
 
 /// `KEY` or `KEY=VALUE`: the key is checked against the catalog here, the value where it is set.
 fn effect_arg(text: &str) -> Result<String, String> {
-    effect(text.split_once('=').map_or(text, |(key, _)| key))?;
+    effect(text.split_once('=').map_or(text, |(key, _)| key)).map_err(|e| e.to_string())?;
     Ok(text.to_string())
 }
 
@@ -538,14 +538,14 @@ fn effect_arg(text: &str) -> Result<String, String> {
 fn fit_arg(text: &str) -> Result<String, String> {
     let mut o = CalibrateOptions::new(Vec::new());
     o.fit = vec![text.to_string()];
-    o.names().map_err(|e| unprefixed(e, "--fit", text))?;
+    o.names().map_err(|e| unprefixed(e.to_string(), "--fit", text))?;
     Ok(text.to_string())
 }
 
 fn per_setting_arg(text: &str) -> Result<String, String> {
     let mut o = CalibrateOptions::new(Vec::new());
     o.per_setting = vec![text.to_string()];
-    o.per_setting_names().map_err(|e| unprefixed(e, "--per-setting", text))?;
+    o.per_setting_names().map_err(|e| unprefixed(e.to_string(), "--per-setting", text))?;
     Ok(text.to_string())
 }
 
@@ -567,7 +567,7 @@ fn positive_arg(text: &str) -> Result<f64, String> {
 }
 
 fn set_arg(text: &str) -> Result<(String, String), String> {
-    parse_assignment(text, "--set").map_err(|e| unprefixed(e, "--set", text))
+    parse_assignment(text, "--set").map_err(|e| unprefixed(e.to_string(), "--set", text))
 }
 
 fn flip_arg(text: &str) -> Result<Column, String> {
@@ -578,11 +578,11 @@ fn flip_arg(text: &str) -> Result<Column, String> {
 }
 
 fn map_arg(text: &str) -> Result<Mapping, String> {
-    Mapping::parse(text).map_err(|e| unprefixed(e, "--map", text))
+    Mapping::parse(text).map_err(|e| unprefixed(e.to_string(), "--map", text))
 }
 
 fn sensor_arg(text: &str) -> Result<String, String> {
-    Noise::default().set(text).map_err(|e| unprefixed(e, "--sensor", text))?;
+    Noise::default().set(text).map_err(|e| unprefixed(e.to_string(), "--sensor", text))?;
     Ok(text.to_string())
 }
 
@@ -660,7 +660,7 @@ fn usage_error(mut e: clap::Error) -> i32 {
 }
 
 fn run_init(a: InitArgs, g: &Global) -> Result<(), String> {
-    damper_engine::description::write_template(&a.out)?;
+    damper_engine::description::write_template(&a.out).map_err(|e| e.to_string())?;
     if !g.quiet {
         println!("damper init: wrote {} (a passive damper's example: edit it to describe yours)", a.out.display());
     }
@@ -668,7 +668,7 @@ fn run_init(a: InitArgs, g: &Global) -> Result<(), String> {
 }
 
 fn run_describe(a: DescribeArgs, g: &Global) -> Result<(), String> {
-    let (d, written) = description_cmd::described(&a.description)?;
+    let (d, written) = description_cmd::described(&a.description).map_err(|e| e.to_string())?;
     if let Some(path) = &a.ssv {
         let note = format!("damper describe {}", a.description.display());
         let text = damper_engine::ssv::to_string(&d.name, &note, &written);
@@ -710,7 +710,7 @@ fn run_calibrate(a: CalibrateArgs, g: &Global) -> Result<(), String> {
         let names = if o.fit.is_empty() { DEFAULT_FIT.join(", ") } else { o.fit.join(", ") };
         eprintln!("damper calibrate: fitting {names} on {threads} threads");
     }
-    let c = calibrate(&o, &progress)?;
+    let c = calibrate(&o, &progress).map_err(|e| e.to_string())?;
     calibrate_cmd::write(&c, &o, &out, g.quiet)
 }
 
@@ -747,7 +747,7 @@ fn run_diagnose(a: DiagnoseArgs, g: &Global) -> Result<(), String> {
     }
     let r = diagnose_measurement(&o, threads, &progress);
     bar.finish_and_clear();
-    let r = r?;
+    let r = r.map_err(|e| e.to_string())?;
     diagnose_cmd::write(&r, &out, g.quiet)?;
     if g.verbose {
         print_reader(&r.comparison.measurement);
@@ -797,7 +797,7 @@ fn print_reader(m: &Measurement) {
 fn run_generate(a: GenerateArgs, g: &Global) -> Result<(), String> {
     let t0 = Instant::now();
     let o = a.options();
-    let d = generate::write(&o)?;
+    let d = generate::write(&o).map_err(|e| e.to_string())?;
     if !g.quiet {
         let names: Vec<&str> = d.columns.iter().map(|(c, _)| c.name()).collect();
         println!(

@@ -11,7 +11,7 @@ use std::path::Path;
 /// `damper compare`: compare, write the report and the summary to `out`, print the summary unless
 /// `quiet`.
 pub fn run(opts: &CompareOptions, out: &Path, quiet: bool) -> Result<Comparison, String> {
-    let c = compare(opts)?;
+    let c = compare(opts).map_err(|e| e.to_string())?;
     std::fs::create_dir_all(out).map_err(|e| format!("{}: cannot create: {e}", out.display()))?;
     let json_path = out.join("summary.json");
     std::fs::write(&json_path, to_json(&json_summary::compared(&c)))

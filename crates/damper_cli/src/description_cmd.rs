@@ -3,11 +3,12 @@
 use damper_engine::description::Description;
 use damper_engine::parameters::{get_parameter, lookup, Param, Value};
 use damper_engine::ssv::Written;
+use damper_engine::Error;
 use std::path::Path;
 
 /// The description of `path` and the parameters it sets, at their values after it is applied
 /// (the last setting of a parameter wins), in the order first set.
-pub fn described(path: &Path) -> Result<(Description, Vec<Written>), String> {
+pub fn described(path: &Path) -> Result<(Description, Vec<Written>), Error> {
     let d = Description::read(path)?;
     let mut p = Default::default();
     d.apply(&mut p)?;

@@ -394,7 +394,12 @@ fn ladder(d: &Diagnosis) -> Vec<RungRecord> {
 
 /// The fitted size parameter of `key`: from its candidate (single), or from the ladder (pairs:
 /// the last kept rung that fitted it, a kept refit overriding the first fit).
-fn fit_check(d: &Diagnosis, g: &Generated, key: &'static str, from_ladder: bool) -> Result<FitCheck, String> {
+fn fit_check(
+    d: &Diagnosis,
+    g: &Generated,
+    key: &'static str,
+    from_ladder: bool,
+) -> Result<FitCheck, damper_engine::Error> {
     let e = effect(key)?;
     let param = e.fitted[0].name;
     let truth = get_real(&g.params, param)?;
@@ -424,7 +429,7 @@ fn run_case(c: &Case, dir: &Path) -> Result<Record, String> {
     o.input = c.input;
     o.effects = c.hidden.iter().map(|h| h.to_string()).collect();
     let t0 = Instant::now();
-    let g = generate::write(&o)?;
+    let g = generate::write(&o).map_err(|e| e.to_string())?;
     let measurement = if c.kind == Kind::Drift {
         let drifted = dir.join("drifted.csv");
         add_drift(&csv, &drifted)?;
@@ -438,12 +443,17 @@ fn run_case(c: &Case, dir: &Path) -> Result<Record, String> {
     // the HiL load cell is tared (README, `--tare-load-cell`); the rig's is raw
     co.tare_load_cell = c.input == InputStyle::Hil;
     let t1 = Instant::now();
-    let r = diagnose_measurement(&co, THREADS, &|_, _, _| {})?;
+    let r = diagnose_measurement(&co, THREADS, &|_, _, _| {}).map_err(|e| e.to_string())?;
     let seconds_diagnose = t1.elapsed().as_secs_f64();
     let d = &r.diagnosis;
     let ranks: Vec<Option<usize>> =
         c.hidden.iter().map(|h| d.candidates.iter().position(|x| x.effect == *h).map(|i| i + 1)).collect();
-    let fits = c.hidden.iter().map(|h| fit_check(d, &g, h, c.kind == Kind::Pair)).collect::<Result<Vec<_>, _>>()?;
+    let fits = c
+        .hidden
+        .iter()
+        .map(|h| fit_check(d, &g, h, c.kind == Kind::Pair))
+        .collect::<Result<Vec<_>, _>>()
+        .map_err(|e| e.to_string())?;
     let nrmse_after = match c.kind {
         Kind::Single => d.candidates.iter().find(|x| x.effect == c.hidden[0]).map_or(f64::NAN, |x| x.nrmse_validation),
         _ => d.ladder.nrmse_validation,

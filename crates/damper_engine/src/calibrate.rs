@@ -20,6 +20,7 @@
 
 use crate::comparison::{build_model, CompareOptions, ANALYSIS_RTOL};
 use crate::dsp::{noise_sigma, nrmse, std};
+use crate::error::{Error, Place};
 use crate::lm::{self, Bound, Solution};
 use crate::model::{thread_pool, Backend, Drive, Model};
 use crate::parameters::{changed_parameters, get_real, lookup, Param, Value};
@@ -130,12 +131,12 @@ impl CalibrateOptions {
     }
 
     /// The parameters fitted once per setting, checked: Real parameters, each once.
-    pub fn per_setting_names(&self) -> Result<Vec<&'static str>, String> {
+    pub fn per_setting_names(&self) -> Result<Vec<&'static str>, Error> {
         let mut names: Vec<&'static str> = Vec::new();
         for n in &self.per_setting {
-            let name = match lookup(n).map_err(|e| format!("--per-setting {n}: {e}"))? {
+            let name = match lookup(n).map_err(|e| e.context(format!("--per-setting {n}")))? {
                 Param::Real(v) => v.name(),
-                _ => return Err(format!("--per-setting {n}: only Real parameters can be fitted")),
+                _ => return Err(only_real(format!("--per-setting {n}"))),
             };
             if !names.contains(&name) {
                 names.push(name);
@@ -146,13 +147,13 @@ impl CalibrateOptions {
 
     /// The names to fit, checked: Real parameters of the model, each once ([`DEFAULT_FIT`] unless
     /// `--fit` names them).
-    pub fn names(&self) -> Result<Vec<&'static str>, String> {
+    pub fn names(&self) -> Result<Vec<&'static str>, Error> {
         self.names_for(None)
     }
 
     /// [`CalibrateOptions::names`] for the records' model `p`: a passive damper's default is
     /// [`PASSIVE_FIT`], of the parts it has.
-    pub fn names_for(&self, p: Option<&Parameters>) -> Result<Vec<&'static str>, String> {
+    pub fn names_for(&self, p: Option<&Parameters>) -> Result<Vec<&'static str>, Error> {
         let mut names: Vec<&'static str> = Vec::new();
         let passive: Vec<&str> = match p {
             Some(p) if crate::steady::is_passive(p) => {
@@ -164,9 +165,9 @@ impl CalibrateOptions {
             if self.fit.is_empty() { passive } else { self.fit.iter().map(String::as_str).collect() };
         let extra = if self.fit_controller { CONTROLLER_GAINS.as_slice() } else { &[] };
         for n in given.iter().chain(extra) {
-            let name = match lookup(n).map_err(|e| format!("--fit {n}: {e}"))? {
+            let name = match lookup(n).map_err(|e| e.context(format!("--fit {n}")))? {
                 Param::Real(v) => v.name(),
-                _ => return Err(format!("--fit {n}: only Real parameters can be fitted")),
+                _ => return Err(only_real(format!("--fit {n}"))),
             };
             if !names.contains(&name) {
                 names.push(name);
@@ -174,6 +175,11 @@ impl CalibrateOptions {
         }
         Ok(names)
     }
+}
+
+/// `option: only Real parameters can be fitted`.
+fn only_real(option: String) -> Error {
+    Error::BadOption { option, problem: "only Real parameters can be fitted".into() }
 }
 
 /// Whether the part a parameter belongs to is in the model: a valve's parameters need the valve,
@@ -326,9 +332,9 @@ struct Record {
     velocity_noise: Option<crate::velocity_noise::VelocityNoise>,
 }
 
-fn read_records(o: &CalibrateOptions, settings: &Settings) -> Result<Vec<Record>, String> {
+fn read_records(o: &CalibrateOptions, settings: &Settings) -> Result<Vec<Record>, Error> {
     if o.records.is_empty() {
-        return Err("no calibration record given".into());
+        return Err(Error::NoRecords);
     }
     o.records
         .iter()
@@ -339,7 +345,10 @@ fn read_records(o: &CalibrateOptions, settings: &Settings) -> Result<Vec<Record>
             let m = crate::comparison::read_checked(&c, path)?;
             // calibration fits the whole record: no validation part of its own
             crate::record_checks::check(&m, 0)?;
-            let measured = m.get(Column::FDamper).ok_or_else(|| format!("{}: no F_damper column", m.path))?.to_vec();
+            let measured = m
+                .get(Column::FDamper)
+                .ok_or_else(|| Error::InFile { at: Place::file(&m.path), problem: "no F_damper column".into() })?
+                .to_vec();
             let drive = Drive::from_measurement(&m);
             let setup = build_model(&c, &drive)?;
             let kept = m.excluded.iter().map(|e| !e).collect();
@@ -359,23 +368,23 @@ fn read_records(o: &CalibrateOptions, settings: &Settings) -> Result<Vec<Record>
 
 /// The fit's entries: the shared parameters once, those of `--per-setting` once per setting
 /// (each a setting's own only when there are several settings).
-fn fit_entries(o: &CalibrateOptions, settings: &Settings, p: &Parameters) -> Result<Vec<Entry>, String> {
+fn fit_entries(o: &CalibrateOptions, settings: &Settings, p: &Parameters) -> Result<Vec<Entry>, Error> {
     let per_setting = o.per_setting_names()?;
     if !per_setting.is_empty() && settings.labels.len() < 2 {
-        return Err(format!(
-            "--per-setting {}: the records are all of one setting; give records of several (--setting LABEL=FILE,…)",
-            per_setting.join(",")
-        ));
+        return Err(Error::BadOption {
+            option: format!("--per-setting {}", per_setting.join(",")),
+            problem: "the records are all of one setting; give records of several (--setting LABEL=FILE,…)".into(),
+        });
     }
     let shared: Vec<&'static str> = o.names_for(Some(p))?.into_iter().filter(|n| !per_setting.contains(n)).collect();
     Ok(settings.entries(&shared, &per_setting))
 }
 
 /// The search box of a parameter around its start value.
-fn search_box(name: &str, start: f64, p: &Parameters) -> Result<Bound, String> {
+fn search_box(name: &str, start: f64, p: &Parameters) -> Result<Bound, Error> {
     let v = match lookup(name)? {
         Param::Real(v) => v,
-        _ => return Err(format!("{name} is not a Real parameter")),
+        _ => return Err(Error::NotOfKind { name: name.to_string(), kind: "Real parameter", is: None }),
     };
     let (min, max) = (v.min().unwrap_or(f64::NEG_INFINITY), v.max().unwrap_or(f64::INFINITY));
     // relations validate() checks, kept inside the box
@@ -395,23 +404,20 @@ fn search_box(name: &str, start: f64, p: &Parameters) -> Result<Bound, String> {
     if lo < hi {
         Ok(Bound { lo, hi, log: false })
     } else {
-        Err(format!("{name} = {start}: no room to search within the model's range [{min}, {max}]"))
+        Err(Error::NoRoomToSearch { name: name.to_string(), start, min, max })
     }
 }
 
 /// Runs every record with the entries `entries` = `x` that apply to its setting on top of its own
 /// model.
-fn forces(records: &[Record], entries: &[Entry], x: &[f64]) -> Result<Vec<Vec<f64>>, String> {
+fn forces(records: &[Record], entries: &[Entry], x: &[f64]) -> Result<Vec<Vec<f64>>, Error> {
     records
         .iter()
         .map(|r| {
             let mut model = r.model;
             apply(&mut model.params, entries, x, r.setting)?;
-            model.params.validate().map_err(|e| e.to_string())?;
-            Ok(r.backend
-                .run_first(&model, &r.drive, r.drive.len(), false)
-                .map_err(|e| format!("{}: {e}", r.path))?
-                .f_damper)
+            model.params.validate()?;
+            Ok(r.backend.run_first(&model, &r.drive, r.drive.len(), false).map_err(|e| e.context(&r.path))?.f_damper)
         })
         .collect()
 }
@@ -424,7 +430,7 @@ fn forces(records: &[Record], entries: &[Entry], x: &[f64]) -> Result<Vec<Vec<f6
 /// calibrated parameters inherit ([`lm::covariance`]): a smoothed or filtered velocity rounds the
 /// motion alike at every corner, and the fit absorbs what that does to the force without a trace
 /// in its residuals. No draws where every record's noise is white ([`ShiftedRuns::input_error`]).
-fn inform(records: &mut [Record], base: &[Vec<f64>], pool: &rayon::ThreadPool) -> Result<Vec<Vec<f64>>, String> {
+fn inform(records: &mut [Record], base: &[Vec<f64>], pool: &rayon::ThreadPool) -> Result<Vec<Vec<f64>>, Error> {
     use rayon::prelude::*;
     let runs: Vec<ShiftedRuns> = pool.install(|| {
         records
@@ -433,11 +439,11 @@ fn inform(records: &mut [Record], base: &[Vec<f64>], pool: &rayon::ThreadPool) -
                 let run = |v_damper: Vec<f64>| {
                     let drive = Drive { v_damper, ..r.drive.clone() };
                     let run = r.backend.run_first(&r.model, &drive, drive.len(), false);
-                    Ok(run.map_err(|e| format!("{}: {e}", r.path))?.f_damper)
+                    Ok(run.map_err(|e| e.context(&r.path))?.f_damper)
                 };
                 ShiftedRuns::new(r.velocity_noise.as_ref(), &r.drive.v_damper, run)
             })
-            .collect::<Result<Vec<_>, String>>()
+            .collect::<Result<Vec<_>, Error>>()
     })?;
     let mut draws: Vec<Vec<Vec<f64>>> = Vec::with_capacity(records.len());
     for ((r, runs), base) in records.iter_mut().zip(&runs).zip(base) {
@@ -500,7 +506,7 @@ fn worst(s: &Solution, names: &[String], o: &CalibrateOptions) -> Option<(usize,
 }
 
 /// Calibrates: fits, holds what the records cannot pin, refits; `progress` is told of each round.
-pub fn calibrate(o: &CalibrateOptions, progress: &(dyn Fn(&Round) + Sync)) -> Result<Calibration, String> {
+pub fn calibrate(o: &CalibrateOptions, progress: &(dyn Fn(&Round) + Sync)) -> Result<Calibration, Error> {
     let t0 = Instant::now();
     let settings = Settings::group(&o.records, &o.settings)?;
     let mut records = read_records(o, &settings)?;
@@ -550,7 +556,7 @@ pub fn calibrate(o: &CalibrateOptions, progress: &(dyn Fn(&Round) + Sync)) -> Re
 }
 
 /// Each entry's value in the model of the first record it applies to.
-fn entry_values(entries: &[Entry], records: &[Record]) -> Result<Vec<f64>, String> {
+fn entry_values(entries: &[Entry], records: &[Record]) -> Result<Vec<f64>, Error> {
     entries
         .iter()
         .map(|e| {
@@ -593,7 +599,7 @@ struct FitRounds {
 impl Problem<'_> {
     /// The stacked residuals (model − measured, N) over the samples kept, with the entries
     /// `active` at `y` and every other at its value in `x_held`.
-    fn residuals(&self, active: &[usize], x_held: &[f64], y: &[f64]) -> Result<Vec<f64>, String> {
+    fn residuals(&self, active: &[usize], x_held: &[f64], y: &[f64]) -> Result<Vec<f64>, Error> {
         let mut all_x = x_held.to_vec();
         for (k, &i) in active.iter().enumerate() {
             all_x[i] = y[k];
@@ -616,7 +622,7 @@ impl Problem<'_> {
         given_values: &[f64],
         o: &CalibrateOptions,
         progress: &(dyn Fn(&Round) + Sync),
-    ) -> Result<FitRounds, String> {
+    ) -> Result<FitRounds, Error> {
         let n_entries = self.entries.len();
         let mut x = starts.to_vec();
         // the values of held entries (the others are overwritten by each fit)
@@ -758,7 +764,7 @@ fn steady_stage(
     entries: &[Entry],
     settings: &Settings,
     pool: &rayon::ThreadPool,
-) -> Result<Option<SteadyStage>, String> {
+) -> Result<Option<SteadyStage>, Error> {
     let base = records[0].model.params;
     if !crate::steady::is_passive(&base) {
         return Ok(None);

@@ -221,9 +221,8 @@ pub struct Comparison {
     pub warnings: Vec<String>,
 }
 
-/// Reads, runs and analyses (no files written). The error is a message: [`read_checked`]'s is one
-/// until measurement.rs is converted.
-pub fn compare(opts: &CompareOptions) -> Result<Comparison, String> {
+/// Reads, runs and analyses (no files written).
+pub fn compare(opts: &CompareOptions) -> Result<Comparison, Error> {
     let m = read_checked(opts, &opts.measurement)?;
     let split = split_index(&m, opts.split)?;
     crate::record_checks::check(&m, split)?;
@@ -245,9 +244,8 @@ pub fn compare(opts: &CompareOptions) -> Result<Comparison, String> {
 
 /// Reads a record with the options' columns, flips and gaps, and checks its traps
 /// ([`crate::record_traps`]): the samples a clipped force leaves out are marked in `excluded`, the
-/// warnings added to its notes. The error is a message: [`Measurement::read_flipped`]'s is one
-/// until measurement.rs is converted.
-pub fn read_checked(opts: &CompareOptions, path: &std::path::Path) -> Result<Measurement, String> {
+/// warnings added to its notes.
+pub fn read_checked(opts: &CompareOptions, path: &std::path::Path) -> Result<Measurement, Error> {
     let mut m = Measurement::read_flipped(path, &opts.maps, opts.max_gap, &opts.flips)?;
     if opts.velocity_made_again {
         m = m.with_velocity_made_again();

@@ -28,13 +28,12 @@ pub struct Diagnosed {
 }
 
 /// Reads, compares and diagnoses (no files written, nothing printed) on `threads` threads;
-/// `progress` is told of each candidate fitted. The error is a message: [`comparison::compare`]'s is
-/// one until measurement.rs is converted.
+/// `progress` is told of each candidate fitted.
 pub fn diagnose_measurement(
     opts: &CompareOptions,
     threads: usize,
     progress: &Progress<'_>,
-) -> Result<Diagnosed, String> {
+) -> Result<Diagnosed, Error> {
     let opts = &CompareOptions { rtol_at_most: Some(ANALYSIS_RTOL), velocity_made_again: true, ..opts.clone() };
     let c = comparison::compare(opts)?;
     let split = comparison::split_index(&c.measurement, opts.split)?;
@@ -47,7 +46,7 @@ pub fn diagnose_measurement(
         .filter(|e| !skipped.contains(&e.key))
         .collect();
     if candidates.is_empty() {
-        return Err(Error::NoCandidates.into());
+        return Err(Error::NoCandidates);
     }
     let pool = thread_pool(threads)?;
     let train = split.min((MAX_FIT_SECONDS / c.measurement.median_interval()).round() as usize);

@@ -21,6 +21,11 @@ pub struct Place {
 }
 
 impl Place {
+    /// `file`.
+    pub fn file(file: impl Into<String>) -> Place {
+        Place { file: file.into(), line: None, field: None }
+    }
+
     /// `file, line N`.
     pub fn line(file: impl Into<String>, line: usize) -> Place {
         Place { file: file.into(), line: Some(line), field: None }
@@ -115,6 +120,12 @@ pub enum Error {
     /// A unit symbol that is not known.
     #[error("unknown unit '{symbol}'")]
     UnknownUnit { symbol: String },
+    /// A column's unit symbol that is not known (`known`: the units that are).
+    #[error("unknown unit '{symbol}' (known: {known})")]
+    UnknownUnitOf { symbol: String, known: String },
+    /// A column's unit of another quantity than its variable's.
+    #[error("unit '{unit}' is {quantity}, but {column} is {column_quantity}")]
+    UnitOfOtherQuantity { unit: String, quantity: String, column: &'static str, column_quantity: String },
     /// A unit factor whose power is not an integer.
     #[error("bad power in '{term}'")]
     BadPower { term: String },
@@ -130,6 +141,9 @@ pub enum Error {
     /// A description that is not TOML.
     #[error("{file}, line {line}: not TOML: {}", source.message())]
     Toml { file: String, line: usize, source: Box<toml::de::Error> },
+    /// A CSV file that cannot be read as CSV.
+    #[error("{file}: {source}")]
+    Csv { file: String, source: csv::Error },
     /// A parameter set that is not well-formed XML.
     #[error("{file}, line {line}: not well-formed XML: {source}")]
     Xml { file: String, line: usize, source: quick_xml::Error },
@@ -168,6 +182,10 @@ pub enum Error {
     /// The worker threads cannot be started.
     #[error("cannot start {threads} threads: {source}")]
     Threads { threads: usize, source: rayon::ThreadPoolBuildError },
+    /// The worker threads cannot be started, for one of several runs (`cause`: the pool's error,
+    /// formatted, as one error is shared by every run).
+    #[error("cannot start {threads} threads: {cause}")]
+    ThreadsNotStarted { threads: usize, cause: String },
     /// A packaged FMU that cannot be used (`problem` in words).
     #[error("--fmu {}: {problem}", path.display())]
     FmuLoad { path: PathBuf, problem: String },
@@ -198,6 +216,26 @@ pub enum Error {
     /// A parameter whose type differs between the import and the run.
     #[error("parameter {name} changed its type")]
     TypeChanged { name: &'static str },
+
+    // ---- generated records ----
+    /// A passive damper's description for a HiL record (`--input hil`).
+    #[error("{}: a passive damper: --input hil needs a semi-active one", path.display())]
+    PassiveForHil { path: PathBuf },
+    /// The generator's truth parameters do not go together.
+    #[error("truth parameters: {0}")]
+    TruthParameters(#[source] ParameterError),
+    /// The generator's truth model failed.
+    #[error("the truth model failed at t = {t} s: {cause}")]
+    TruthFailed { t: f64, cause: StepError },
+    /// A record too short to generate.
+    #[error("--duration {duration} at --rate {rate} gives {samples} samples; at least 400 are needed")]
+    TooFewGenerated { duration: f64, rate: f64, samples: usize },
+    /// An option only for the rig's inputs (`why`: what follows the message, if anything).
+    #[error("{option} works with --input rig only{why}")]
+    RigOnly { option: &'static str, why: &'static str },
+    /// The record and its truth given the same file.
+    #[error("--out and --truth must be different files")]
+    SameOutAndTruth,
 
     // ---- the comparison's model and split ----
     /// A passive damper's description for a measurement with a demand.
@@ -238,6 +276,12 @@ pub enum Error {
     /// A steady fit's parameter without a positive start.
     #[error("{name} = {start}: a steady fit needs a positive start value")]
     NoPositiveStart { name: String, start: f64 },
+    /// A parameter's start value that leaves no room to search within its range.
+    #[error("{name} = {start}: no room to search within the model's range [{min}, {max}]")]
+    NoRoomToSearch { name: String, start: f64, min: f64, max: f64 },
+    /// A calibration without a record.
+    #[error("no calibration record given")]
+    NoRecords,
     /// An effect named that is not among the candidates.
     #[error("{key} is not among the candidate effects")]
     NotACandidate { key: String },
@@ -286,13 +330,5 @@ impl Error {
     /// `at: self`.
     pub fn at(self, at: Place) -> Error {
         Error::AtPlace { at, source: Box::new(self) }
-    }
-}
-
-/// The bridge for callers that still return `Result<_, String>`: their `?` turns an [`Error`]
-/// into its message. It goes once the last module is converted.
-impl From<Error> for String {
-    fn from(e: Error) -> String {
-        e.to_string()
     }
 }

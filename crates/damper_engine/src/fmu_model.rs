@@ -81,15 +81,8 @@ fn kind_of_value(v: Value) -> Kind {
 }
 
 impl FmuModel {
-    /// Imports the FMU at `path`; the errors name the path and what does not match. The error is
-    /// [`FmuModel::open`]'s message: crates/damper_cli's tests read it as a `String`; this goes once
-    /// they take the [`Error`].
-    pub fn load(path: &Path) -> Result<FmuModel, String> {
-        Ok(FmuModel::open(path)?)
-    }
-
     /// Imports the FMU at `path` and checks it against this program's parameters, inputs and
-    /// outputs ([`FmuModel::load`] with the error as it is).
+    /// outputs; the errors name the path and what does not match.
     pub fn open(path: &Path) -> Result<FmuModel, Error> {
         let refused = |problem: String| Error::FmuLoad { path: path.to_path_buf(), problem };
         if !path.is_file() {

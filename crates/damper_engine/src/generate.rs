@@ -30,6 +30,7 @@
 //! 50–500 N after some reversals).
 
 use crate::dsp::std;
+use crate::error::Error;
 use crate::model::{Demand, Drive, Model, Prediction};
 use crate::parameters::{
     changed_parameters, effect, get_parameter, get_real, set_effect, set_parameter, set_real, EffectExt,
@@ -99,8 +100,9 @@ impl Default for Noise {
 impl Noise {
     /// Sets one sensor from `NAME=NOISE[:QUANTUM]` (SI), NAME one of F_damper, v_damper,
     /// x_damper, x_spool, i_sol, p_ext/p_comp (both pressure transducers).
-    pub fn set(&mut self, text: &str) -> Result<(), String> {
-        let usage = || format!("--sensor {text}: expected NAME=NOISE[:QUANTUM] in SI units, e.g. v_damper=1e-4:1e-5");
+    pub fn set(&mut self, text: &str) -> Result<(), Error> {
+        let bad = |problem: String| Error::BadOption { option: format!("--sensor {text}"), problem };
+        let usage = || bad("expected NAME=NOISE[:QUANTUM] in SI units, e.g. v_damper=1e-4:1e-5".into());
         let (name, rest) = text.split_once('=').ok_or_else(usage)?;
         let (noise, quantum) = match rest.split_once(':') {
             Some((a, b)) => (a, Some(b)),
@@ -109,7 +111,7 @@ impl Noise {
         let noise: f64 = noise.trim().parse().map_err(|_| usage())?;
         let quantum: Option<f64> = quantum.map(|q| q.trim().parse()).transpose().map_err(|_| usage())?;
         if noise.is_nan() || noise < 0.0 || quantum.is_some_and(|q| q.is_nan() || q <= 0.0) {
-            return Err(format!("--sensor {text}: the noise must be ≥ 0 and the quantum > 0"));
+            return Err(bad("the noise must be ≥ 0 and the quantum > 0".into()));
         }
         let s = match name.trim() {
             "F_damper" => &mut self.f_damper,
@@ -120,9 +122,9 @@ impl Noise {
             "p_ext" | "p_comp" => &mut self.pressure,
             "T_oil" => &mut self.t_oil,
             other => {
-                return Err(format!(
-                    "--sensor {text}: unknown sensor '{other}' (F_damper, v_damper, x_damper, x_spool, i_sol, p_ext, p_comp, T_oil)"
-                ))
+                return Err(bad(format!(
+                    "unknown sensor '{other}' (F_damper, v_damper, x_damper, x_spool, i_sol, p_ext, p_comp, T_oil)"
+                )))
             }
         };
         s.noise = noise;
@@ -364,7 +366,7 @@ pub struct TruthNoiseFloor {
 }
 
 /// The truth parameters from the options; the records of each effect for the truth file.
-fn truth_parameters(o: &GenerateOptions, rng: &mut Rng) -> Result<(Parameters, Vec<TruthEffect>), String> {
+fn truth_parameters(o: &GenerateOptions, rng: &mut Rng) -> Result<(Parameters, Vec<TruthEffect>), Error> {
     let mut p = Parameters {
         rtol: TRUTH_RTOL,
         control_mode: i32::from(o.spool_control),
@@ -375,7 +377,7 @@ fn truth_parameters(o: &GenerateOptions, rng: &mut Rng) -> Result<(Parameters, V
         crate::description::Description::read(file)?.apply(&mut p)?;
         p.rtol = TRUTH_RTOL;
         if p.control_mode == 2 && o.input == InputStyle::Hil {
-            return Err(format!("{}: a passive damper: --input hil needs a semi-active one", file.display()));
+            return Err(Error::PassiveForHil { path: file.clone() });
         }
     }
     if let Some(file) = &o.params_file {
@@ -399,9 +401,8 @@ fn truth_parameters(o: &GenerateOptions, rng: &mut Rng) -> Result<(Parameters, V
         let mut drawn = false;
         if !off {
             match value.filter(|v| !v.eq_ignore_ascii_case("on") && !v.eq_ignore_ascii_case("true")) {
-                Some(v) => {
-                    set_parameter(&mut p, e.size_parameter(), v).map_err(|err| format!("--effect {text}: {err}"))?
-                }
+                Some(v) => set_parameter(&mut p, e.size_parameter(), v)
+                    .map_err(|err| err.context(format!("--effect {text}")))?,
                 None => {
                     let (lo, hi) = e.hidden_range;
                     let x = if e.fitted[0].log { rng.log_range(lo, hi) } else { rng.range(lo, hi) };
@@ -421,15 +422,15 @@ fn truth_parameters(o: &GenerateOptions, rng: &mut Rng) -> Result<(Parameters, V
         });
     }
     for (name, value) in &o.sets {
-        set_parameter(&mut p, name, value).map_err(|e| format!("--set {name}={value}: {e}"))?;
+        set_parameter(&mut p, name, value).map_err(|e| e.context(format!("--set {name}={value}")))?;
     }
-    p.validate().map_err(|e| format!("truth parameters: {e}"))?;
+    p.validate().map_err(Error::TruthParameters)?;
     Ok((p, records))
 }
 
 /// The oil temperature over the record (K), None for a constant one: a linear rise from `T_ref`
 /// by `o.heating`, or by the largest rise the hidden effects ask for (a heated run).
-fn oil_temperature(o: &GenerateOptions, p: &Parameters, t: &[f64]) -> Result<Option<Vec<f64>>, String> {
+fn oil_temperature(o: &GenerateOptions, p: &Parameters, t: &[f64]) -> Result<Option<Vec<f64>>, Error> {
     let hidden_rise = o
         .effects
         .iter()
@@ -438,7 +439,10 @@ fn oil_temperature(o: &GenerateOptions, p: &Parameters, t: &[f64]) -> Result<Opt
         .fold(0.0, f64::max);
     let rise = o.heating.unwrap_or(hidden_rise);
     if !(rise.is_finite() && rise >= 0.0) {
-        return Err(format!("--heating {rise}: must be a temperature rise ≥ 0 K"));
+        return Err(Error::BadOption {
+            option: format!("--heating {rise}"),
+            problem: "must be a temperature rise ≥ 0 K".into(),
+        });
     }
     if rise == 0.0 {
         return Ok(None);
@@ -657,14 +661,19 @@ impl RigRecord<'_> {
 }
 
 /// ISO 8608 G_d(n0) (m³) of a road name or class.
-fn road_gd0(road: &str) -> Result<f64, String> {
+fn road_gd0(road: &str) -> Result<f64, Error> {
     let r = road.trim().to_ascii_lowercase();
     Ok(match r.as_str() {
         "motorway" => 16e-6,
         "major" => 64e-6,
         "minor" => 128e-6,
         c if c.len() == 1 && ("a"..="h").contains(&c) => 16e-6 * f64::from(1u32 << (2 * (c.as_bytes()[0] - b'a'))),
-        _ => return Err(format!("--road {road}: use motorway, major, minor or an ISO 8608 class A–H")),
+        _ => {
+            return Err(Error::BadOption {
+                option: format!("--road {road}"),
+                problem: "use motorway, major, minor or an ISO 8608 class A–H".into(),
+            })
+        }
     })
 }
 
@@ -680,7 +689,7 @@ fn hil_run(
     t: &[f64],
     rng: &mut Rng,
     noise_rng: &mut Rng,
-) -> Result<HilRun, String> {
+) -> Result<HilRun, Error> {
     use quarter_truck::tracking::DemandHistory;
     use quarter_truck::truck::{At, Inputs as TruckInputs, Params as TruckParams};
     let gd0 = road_gd0(&o.road)?;
@@ -718,9 +727,9 @@ fn hil_run(
         let inputs =
             Inputs { v_damper: v_in, a_damper: 0.0, force_demand: f_dem, x_spool_demand: 0.0, ..Default::default() };
         let d = match damper.as_mut() {
-            None => damper.insert(Damper::new(*p, inputs, t[0]).map_err(|e| format!("truth parameters: {e}"))?),
+            None => damper.insert(Damper::new(*p, inputs, t[0]).map_err(Error::TruthParameters)?),
             Some(d) => {
-                d.do_step(t[k] - t[k - 1]).map_err(|e| format!("the truth model failed at t = {} s: {e}", t[k]))?;
+                d.do_step(t[k] - t[k - 1]).map_err(|cause| Error::TruthFailed { t: t[k], cause })?;
                 d.inputs = inputs;
                 d
             }
@@ -762,7 +771,7 @@ const INPUT_STREAM: u64 = 0x1A7B_0115;
 const NOISE_STREAM: u64 = 0x5E45_0125;
 
 /// Generates the data (no files written).
-pub fn generate(o: &GenerateOptions) -> Result<Generated, String> {
+pub fn generate(o: &GenerateOptions) -> Result<Generated, Error> {
     let n = checked_samples(o)?;
     let mut effect_rng = Rng::new(o.seed ^ EFFECT_STREAM);
     let mut input_rng = Rng::new(o.seed ^ INPUT_STREAM);
@@ -823,29 +832,35 @@ pub fn generate(o: &GenerateOptions) -> Result<Generated, String> {
 }
 
 /// The number of samples the options ask for, or why they cannot be generated.
-fn checked_samples(o: &GenerateOptions) -> Result<usize, String> {
+fn checked_samples(o: &GenerateOptions) -> Result<usize, Error> {
     if !(o.rate > 0.0 && o.rate.is_finite()) {
-        return Err(format!("--rate {}: must be a positive number of Hz", o.rate));
+        return Err(Error::BadOption {
+            option: format!("--rate {}", o.rate),
+            problem: "must be a positive number of Hz".into(),
+        });
     }
     if !(o.duration > 0.0 && o.duration.is_finite()) {
-        return Err(format!("--duration {}: must be a positive number of seconds", o.duration));
+        return Err(Error::BadOption {
+            option: format!("--duration {}", o.duration),
+            problem: "must be a positive number of seconds".into(),
+        });
     }
     let n = (o.duration * o.rate).round() as usize + 1;
     if n < MIN_SAMPLES {
-        return Err(format!(
-            "--duration {} at --rate {} gives {n} samples; at least 400 are needed",
-            o.duration, o.rate
-        ));
+        return Err(Error::TooFewGenerated { duration: o.duration, rate: o.rate, samples: n });
     }
     if o.displacement && o.input == InputStyle::Hil {
-        return Err("--displacement works with --input rig only".into());
+        return Err(Error::RigOnly { option: "--displacement", why: "" });
     }
     if o.spool_control && o.input == InputStyle::Hil {
-        return Err("--control spool works with --input rig only (the HiL truck demands a force)".into());
+        return Err(Error::RigOnly { option: "--control spool", why: " (the HiL truck demands a force)" });
     }
     if let Some(fc) = o.lowpass_hz {
         if fc.is_nan() || fc <= 0.0 {
-            return Err(format!("--lowpass {fc}: must be positive (or 'off')"));
+            return Err(Error::BadOption {
+                option: format!("--lowpass {fc}"),
+                problem: "must be positive (or 'off')".into(),
+            });
         }
     }
     Ok(n)
@@ -881,7 +896,7 @@ fn truth_prediction(
     t_oil: &Option<Vec<f64>>,
     (v_true, v_measured): (Vec<f64>, &[f64]),
     d: &[f64],
-) -> Result<Prediction, String> {
+) -> Result<Prediction, Error> {
     let drive_truth = if o.errors_in_variables { v_true } else { v_measured.to_vec() };
     let drive = Drive {
         time: t.to_vec(),
@@ -902,7 +917,7 @@ fn rig_run(
     t_oil: &Option<Vec<f64>>,
     input_rng: &mut Rng,
     noise_rng: &mut Rng,
-) -> Result<TruthRun, String> {
+) -> Result<TruthRun, Error> {
     let n = t.len();
     let nz = o.noise;
     let (v_true, d) = rig_inputs(t, input_rng, o.spool_control, params.x_spool_start);
@@ -934,7 +949,7 @@ fn hil_truth_run(
     t_oil: &Option<Vec<f64>>,
     input_rng: &mut Rng,
     noise_rng: &mut Rng,
-) -> Result<TruthRun, String> {
+) -> Result<TruthRun, Error> {
     let (v_measured, v_true, d) = hil_run(o, params, t, input_rng, noise_rng)?;
     let clean = truth_prediction(o, params, t, t_oil, (v_true, &v_measured), &d)?;
     Ok(TruthRun { velocity_column: (Column::VDamper, v_measured.clone()), v_drive: v_measured, demand: d, clean })
@@ -985,7 +1000,7 @@ fn noise_floor(
     f_meas: &[f64],
     oracle_drive: &Drive,
     n: usize,
-) -> Result<(f64, f64), String> {
+) -> Result<(f64, f64), Error> {
     let split = (TRAIN_FRACTION * n as f64).round() as usize;
     let (noise, quantum) = (o.noise.f_damper.noise, o.noise.f_damper.quantum);
     let sigma_f = (noise * noise + quantum * quantum / 12.0).sqrt();
@@ -1017,7 +1032,7 @@ fn truth_sensors(o: &GenerateOptions) -> TruthSensors {
 }
 
 /// The truth file's description of the inputs.
-fn truth_inputs(o: &GenerateOptions) -> Result<TruthInputs, String> {
+fn truth_inputs(o: &GenerateOptions) -> Result<TruthInputs, Error> {
     Ok(match o.input {
         InputStyle::Rig => TruthInputs::Rig {
             description: "thirds, starting at rest and moving at once: constant-velocity blocks 0.05-0.25 m/s with 15 ms ramps and demand steps \
@@ -1080,18 +1095,19 @@ pub fn csv_text(g: &Generated, o: &GenerateOptions) -> String {
 
 /// Generates and writes the CSV to `o.out` and the truth to `o.truth`: the data set is the two
 /// files, which `compare` reads back (the CSV) and tests score against (the truth).
-pub fn write(o: &GenerateOptions) -> Result<Generated, String> {
+pub fn write(o: &GenerateOptions) -> Result<Generated, Error> {
     if o.out == o.truth {
-        return Err("--out and --truth must be different files".into());
+        return Err(Error::SameOutAndTruth);
     }
     let g = generate(o)?;
     for path in [&o.out, &o.truth] {
         if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
-            std::fs::create_dir_all(dir).map_err(|e| format!("{}: cannot create: {e}", dir.display()))?;
+            std::fs::create_dir_all(dir).map_err(|source| Error::CreateDir { path: dir.to_path_buf(), source })?;
         }
     }
-    std::fs::write(&o.out, csv_text(&g, o)).map_err(|e| format!("{}: {e}", o.out.display()))?;
-    std::fs::write(&o.truth, crate::summary::to_json(&g.truth)).map_err(|e| format!("{}: {e}", o.truth.display()))?;
+    std::fs::write(&o.out, csv_text(&g, o)).map_err(|source| Error::Io { path: o.out.clone(), source })?;
+    std::fs::write(&o.truth, crate::summary::to_json(&g.truth))
+        .map_err(|source| Error::Io { path: o.truth.clone(), source })?;
     Ok(g)
 }
 

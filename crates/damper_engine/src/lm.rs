@@ -97,9 +97,7 @@ impl Solution {
 }
 
 /// The residual function: parameters (physical scale) → residuals, the same length every call.
-/// Its error `E` is [`Error`] or anything an [`Error`] converts into (calibrate.rs's residuals
-/// still return a `String`; the parameter goes once that module is converted).
-pub type Residuals<'a, E = Error> = dyn Fn(&[f64]) -> Result<Vec<f64>, E> + Sync + 'a;
+pub type Residuals<'a> = dyn Fn(&[f64]) -> Result<Vec<f64>, Error> + Sync + 'a;
 
 fn sum_sq(r: &[f64]) -> f64 {
     r.iter().map(|v| v * v).sum()
@@ -110,21 +108,21 @@ fn sum_sq(r: &[f64]) -> f64 {
 /// at a trial step it counts as a rejected step. `inputs`: draws of the residuals' change that the
 /// noise of the measured inputs makes (each as long as the residuals; may be empty), whose spread
 /// the fitted parameters inherit ([`covariance`]).
-pub fn solve<E: From<Error> + Send>(
-    f: &Residuals<'_, E>,
+pub fn solve(
+    f: &Residuals<'_>,
     x0: &[f64],
     scales: &[Bound],
     pool: &rayon::ThreadPool,
     opts: Options,
     inputs: &[Vec<f64>],
-) -> Result<Solution, E> {
+) -> Result<Solution, Error> {
     let n = x0.len();
     if scales.len() != n || n == 0 {
-        return Err(Error::ScaleCount { parameters: n, scales: scales.len() }.into());
+        return Err(Error::ScaleCount { parameters: n, scales: scales.len() });
     }
     for s in scales {
         if s.lo.partial_cmp(&s.hi) != Some(std::cmp::Ordering::Less) || (s.log && s.lo <= 0.0) {
-            return Err(Error::SearchBox { lo: s.lo, hi: s.hi, log: s.log }.into());
+            return Err(Error::SearchBox { lo: s.lo, hi: s.hi, log: s.log });
         }
     }
     let runs = std::sync::atomic::AtomicUsize::new(0);
@@ -144,10 +142,10 @@ pub fn solve<E: From<Error> + Send>(
     let mut r = eval(&physical(&u))?;
     let m = r.len();
     if m <= n {
-        return Err(Error::TooFewResiduals { residuals: m, parameters: n }.into());
+        return Err(Error::TooFewResiduals { residuals: m, parameters: n });
     }
     if inputs.iter().any(|d| d.len() != m) {
-        return Err(Error::NoiseDrawLength { residuals: m }.into());
+        return Err(Error::NoiseDrawLength { residuals: m });
     }
     let mut cost = sum_sq(&r);
     let mut lambda = 1e-3;
@@ -232,16 +230,16 @@ pub fn solve<E: From<Error> + Send>(
 }
 
 /// ∂r/∂u by forward differences (backward at the upper bound), columns in parallel.
-fn jacobian<E: From<Error> + Send>(
-    eval: &Residuals<'_, E>,
+fn jacobian(
+    eval: &Residuals<'_>,
     u: &[f64],
     r: &[f64],
     scales: &[Bound],
     pool: &rayon::ThreadPool,
     step: f64,
-) -> Result<DMatrix<f64>, E> {
+) -> Result<DMatrix<f64>, Error> {
     let n = u.len();
-    let columns: Vec<Result<Vec<f64>, E>> = pool.install(|| {
+    let columns: Vec<Result<Vec<f64>, Error>> = pool.install(|| {
         (0..n)
             .into_par_iter()
             .map(|k| {
@@ -254,7 +252,7 @@ fn jacobian<E: From<Error> + Send>(
                 let x: Vec<f64> = v.iter().zip(scales).map(|(&u, s)| s.to_physical(u)).collect();
                 let rk = eval(&x)?;
                 if rk.len() != r.len() {
-                    return Err(Error::ResidualsChangedLength { before: r.len(), after: rk.len() }.into());
+                    return Err(Error::ResidualsChangedLength { before: r.len(), after: rk.len() });
                 }
                 Ok(rk.iter().zip(r).map(|(a, b)| (a - b) / h).collect())
             })

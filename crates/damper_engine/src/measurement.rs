@@ -24,6 +24,7 @@
 //! interval by linear interpolation; the notes list each gap and the resampling.
 
 use crate::dsp::differentiate;
+use crate::error::{Error, Place};
 use crate::units::{unit, unit_list, Column};
 use crate::velocity_noise::VelocityNoise;
 use std::collections::BTreeMap;
@@ -39,34 +40,38 @@ pub struct Mapping {
 
 impl Mapping {
     /// Parses `SOURCE=NAME[:UNIT]`, e.g. `vel=v_damper:cm/s` or `Force=F_damper:kN`.
-    pub fn parse(text: &str) -> Result<Mapping, String> {
+    pub fn parse(text: &str) -> Result<Mapping, Error> {
         let usage = "expected --map SOURCE=NAME[:UNIT], e.g. --map vel=v_damper:cm/s";
-        let (source, rest) = text.split_once('=').ok_or_else(|| format!("--map {text}: {usage}"))?;
+        let bad = |problem: String| Error::BadOption { option: format!("--map {text}"), problem };
+        let (source, rest) = text.split_once('=').ok_or_else(|| bad(usage.to_string()))?;
         let (name, unit_text) = match rest.split_once(':') {
             Some((n, u)) => (n.trim(), Some(u.trim().to_string())),
             None => (rest.trim(), None),
         };
         let target = Column::from_name(name).ok_or_else(|| {
             let names: Vec<_> = Column::ALL.iter().map(|c| c.name()).collect();
-            format!("--map {text}: unknown variable '{name}'; the variables are {}", names.join(", "))
+            bad(format!("unknown variable '{name}'; the variables are {}", names.join(", ")))
         })?;
         if let Some(u) = &unit_text {
-            check_unit(u, target).map_err(|e| format!("--map {text}: {e}"))?;
+            check_unit(u, target).map_err(|e| e.context(format!("--map {text}")))?;
         }
         if source.trim().is_empty() {
-            return Err(format!("--map {text}: {usage}"));
+            return Err(bad(usage.to_string()));
         }
         Ok(Mapping { source: source.trim().to_string(), target, unit: unit_text })
     }
 }
 
 /// SI factor of `u` for `column`, or why it does not fit.
-fn check_unit(u: &str, column: Column) -> Result<f64, String> {
+fn check_unit(u: &str, column: Column) -> Result<f64, Error> {
     match unit(u) {
-        None => Err(format!("unknown unit '{u}' (known: {})", unit_list())),
-        Some((q, _)) if q != column.quantity() => {
-            Err(format!("unit '{u}' is {q}, but {} is {}", column.name(), column.quantity()))
-        }
+        None => Err(Error::UnknownUnitOf { symbol: u.to_string(), known: unit_list() }),
+        Some((q, _)) if q != column.quantity() => Err(Error::UnitOfOtherQuantity {
+            unit: u.to_string(),
+            quantity: q.to_string(),
+            column: column.name(),
+            column_quantity: column.quantity().to_string(),
+        }),
         Some((_, f)) => Ok(f),
     }
 }
@@ -172,24 +177,19 @@ impl Measurement {
     }
 
     /// Reads and checks a measurement CSV; gaps of up to `max_gap` missing samples are bridged.
-    pub fn read(path: &Path, maps: &[Mapping], max_gap: usize) -> Result<Measurement, String> {
+    pub fn read(path: &Path, maps: &[Mapping], max_gap: usize) -> Result<Measurement, Error> {
         Measurement::read_flipped(path, maps, max_gap, &[])
     }
 
     /// [`Measurement::read`] with the columns `flips` negated (`--flip`: a logger's other sign
     /// convention; the velocity and the displacement together, as they describe one motion).
-    pub fn read_flipped(
-        path: &Path,
-        maps: &[Mapping],
-        max_gap: usize,
-        flips: &[Column],
-    ) -> Result<Measurement, String> {
-        let bytes = std::fs::read(path).map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
+    pub fn read_flipped(path: &Path, maps: &[Mapping], max_gap: usize, flips: &[Column]) -> Result<Measurement, Error> {
+        let bytes = std::fs::read(path).map_err(|source| Error::Read { path: path.to_path_buf(), source })?;
         Measurement::parse_flipped(&path.display().to_string(), &bytes, maps, max_gap, flips)
     }
 
     /// Parses CSV bytes; `name` is used in messages.
-    pub fn parse(name: &str, bytes: &[u8], maps: &[Mapping], max_gap: usize) -> Result<Measurement, String> {
+    pub fn parse(name: &str, bytes: &[u8], maps: &[Mapping], max_gap: usize) -> Result<Measurement, Error> {
         Measurement::parse_flipped(name, bytes, maps, max_gap, &[])
     }
 
@@ -200,7 +200,7 @@ impl Measurement {
         maps: &[Mapping],
         max_gap: usize,
         flips: &[Column],
-    ) -> Result<Measurement, String> {
+    ) -> Result<Measurement, Error> {
         let bytes = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
         let comments = comment_lines(bytes);
         let table = Table::read(name, bytes)?;
@@ -278,15 +278,18 @@ fn resolve_columns(
     table: &Table,
     maps: &[Mapping],
     notes: &mut Vec<String>,
-) -> Result<(BTreeMap<Column, ColumnSource>, Vec<String>), String> {
+) -> Result<(BTreeMap<Column, ColumnSource>, Vec<String>), Error> {
     let header_line = table.header_line;
     let cells = &table.header;
     for m in maps {
         if !cells.iter().any(|c| c == &m.source || strip_unit(c).0 == m.source) {
-            return Err(format!(
-                "{name}, line {header_line}: --map names column '{}', which the header does not have (columns: {})",
-                m.source,
-                listed(cells)
+            return Err(in_file(
+                Place::line(name, header_line),
+                format!(
+                    "--map names column '{}', which the header does not have (columns: {})",
+                    m.source,
+                    listed(cells)
+                ),
             ));
         }
     }
@@ -303,15 +306,18 @@ fn resolve_columns(
             ignored.push(cell.clone());
             continue;
         };
-        let where_ = format!("{name}, line {header_line}, column {} ('{cell}')", i + 1);
+        let where_ = Place::field(name, header_line, format!("column {} ('{cell}')", i + 1));
         let unit_text = column_unit(cell, column, map, header_unit, notes);
-        let factor = check_unit(&unit_text, column).map_err(|e| format!("{where_}: {e}"))?;
+        let factor = check_unit(&unit_text, column).map_err(|e| e.at(where_.clone()))?;
         if let Some(prev) = chosen.get(&column) {
-            return Err(format!(
-                "{where_}: is {} again, already given by column {} ('{}'); drop one or --map it to another name",
-                column.name(),
-                prev.index,
-                prev.header
+            return Err(in_file(
+                where_,
+                format!(
+                    "is {} again, already given by column {} ('{}'); drop one or --map it to another name",
+                    column.name(),
+                    prev.index,
+                    prev.header
+                ),
             ));
         }
         let offset = crate::units::unit_offset(&unit_text);
@@ -345,11 +351,10 @@ fn column_unit(
 
 /// The message for a missing column `c` (`also`: what may replace it), naming a header cell
 /// that looks like it.
-fn missing_column(name: &str, table: &Table, c: Column, also: &str) -> String {
+fn missing_column(name: &str, table: &Table, c: Column, also: &str) -> Error {
     let cells = &table.header;
     let mut msg = format!(
-        "{name}, line {}: missing column '{}' ({}, {}){also}; the header has: {}",
-        table.header_line,
+        "missing column '{}' ({}, {}){also}; the header has: {}",
         c.name(),
         c.meaning(),
         c.si_unit(),
@@ -363,7 +368,12 @@ fn missing_column(name: &str, table: &Table, c: Column, also: &str) -> String {
     } else {
         msg += &format!(". If it is named differently, use --map SOURCE={}:UNIT", c.name());
     }
-    msg
+    in_file(Place::line(name, table.header_line), msg)
+}
+
+/// `at: problem`.
+fn in_file(at: Place, problem: impl Into<String>) -> Error {
+    Error::InFile { at, problem: problem.into() }
 }
 
 /// Time, a motion and the force must be there; notes a passive record (no demand) and a record
@@ -373,7 +383,7 @@ fn check_required_columns(
     table: &Table,
     chosen: &BTreeMap<Column, ColumnSource>,
     notes: &mut Vec<String>,
-) -> Result<(), String> {
+) -> Result<(), Error> {
     if !chosen.contains_key(&Column::Time) {
         return Err(missing_column(name, table, Column::Time, ""));
     }
@@ -402,7 +412,7 @@ fn check_required_columns(
 
 /// Each data row's cells of the columns `used`, as written; a row with another number of fields
 /// than the header is an error.
-fn used_cells<'a>(name: &str, table: &'a Table, used: &[&ColumnSource]) -> Result<Vec<Vec<&'a str>>, String> {
+fn used_cells<'a>(name: &str, table: &'a Table, used: &[&ColumnSource]) -> Result<Vec<Vec<&'a str>>, Error> {
     let n_fields = table.header.len();
     let header_line = table.header_line;
     let mut raw: Vec<Vec<&str>> = Vec::with_capacity(table.rows.len());
@@ -415,10 +425,9 @@ fn used_cells<'a>(name: &str, table: &'a Table, used: &[&ColumnSource]) -> Resul
             } else {
                 ""
             };
-            return Err(format!(
-                "{name}, line {}, column {col}: {} fields, but the header (line {header_line}) has {n_fields}{hint}",
-                row.line,
-                row.cells.len()
+            return Err(in_file(
+                Place::field(name, row.line, format!("column {col}")),
+                format!("{} fields, but the header (line {header_line}) has {n_fields}{hint}", row.cells.len()),
             ));
         }
         raw.push(used.iter().map(|s| row.cells[s.index - 1].as_str()).collect());
@@ -444,7 +453,7 @@ impl<'a> Cells<'a> {
         table: &'a Table,
         chosen: &'a BTreeMap<Column, ColumnSource>,
         lines: &'a [usize],
-    ) -> Result<Cells<'a>, String> {
+    ) -> Result<Cells<'a>, Error> {
         let used: Vec<&ColumnSource> = chosen.values().collect();
         let raw = used_cells(name, table, &used)?;
         let time_j = used.iter().position(|s| s.column == Column::Time).expect("time");
@@ -459,7 +468,7 @@ impl<'a> Cells<'a> {
         table: &Table,
         ts: &ColumnSource,
         notes: &mut Vec<String>,
-    ) -> Result<(Vec<f64>, Channels), String> {
+    ) -> Result<(Vec<f64>, Channels), Error> {
         let time_j = self.time_j;
         let first_stamp = self.raw.first().and_then(|r| parse_timestamp(r[time_j]));
         let timestamps = first_stamp.is_some();
@@ -476,13 +485,13 @@ impl<'a> Cells<'a> {
             ));
         }
         if self.raw.len() < MIN_SAMPLES {
-            return Err(format!(
-                "{}, line {}, column {} ('{}'): only {} samples; a measurement needs many more",
-                self.name,
-                self.lines.last().copied().unwrap_or(table.header_line),
-                ts.index,
-                ts.header,
-                self.raw.len()
+            return Err(in_file(
+                Place::field(
+                    self.name,
+                    self.lines.last().copied().unwrap_or(table.header_line),
+                    format!("column {} ('{}')", ts.index, ts.header),
+                ),
+                format!("only {} samples; a measurement needs many more", self.raw.len()),
             ));
         }
         let time = data.remove(&Column::Time).expect("time");
@@ -491,14 +500,21 @@ impl<'a> Cells<'a> {
     }
 
     /// Where cell (`k`, `j`) is, for messages: file, line, column.
-    fn at(&self, k: usize, j: usize) -> String {
-        format!("{}, line {}, column {} ('{}')", self.name, self.lines[k], self.used[j].index, self.used[j].header)
+    fn at(&self, k: usize, j: usize) -> Place {
+        Place::field(self.name, self.lines[k], format!("column {} ('{}')", self.used[j].index, self.used[j].header))
     }
 
     /// Where sample `k`'s time is, with the previous sample's, for a gap.
-    fn previous_sample(&self, k: usize) -> String {
+    fn previous_sample(&self, k: usize) -> Place {
         let time_j = self.time_j;
-        format!("{} (previous sample {} at line {})", self.at(k, time_j), self.raw[k - 1][time_j], self.lines[k - 1])
+        let at = self.at(k, time_j);
+        let field = format!(
+            "{} (previous sample {} at line {})",
+            at.field.as_deref().unwrap_or_default(),
+            self.raw[k - 1][time_j],
+            self.lines[k - 1]
+        );
+        Place { field: Some(field), ..at }
     }
 
     /// Every cell's value in SI, by variable: numbers (`numeric(j)`, with a decimal comma when
@@ -508,12 +524,12 @@ impl<'a> Cells<'a> {
         numeric: &dyn Fn(usize) -> bool,
         decimal_comma: bool,
         first_stamp: Option<(i64, bool)>,
-    ) -> Result<Channels, String> {
+    ) -> Result<Channels, Error> {
         let mut data: Channels = self.used.iter().map(|s| (s.column, Vec::with_capacity(self.raw.len()))).collect();
         for (k, row) in self.raw.iter().enumerate() {
             for (j, (s, cell)) in self.used.iter().zip(row).enumerate() {
                 if cell.is_empty() {
-                    return Err(format!("{}: empty cell", self.at(k, j)));
+                    return Err(in_file(self.at(k, j), "empty cell"));
                 }
                 let value = if numeric(j) {
                     self.number(k, j, cell, s, decimal_comma)?
@@ -527,11 +543,11 @@ impl<'a> Cells<'a> {
     }
 
     /// Cell (`k`, `j`), `cell`, as a finite number in SI through its column's unit `s`.
-    fn number(&self, k: usize, j: usize, cell: &str, s: &ColumnSource, decimal_comma: bool) -> Result<f64, String> {
+    fn number(&self, k: usize, j: usize, cell: &str, s: &ColumnSource, decimal_comma: bool) -> Result<f64, Error> {
         let text = if decimal_comma { cell.replace(',', ".") } else { cell.to_string() };
-        let value: f64 = text.parse().map_err(|_| format!("{}: not a number: '{cell}'", self.at(k, j)))?;
+        let value: f64 = text.parse().map_err(|_| in_file(self.at(k, j), format!("not a number: '{cell}'")))?;
         if !value.is_finite() {
-            return Err(format!("{}: {cell} is not a finite number", self.at(k, j)));
+            return Err(in_file(self.at(k, j), format!("{cell} is not a finite number")));
         }
         Ok(value * s.factor + s.offset)
     }
@@ -544,22 +560,23 @@ impl<'a> Cells<'a> {
         j: usize,
         cell: &str,
         first_stamp: Option<(i64, bool)>,
-    ) -> Result<f64, String> {
+    ) -> Result<f64, Error> {
         let (ns, zoned) = parse_timestamp(cell).ok_or_else(|| {
-            format!(
-                "{}: '{cell}' is not an ISO 8601 timestamp like the first sample's '{}'",
+            in_file(
                 self.at(k, j),
-                self.raw[0][j]
+                format!("'{cell}' is not an ISO 8601 timestamp like the first sample's '{}'", self.raw[0][j]),
             )
         })?;
         let (ns0, zoned0) = first_stamp.expect("the time column holds timestamps");
         if zoned != zoned0 {
-            return Err(format!(
-                "{}: '{cell}' {} a time zone, the first sample's '{}' {}; the timestamps must agree",
+            return Err(in_file(
                 self.at(k, j),
-                if zoned { "has" } else { "has no" },
-                self.raw[0][j],
-                if zoned0 { "has one" } else { "has none" }
+                format!(
+                    "'{cell}' {} a time zone, the first sample's '{}' {}; the timestamps must agree",
+                    if zoned { "has" } else { "has no" },
+                    self.raw[0][j],
+                    if zoned0 { "has one" } else { "has none" }
+                ),
             ));
         }
         // nanoseconds as integers: no rounding in the difference of two long timestamps
@@ -567,17 +584,19 @@ impl<'a> Cells<'a> {
     }
 
     /// An error at the first sample whose `time` does not increase.
-    fn check_time_increases(&self, time: &[f64]) -> Result<(), String> {
+    fn check_time_increases(&self, time: &[f64]) -> Result<(), Error> {
         let time_j = self.time_j;
         for k in 1..time.len() {
             if time[k] <= time[k - 1] {
                 let what = if time[k] == time[k - 1] { "repeats" } else { "is before" };
-                return Err(format!(
-                    "{}: time {} {what} the previous sample's {} (line {}); time must increase",
+                return Err(in_file(
                     self.at(k, time_j),
-                    self.raw[k][time_j],
-                    self.raw[k - 1][time_j],
-                    self.lines[k - 1]
+                    format!(
+                        "time {} {what} the previous sample's {} (line {}); time must increase",
+                        self.raw[k][time_j],
+                        self.raw[k - 1][time_j],
+                        self.lines[k - 1]
+                    ),
                 ));
             }
         }
@@ -587,7 +606,7 @@ impl<'a> Cells<'a> {
 
 /// Negates the columns `flips` (the velocity and the displacement together: one motion), each
 /// noted; a flip of a column the file lacks is an error.
-fn flip_columns(name: &str, data: &mut Channels, flips: &[Column], notes: &mut Vec<String>) -> Result<(), String> {
+fn flip_columns(name: &str, data: &mut Channels, flips: &[Column], notes: &mut Vec<String>) -> Result<(), Error> {
     for &c in flips {
         let motion = [Column::VDamper, Column::XDamper];
         let negated: Vec<Column> = if motion.contains(&c) { motion.to_vec() } else { vec![c] };
@@ -599,7 +618,7 @@ fn flip_columns(name: &str, data: &mut Channels, flips: &[Column], notes: &mut V
             }
         }
         if done.is_empty() {
-            return Err(format!("{name}: --flip {}: the file has no such column", c.name()));
+            return Err(in_file(Place::file(name), format!("--flip {}: the file has no such column", c.name())));
         }
         notes.push(format!(
             "{} negated (--flip {}): the file's sign convention is the other one",
@@ -654,7 +673,7 @@ fn model_motion(
     data: &mut Channels,
     chosen: &BTreeMap<Column, ColumnSource>,
     velocity_from_displacement: bool,
-) -> Result<crate::motion::Motion, String> {
+) -> Result<crate::motion::Motion, Error> {
     let mut m = crate::motion::motion(
         time,
         data.remove(&Column::VDamper),
@@ -664,7 +683,7 @@ fn model_motion(
     .map_err(|e| {
         let v_column = chosen.get(&Column::VDamper).map_or("derived".to_string(), |c| format!("column {}", c.index));
         let x_column = chosen.get(&Column::XDamper).map_or(0, |c| c.index);
-        format!("{name}: v_damper ({v_column}) and x_damper (column {x_column}): {e}")
+        e.context(format!("v_damper ({v_column}) and x_damper (column {x_column})")).at(Place::file(name))
     })?;
     if let Some(v) = m.v.take() {
         data.insert(Column::VDamper, v);
@@ -694,7 +713,7 @@ struct Gap {
 
 /// Every interval longer than [`GAP_FACTOR`] median intervals; one that lost more than `max_gap`
 /// samples is an error (`where_(k)` names sample `k`).
-fn gaps(time: &[f64], max_gap: usize, where_: impl Fn(usize) -> String) -> Result<Vec<Gap>, String> {
+fn gaps(time: &[f64], max_gap: usize, where_: impl Fn(usize) -> Place) -> Result<Vec<Gap>, Error> {
     let median = median_interval(time);
     let mut gaps = Vec::new();
     for k in 1..time.len() {
@@ -702,13 +721,14 @@ fn gaps(time: &[f64], max_gap: usize, where_: impl Fn(usize) -> String) -> Resul
         if dt > GAP_FACTOR * median {
             let missing = ((dt / median).round() as usize).saturating_sub(1).max(1);
             if missing > max_gap {
-                return Err(format!(
-                    "{}: a gap of {:.6} s, about {missing} samples missing at the median interval {:.6} s; \
-                     gaps of up to --max-gap {max_gap} samples are interpolated: cut the record at this line \
-                     or raise --max-gap",
+                return Err(in_file(
                     where_(k),
-                    dt,
-                    median
+                    format!(
+                        "a gap of {:.6} s, about {missing} samples missing at the median interval {:.6} s; \
+                         gaps of up to --max-gap {max_gap} samples are interpolated: cut the record at this line \
+                         or raise --max-gap",
+                        dt, median
+                    ),
                 ));
             }
             gaps.push(Gap { at: k, missing });
@@ -826,9 +846,9 @@ fn parse_timestamp(cell: &str) -> Option<(i64, bool)> {
 fn decimal_comma(
     raw: &[Vec<&str>],
     numeric: &dyn Fn(usize) -> bool,
-    where_: &dyn Fn(usize, usize) -> String,
+    where_: &dyn Fn(usize, usize) -> Place,
     delimiter: u8,
-) -> Result<Option<String>, String> {
+) -> Result<Option<String>, Error> {
     let cells = || {
         raw.iter().enumerate().flat_map(move |(k, row)| {
             row.iter().enumerate().filter(move |(j, _)| numeric(*j)).map(move |(j, c)| (k, j, *c))
@@ -838,11 +858,13 @@ fn decimal_comma(
         return Ok(None);
     };
     if let Some((kp, jp, with_point)) = cells().find(|(_, _, c)| c.contains('.')) {
-        return Err(format!(
-            "{}: '{with_comma}' has a comma, but {} has '{with_point}' with a point: the numbers must use one \
-             decimal separator, and no thousands separators",
+        return Err(in_file(
             where_(kc, jc),
-            where_(kp, jp)
+            format!(
+                "'{with_comma}' has a comma, but {} has '{with_point}' with a point: the numbers must use one \
+                 decimal separator, and no thousands separators",
+                where_(kp, jp)
+            ),
         ));
     }
     if delimiter == b',' {
@@ -855,10 +877,12 @@ fn decimal_comma(
                 && groups.all(|g| g.len() == 3 && g.bytes().all(|b| b.is_ascii_digit()))
         };
         if cells().filter(|(_, _, c)| c.contains(',')).all(|(_, _, c)| thousands(c)) {
-            return Err(format!(
-                "{}: '{with_comma}' in a comma-separated file may be a decimal comma or a thousands separator; \
-                 export the numbers without thousands separators, or with ';' as the delimiter",
-                where_(kc, jc)
+            return Err(in_file(
+                where_(kc, jc),
+                format!(
+                    "'{with_comma}' in a comma-separated file may be a decimal comma or a thousands separator; \
+                     export the numbers without thousands separators, or with ';' as the delimiter"
+                ),
             ));
         }
     }
@@ -885,12 +909,12 @@ struct Table {
 impl Table {
     /// Reads `bytes` (no byte-order mark): `#` lines skipped, empty lines allowed before the header
     /// and at the end, every cell checked to be UTF-8.
-    fn read(name: &str, bytes: &[u8]) -> Result<Table, String> {
+    fn read(name: &str, bytes: &[u8]) -> Result<Table, Error> {
         let header_text = bytes
             .split(|&b| b == b'\n')
             .map(|l| l.trim_ascii())
             .find(|l| !l.is_empty() && !l.starts_with(b"#"))
-            .ok_or_else(|| format!("{name}, line 1: no header line (the file is empty or all comments)"))?;
+            .ok_or_else(|| in_file(Place::line(name, 1), "no header line (the file is empty or all comments)"))?;
         let delimiter = detect_delimiter(header_text);
         let newlines: Vec<usize> = bytes.iter().enumerate().filter(|(_, &b)| b == b'\n').map(|(i, _)| i).collect();
         let line_of = |byte: usize| 1 + newlines.partition_point(|&n| n < byte);
@@ -906,7 +930,7 @@ impl Table {
         // a blank line seen after the header: an error if data follows it
         let mut blank: Option<usize> = None;
         let mut record = csv::ByteRecord::new();
-        while reader.read_byte_record(&mut record).map_err(|e| format!("{name}: {e}"))? {
+        while reader.read_byte_record(&mut record).map_err(|source| Error::Csv { file: name.to_string(), source })? {
             let (start, empty) = skip_to_record(bytes, record.position().map_or(0, |p| p.byte() as usize));
             let line = line_of(start);
             let mut cells = Vec::with_capacity(record.len());
@@ -916,12 +940,15 @@ impl Table {
                         Some((_, h)) if j < h.len() => format!("column {} ('{}')", j + 1, h[j]),
                         _ => format!("column {}", j + 1),
                     };
-                    format!(
-                        "{name}, line {line}, {column}: not UTF-8: byte 0x{:02X} in '{}'. The file is probably in a \
-                         Windows code page (cp1252, latin-1); convert it to UTF-8, e.g. iconv -f cp1252 -t utf-8 \
-                         {name} > converted.csv",
-                        field[e.valid_up_to()],
-                        String::from_utf8_lossy(field)
+                    in_file(
+                        Place::field(name, line, column),
+                        format!(
+                            "not UTF-8: byte 0x{:02X} in '{}'. The file is probably in a Windows code page \
+                             (cp1252, latin-1); convert it to UTF-8, e.g. iconv -f cp1252 -t utf-8 {name} > \
+                             converted.csv",
+                            field[e.valid_up_to()],
+                            String::from_utf8_lossy(field)
+                        ),
                     )
                 })?;
                 cells.push(text.to_string());
@@ -944,7 +971,7 @@ impl Table {
                 continue;
             }
             if let Some(b) = blank {
-                return Err(format!("{name}, line {b}: empty line inside the data"));
+                return Err(in_file(Place::line(name, b), "empty line inside the data"));
             }
             rows.push(Row { line, cells });
         }

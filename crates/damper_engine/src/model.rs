@@ -212,11 +212,8 @@ impl Model {
     }
 
     /// All predicted signals over the whole drive.
-    ///
-    /// The error is the message of [`Model::run_first`]'s: generate.rs returns it as a
-    /// `Result<_, String>`; this goes once that module is converted.
-    pub fn run(&self, drive: &Drive) -> Result<Prediction, String> {
-        Ok(self.run_first(drive, drive.len(), true)?)
+    pub fn run(&self, drive: &Drive) -> Result<Prediction, Error> {
+        self.run_first(drive, drive.len(), true)
     }
 
     /// The predicted load-cell force over the first `n` samples (what a fit needs).
@@ -270,15 +267,15 @@ impl Model {
 }
 
 /// Runs several models on the same drive on `threads` threads; results in input order, so they
-/// do not depend on the thread count. The errors are messages, as [`Model::run`]'s (one error for
-/// every model where the threads cannot start, and [`Error`] is not `Clone`).
-pub fn run_parallel(models: &[Model], drive: &Drive, threads: usize) -> Vec<Result<Prediction, String>> {
+/// do not depend on the thread count. Where the threads cannot start, every model has the error
+/// [`Error::ThreadsNotStarted`] (the pool's error, formatted: it is not `Clone`).
+pub fn run_parallel(models: &[Model], drive: &Drive, threads: usize) -> Vec<Result<Prediction, Error>> {
     use rayon::prelude::*;
-    match thread_pool(threads) {
+    match build_pool(threads) {
         Ok(pool) => pool.install(|| models.par_iter().map(|m| m.run(drive)).collect()),
         Err(e) => {
-            let e = e.to_string();
-            models.iter().map(|_| Err(e.clone())).collect()
+            let cause = e.to_string();
+            models.iter().map(|_| Err(Error::ThreadsNotStarted { threads, cause: cause.clone() })).collect()
         }
     }
 }
@@ -286,10 +283,12 @@ pub fn run_parallel(models: &[Model], drive: &Drive, threads: usize) -> Vec<Resu
 /// A thread pool of its own for one command's parallel model runs: the thread count is the
 /// caller's (`--threads`), whatever else in the process uses rayon's global pool.
 pub fn thread_pool(threads: usize) -> Result<rayon::ThreadPool, Error> {
-    rayon::ThreadPoolBuilder::new()
-        .num_threads(threads.max(1))
-        .build()
-        .map_err(|source| Error::Threads { threads, source })
+    build_pool(threads).map_err(|source| Error::Threads { threads, source })
+}
+
+/// A pool of `threads` threads (at least one), with rayon's error.
+fn build_pool(threads: usize) -> Result<rayon::ThreadPool, rayon::ThreadPoolBuildError> {
+    rayon::ThreadPoolBuilder::new().num_threads(threads.max(1)).build()
 }
 
 /// The force predictor a fit needs, `(parameters, n) → F_damper over the first n samples`, for

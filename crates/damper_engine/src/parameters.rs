@@ -85,10 +85,9 @@ pub fn get_parameter(p: &Parameters, name: &str) -> Result<Value, Error> {
     })
 }
 
-/// A Real parameter's value; the message of [`real`]'s error (calibrate.rs collects it into a
-/// `Result<_, String>`; this goes once that module is converted).
-pub fn get_real(p: &Parameters, name: &str) -> Result<f64, String> {
-    Ok(real(p, name)?)
+/// A Real parameter's value (as [`real`]).
+pub fn get_real(p: &Parameters, name: &str) -> Result<f64, Error> {
+    real(p, name)
 }
 
 /// A Real parameter's value.
@@ -178,14 +177,13 @@ pub fn parse_bool(t: &str) -> Option<bool> {
     }
 }
 
-/// Parses `NAME=VALUE`. The error is the message of [`Error::BadAssignment`]: the command line
-/// (crates/damper_cli/src/cli.rs) takes it as a `String`; this goes once that caller is converted.
-pub fn parse_assignment(text: &str, option: &str) -> Result<(String, String), String> {
+/// Parses `NAME=VALUE`.
+pub fn parse_assignment(text: &str, option: &str) -> Result<(String, String), Error> {
     match text.split_once('=') {
         Some((n, v)) if !n.trim().is_empty() && !v.trim().is_empty() => {
             Ok((n.trim().to_string(), v.trim().to_string()))
         }
-        _ => Err(Error::BadAssignment { option: option.to_string(), text: text.to_string() }.into()),
+        _ => Err(Error::BadAssignment { option: option.to_string(), text: text.to_string() }),
     }
 }
 

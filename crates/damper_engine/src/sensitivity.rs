@@ -133,13 +133,12 @@ pub struct ShiftedRuns {
 impl ShiftedRuns {
     /// Runs `run` (the model's force driven by the velocity it is given) on the record's velocity
     /// `v` shifted by each noise path and sign run, on the caller's rayon pool. `coloured`: the
-    /// velocity's noise where it was made from the displacement or smoothed. The error is `run`'s
-    /// ([`crate::Error`], or the `String` of calibrate.rs's runs until that module is converted).
-    pub fn new<E: Send>(
+    /// velocity's noise where it was made from the displacement or smoothed. The error is `run`'s.
+    pub fn new(
         coloured: Option<&VelocityNoise>,
         v: &[f64],
-        run: impl Fn(Vec<f64>) -> Result<Vec<f64>, E> + Sync,
-    ) -> Result<ShiftedRuns, E> {
+        run: impl Fn(Vec<f64>) -> Result<Vec<f64>, crate::Error> + Sync,
+    ) -> Result<ShiftedRuns, crate::Error> {
         let (paths, delta_v) = velocity_noise_paths(coloured, v);
         let derived = coloured.is_some_and(|n| n.source == NoiseSource::Displacement);
         let signs: Vec<Vec<f64>> = if derived { sign_runs(v, delta_v).into() } else { Vec::new() };

@@ -24,7 +24,7 @@ fn edit(src: &Path, dst: &Path, column: &str, f: impl Fn(usize, &str) -> String)
 }
 
 fn error_of(csv: &Path) -> String {
-    compare(&CompareOptions::new(csv)).err().unwrap_or_else(|| panic!("{} was accepted", csv.display()))
+    compare(&CompareOptions::new(csv)).err().unwrap_or_else(|| panic!("{} was accepted", csv.display())).to_string()
 }
 
 #[test]
@@ -48,6 +48,7 @@ fn degenerate_records_are_refused_with_the_reason() {
     let Err(e) = calibrate(&CalibrateOptions::new(vec![dead.clone()]), &|_| {}) else {
         panic!("a dead load cell was calibrated")
     };
+    let e = e.to_string();
     assert!(e.contains(&dead.display().to_string()) && e.contains("constant at -1000 N"), "{e}");
     let e = case("dead_late", "F_damper", &|k, c| if k > 1000 { "5".into() } else { c.into() });
     assert!(e.contains("validation part"), "{e}");

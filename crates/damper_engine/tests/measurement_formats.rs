@@ -7,7 +7,7 @@ use damper_engine::units::Column;
 
 fn parse(text: &[u8], maps: &[&str]) -> Result<Measurement, String> {
     let maps: Vec<Mapping> = maps.iter().map(|m| Mapping::parse(m).unwrap()).collect();
-    Measurement::parse("m.csv", text, &maps, DEFAULT_MAX_GAP)
+    Measurement::parse("m.csv", text, &maps, DEFAULT_MAX_GAP).map_err(|e| e.to_string())
 }
 
 fn assert_close(a: &[f64], b: &[f64], tol: f64) {
@@ -231,7 +231,7 @@ fn max_gap_reaches_the_reader_through_compare_options() {
     let csv = dir.join("gap7.csv");
     std::fs::write(&csv, linear(&t)).unwrap();
     let mut o = damper_engine::comparison::CompareOptions::new(&csv);
-    let err = damper_engine::comparison::compare(&o).unwrap_err();
+    let err = damper_engine::comparison::compare(&o).unwrap_err().to_string();
     assert!(err.contains("gap7.csv, line 202") && err.contains("--max-gap 5"), "{err}");
     o.max_gap = 7;
     let c = damper_engine::comparison::compare(&o).expect("bridged");

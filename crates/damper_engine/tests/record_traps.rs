@@ -74,7 +74,7 @@ fn a_reversed_sign_is_refused_and_the_flag_flips_it() {
     let (t, v, f) = record();
     let negated: Vec<f64> = f.iter().map(|x| -x).collect();
     let path = write(&dir, "sign.csv", "", &t, &v, &negated);
-    let e = compare(&options(&dir, &path)).unwrap_err();
+    let e = compare(&options(&dir, &path)).unwrap_err().to_string();
     assert!(e.contains("opposes its motion") && e.contains("--flip F_damper"), "{e}");
     let c = compare(&CompareOptions { flips: vec![Column::FDamper], ..options(&dir, &path) }).unwrap();
     assert!(c.warnings.iter().any(|w| w.contains("F_damper negated")));
@@ -104,7 +104,7 @@ fn a_clipped_velocity_is_refused() {
     let rail = 0.8 * v.iter().fold(0.0f64, |a, x| a.max(*x));
     let clipped: Vec<f64> = v.iter().map(|x| x.min(rail)).collect();
     let path = write(&dir, "clipped_v.csv", "", &t, &clipped, &f);
-    let e = compare(&options(&dir, &path)).unwrap_err();
+    let e = compare(&options(&dir, &path)).unwrap_err().to_string();
     assert!(e.contains("v_damper") && e.contains("clipped at its amplifier's rail") && e.contains("lines"), "{e}");
 }
 
@@ -113,7 +113,7 @@ fn a_stated_rate_the_time_column_contradicts_is_refused() {
     let dir = common::scratch("traps_rate");
     let (t, v, f) = record();
     let path = write(&dir, "rate.csv", "# Logger: dyno 4\n# Sample rate: 500 Hz\n", &t, &v, &f);
-    let e = compare(&options(&dir, &path)).unwrap_err();
+    let e = compare(&options(&dir, &path)).unwrap_err().to_string();
     assert!(e.contains("line 2") && e.contains("500 Hz") && e.contains("--trust-time-column"), "{e}");
     compare(&CompareOptions { trust_time_column: true, ..options(&dir, &path) }).unwrap();
 }
