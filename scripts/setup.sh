@@ -14,6 +14,8 @@
 #   generates its bindings with bindgen, which needs libclang: Debian's libclang-dev, installed
 #   with --importer.
 # - `python3 -m venv` needs ensurepip, which a Debian system Python has only with python3-venv.
+# - ecospy (ecos, the tests' third co-simulation master) loads a library linked to Intel's oneTBB,
+#   libtbb.so.12: Debian's libtbb12.
 # Missing Debian packages are installed with apt-get when running as root; otherwise the script
 # stops with the one command to run. Then .venv is filled from the pinned
 # tests/python/requirements.txt, and the project's own package, damper_tools (pyproject.toml,
@@ -25,7 +27,7 @@ cd "$(dirname "$0")/.."
 
 PYTHON=${PYTHON:-python3}
 REQUIREMENTS=tests/python/requirements.txt
-IMPORTS="import fmpy, fmu_manipulation_toolbox, libcosimpy, numpy, scipy, matplotlib, pytest, ruff, mypy, setuptools, dask, distributed, pandas, pyarrow, tqdm"
+IMPORTS="import fmpy, fmu_manipulation_toolbox, libcosimpy, ecospy, numpy, scipy, matplotlib, pytest, ruff, mypy, setuptools, dask, distributed, pandas, pyarrow, tqdm"
 importer=false
 for arg in "$@"; do
     case "$arg" in
@@ -49,6 +51,13 @@ if $importer && [ -z "${LIBCLANG_PATH:-}" ]; then
         echo "setup: libclang not found: install your system's libclang development package or set LIBCLANG_PATH" >&2
         exit 1
     fi
+fi
+# ecospy's libecosc.so links libtbb.so.12 (without it `import ecospy` fails with an OSError).
+if command -v dpkg-query >/dev/null; then
+    [ "$(dpkg-query -W -f='${Status}' libtbb12 2>/dev/null)" = "install ok installed" ] || packages+=(libtbb12)
+elif ! ldconfig -p 2>/dev/null | grep -q 'libtbb\.so\.12'; then
+    echo "setup: libtbb.so.12 not found: install your system's oneTBB runtime (Debian: libtbb12)" >&2
+    exit 1
 fi
 venv_works() {
     local scratch status
@@ -88,6 +97,11 @@ elif ! .venv/bin/python -c "$IMPORTS" 2>/dev/null; then
     echo "+ .venv/bin/pip install -r $REQUIREMENTS (packages missing)"
     .venv/bin/python -m pip install --quiet -r "$REQUIREMENTS"
 fi
+# ecospy's wheel installs its proxyfmu program (ecos runs an FMU in a process of its own with it, for a
+# model given as proxyfmu://localhost?file=...) without the execute bit, so ecos fails with "Unable to
+# invoke proxyfmu!". Set it, in the installed package, on every run (a reinstall drops it again).
+proxyfmu=$(.venv/bin/python -c 'import importlib.util, pathlib; print(pathlib.Path(importlib.util.find_spec("ecospy").origin).parent / "binaries" / "proxyfmu")')
+[ -x "$proxyfmu" ] || chmod +x "$proxyfmu"
 # Installed again when the package or one of its commands (pyproject.toml's [project.scripts],
 # .venv/bin/damper-*) is missing, e.g. after a command was added.
 missing_command=false
