@@ -17,14 +17,17 @@ passed), reads DIR/summary.json and scores:
 The first three are damper_tools.verdicts.right, which the campaign's table applies too. Verdicts
 other than `effect` and `none` (`partial`, `does_not_fit`, `unexplained`) count as not `effect`. Writes
 OUT/blind_score.md (the table) and OUT/blind_score.json (every case: truth, verdict, effects,
-NRMSE baseline / after / floor, times).
+NRMSE baseline / after / floor, times); with --docs the headline figures the documents quote to
+docs/blind_score.json, in the section of the run's chain and --only (damper_tools.doc_figures).
 """
 
 import argparse
 import json
 import platform
 import subprocess
+import sys
 import time
+from collections import Counter
 from collections.abc import Sequence
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import asdict
@@ -153,6 +156,53 @@ def table(rows: list[dict[str, Any]]) -> str:
     return "\n".join(lines) + "\n"
 
 
+def headline(rows: list[dict[str, Any]], wall_s: float | None) -> dict[str, float]:
+    """The figures the documents quote of one run (docs/blind_score.json, a section per chain and
+    --only): each category's passed and cases; the foreign dampers' `does_not_fit`; the failures as
+    docs/blind-score.md tells them (each single effect that failed: its passed and cases, its failures
+    by verdict, how far above the floor its `partial`s ended; the clean failures by verdict and their
+    baseline against the floor; the pairs' failures, the effect most of them missed, the pairs that
+    all passed); the wall time of the whole set."""
+    out: dict[str, float] = {"cases": len(rows)} | ({} if wall_s is None else {"wall_s": wall_s})
+    by = {cat: [r for r in rows if r["category"] == cat] for cat in ("single", "pair", "clean", "foreign")}
+    for cat, sel in by.items():
+        if sel:
+            out[f"{cat}_passed"], out[f"{cat}_cases"] = sum(r["passed"] for r in sel), len(sel)
+    if by["foreign"]:
+        out["foreign_does_not_fit"] = sum(r.get("verdict") == Verdict.DOES_NOT_FIT for r in by["foreign"])
+
+    def ratio(r: dict[str, Any], key: str) -> float:
+        return float(r[key] / r["nrmse_floor"])
+
+    for effect in sorted({r["hidden"][0] for r in by["single"] if not r["passed"]}):
+        these = [r for r in by["single"] if r["hidden"][0] == effect]
+        out[f"single_{effect}_passed"], out[f"single_{effect}_cases"] = sum(r["passed"] for r in these), len(these)
+        for verdict in sorted({r.get("verdict", "error") for r in these if not r["passed"]}):
+            failed = [r for r in these if not r["passed"] and r.get("verdict", "error") == verdict]
+            out[f"single_{effect}_{verdict}"] = len(failed)
+            if verdict == Verdict.PARTIAL:
+                ratios = [ratio(r, "nrmse_after") for r in failed]
+                out[f"single_{effect}_partial_floor_ratio_min"] = min(ratios)
+                out[f"single_{effect}_partial_floor_ratio_max"] = max(ratios)
+    clean_failed = [r for r in by["clean"] if not r["passed"]]
+    for verdict in sorted({r.get("verdict", "error") for r in clean_failed}):
+        out[f"clean_{verdict}"] = sum(r.get("verdict", "error") == verdict for r in clean_failed)
+    if clean_failed and all(r.get("nrmse_floor") for r in clean_failed):
+        ratios = [ratio(r, "nrmse_baseline") for r in clean_failed]
+        out["clean_failed_floor_ratio_min"], out["clean_failed_floor_ratio_max"] = min(ratios), max(ratios)
+    pair_failed = [r for r in by["pair"] if not r["passed"]]
+    if pair_failed:
+        out["pair_failures"] = len(pair_failed)
+        missed = Counter(e for r in pair_failed for e in r["hidden"] if e not in r.get("effects", []))
+        effect, count = missed.most_common(1)[0]
+        out[f"pair_failures_missing_{effect}"] = count
+        for pair in PAIRS:
+            these = [r for r in by["pair"] if tuple(r["hidden"]) == pair]
+            if these and all(r["passed"] for r in these):
+                out[f"pair_{'+'.join(pair)}_passed"], out[f"pair_{'+'.join(pair)}_cases"] = len(these), len(these)
+    return out
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--damper", type=Path, default=DAMPER,
@@ -172,6 +222,8 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--only", choices=("single", "pair", "clean", "foreign"), default=None)
     parser.add_argument("--jobs", type=int, default=1, help="cases at once (each diagnose uses --threads)")
     parser.add_argument("--threads", type=int, default=2, help="threads of each diagnose")
+    parser.add_argument("--docs", action="store_true", help="write the headline figures to docs/blind_score.json, "
+                        "as the section of this chain and --only")
     args = parser.parse_args(argv)
 
     todo = cases(args.quick, args.seeds, args.clean_seeds, args.foreign_seeds, args.motion, args.chain)
@@ -197,6 +249,15 @@ def main(argv: list[str] | None = None) -> int:
     (args.out / "blind_score.json").write_text(json.dumps(
         {"date": date.today().isoformat(), "wall_s": round(wall, 1), "args": {k: str(v) for k, v in vars(args).items()},
          "cases": rows, "case_specs": [asdict(c) for c in todo]}, indent=1) + "\n", encoding="utf-8")
+    if args.docs:
+        from damper_tools import doc_figures
+
+        if args.quick:
+            raise SystemExit("blind_score: --docs needs the whole set, not --quick")
+        section = args.chain + (f"_{args.only}" if args.only else "")
+        command = "damper-blind-score " + " ".join(a for a in (argv if argv is not None else sys.argv[1:]))
+        doc_figures.write("blind_score", headline(rows, None if args.only or args.chain != "transducer" else wall),
+                          command, section=section)
     print("\n" + head + md)
     print(f"wrote {args.out / 'blind_score.md'} and {args.out / 'blind_score.json'}")
     return 0

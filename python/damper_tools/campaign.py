@@ -330,6 +330,19 @@ def markdown(rows: Sequence[dict[str, Any]]) -> str:
     return "\n".join(lines) + "\n"
 
 
+def headline(rows: Sequence[dict[str, Any]], wall_s: float) -> dict[str, float]:
+    """The figures the documents quote (docs/campaign.json): right verdicts of the records with a
+    hidden effect, of the clean ones and of all, the wall time and the range of one record's."""
+    out: dict[str, float] = {}
+    out["right"], out["judged"] = score(rows)
+    for name, sel in (("effect", [r for r in rows if r.get("expected") not in (None, "none")]),
+                      ("clean", [r for r in rows if r.get("expected") == "none"])):
+        out[f"{name}_right"], out[f"{name}_records"] = score(sel)
+    seconds = [r["seconds"] for r in rows]
+    out |= {"wall_s": wall_s, "record_s_min": min(seconds), "record_s_max": max(seconds)}
+    return out
+
+
 def write_index(path: Path, rows: Sequence[dict[str, Any]], title: str, note: str = "") -> Path:
     esc = html.escape
     cols = [c for c in COLUMNS if c != "report" and (c not in ("expected", "hidden", "right") or
@@ -403,6 +416,8 @@ def main(argv: list[str] | None = None) -> int:
     d.add_argument("--tare-load-cell", action="store_true")
     d.add_argument("--threads", type=int, default=1, help="threads of each diagnose (one task per worker core)")
     d.add_argument("--extra", action="append", default=[], help="one more argument for diagnose; repeatable")
+    d.add_argument("--docs", action="store_true", help="write the headline figures to docs/campaign.json (the "
+                   "demonstration set of `campaign generate`, with --truth)")
     g = sub.add_parser("generate", help="records with known hidden effects (damper generate, here: a few "
                        "hundredths of a second each), for a demonstration")
     g.add_argument("--out", type=Path, required=True, help="writes OUT/records/*.csv and OUT/truth/*.json")
@@ -450,6 +465,13 @@ def main(argv: list[str] | None = None) -> int:
     note = (f"{outcome.ran} diagnosed now, {outcome.skipped} from earlier runs; {workers}, "
             f"{outcome.wall_s:.0f} s.")
     write_tables(args.out, outcome.rows, f"Campaign diagnosis of {args.records}", note)
+    if args.docs:
+        from damper_tools import doc_figures
+
+        if outcome.skipped or args.truth is None:
+            raise SystemExit("campaign: --docs needs a fresh run (nothing resumed) with --truth")
+        doc_figures.write("campaign", headline(outcome.rows, outcome.wall_s),
+                          f"damper-campaign diagnose {args.records} --truth {args.truth} --docs ({workers})")
     print(markdown(outcome.rows))
     print(f"campaign: {note} Wrote {args.out / 'index.html'}, campaign.csv, campaign.md")
     return 0

@@ -23,7 +23,8 @@ Scoring (the truth files are read only here, never by `damper`):
   (`--calibration`) (for the heated oil the viscosity coefficient, which the truth did not
   change: the change's size is the measured temperature).
 
-Writes OUT/dyno_score.md (tables) and OUT/dyno_score.json (every case).
+Writes OUT/dyno_score.md (tables) and OUT/dyno_score.json (every case); with --docs the headline
+figures the documents quote to docs/dyno_score.json (damper_tools.doc_figures).
 """
 
 import argparse
@@ -34,7 +35,7 @@ from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Any
 
-from damper_tools import DAMPER, REPO, dyno
+from damper_tools import DAMPER, REPO, doc_figures, dyno
 from damper_tools.verdicts import right
 
 SCENARIOS = ("unchanged", "gas", "valve", "heated", "end_stop")
@@ -231,6 +232,59 @@ def report(calibrations: dict[str, Any], cases: list[Case], settings: dict[str, 
     return "\n".join(lines) + "\n"
 
 
+def headline(calibrations: dict[str, Any], cases: list[Case], settings: dict[str, Any],
+             wall_s: float) -> dict[str, float]:
+    """The figures the documents quote (docs/dyno_score.json): per scenario the records named and, of
+    the named changes, the sizes within 10 % and within 3 reported sigma; the settings campaigns' adjuster
+    values; the calibrated records against their floors and the calibrated parameters against the truth
+    (the damper with the most beyond 2 sigma; `k_open_comp` on the small dampers); the named changes
+    beyond 3 sigma and the changes not named (<scenario>_<damper>_...); the program's and the wall time."""
+    out: dict[str, float] = {}
+    for sc in SCENARIOS:
+        these = [c for c in cases if c.scenario == sc]
+        out[f"{sc}_named"], out[f"{sc}_cases"] = sum(c.named for c in these), len(these)
+        sized = [c for c in these if c.named and c.relative_error is not None]
+        if sc != "unchanged":
+            out[f"{sc}_sized"] = len(sized)
+            out[f"{sc}_within_10pct"] = sum(abs(c.relative_error or 0) <= 0.1 for c in sized)
+            out[f"{sc}_within_3sigma"] = sum(c.z is not None and abs(c.z) <= 3 for c in sized)
+        for c in these:
+            tag = f"{sc}_{c.size}_{c.seed}"
+            if c.named and c.z is not None and abs(c.z) > 3:
+                out[f"{tag}_z"], out[f"{tag}_rel_err_pct"] = c.z, 100 * (c.relative_error or 0)
+            if sc != "unchanged" and not c.named:
+                out[f"{tag}_floor_ratio"] = c.nrmse_after / c.floor
+                if c.relative_error is not None:
+                    out[f"{tag}_rel_err_pct"] = 100 * c.relative_error
+    own = [p for cal in settings.values() for p in cal["parameters"] if p["setting"]]
+    out["settings_values"] = len(own)
+    out["settings_within_10pct"] = sum(abs(p["relative_error"]) <= 0.1 for p in own)
+    out["settings_within_3sigma"] = sum(p["z"] is not None and abs(p["z"]) <= 3 for p in own)
+    ratios = [r["after"] / r["floor"] for cal in calibrations.values() for r in cal["records"]]
+    doc_figures.span(out, "calibration_floor_ratio", ratios)
+    ratios = sorted(r["after"] / r["floor"] for cal in settings.values() for r in cal["records"])
+    out["settings_floor_ratio_min"], out["settings_floor_ratio_max"] = ratios[0], ratios[-1]
+    out["settings_floor_ratio_second"] = ratios[-2]
+    fitted = {key: [p for p in cal["parameters"] if p["status"] == "fitted" and p["z"] is not None]
+              for key, cal in calibrations.items()}
+    every = [p for ps in fitted.values() for p in ps]
+    out["calibrated_parameters"] = len(every)
+    out["calibrated_within_3sigma"] = sum(abs(p["z"]) <= 3 for p in every)
+    out["calibrated_within_2sigma"] = sum(abs(p["z"]) <= 2 for p in every)
+    out["calibrated_beyond_2sigma"] = sum(abs(p["z"]) > 2 for p in every)
+    worst = max(fitted, key=lambda k: sum(abs(p["z"]) > 2 for p in fitted[k]))
+    out[f"calibration_{worst.replace(' ', '_')}_beyond_2sigma"] = sum(abs(p["z"]) > 2 for p in fitted[worst])
+    out[f"calibration_{worst.replace(' ', '_')}_fitted"] = len(fitted[worst])
+    small = [p for key, ps in fitted.items() if key.startswith("small") for p in ps if p["name"] == "k_open_comp"]
+    if small:
+        doc_figures.span(out, "small_k_open_comp_abs_err_pct", [100 * abs(p["relative_error"]) for p in small])
+        out["small_k_open_comp_abs_z_max"] = max(abs(p["z"]) for p in small)
+    program = (sum(c["seconds"] for c in calibrations.values()) + sum(c.seconds for c in cases)
+               + sum(c["seconds"] for c in settings.values()))
+    out["program_min"], out["wall_min"] = program / 60, wall_s / 60
+    return out
+
+
 def main(argv: list[str] | None = None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--sizes", nargs="+", default=list(dyno.SIZES), choices=dyno.SIZES)
@@ -238,7 +292,10 @@ def main(argv: list[str] | None = None) -> None:
     ap.add_argument("--threads", type=int, default=2)
     ap.add_argument("--out", type=Path, default=REPO / "out" / "dyno_score")
     ap.add_argument("--damper", type=Path, default=DAMPER, help="the damper program (default: the release build)")
+    ap.add_argument("--docs", action="store_true", help="write the headline figures to docs/dyno_score.json "
+                    "(every size, seeds 1 2 3 only)")
     a = ap.parse_args(argv)
+    t0 = time.perf_counter()
     a.out.mkdir(parents=True, exist_ok=True)
     calibrations: dict[str, Any] = {}
     settings: dict[str, Any] = {}
@@ -254,6 +311,11 @@ def main(argv: list[str] | None = None) -> None:
     (a.out / "dyno_score.json").write_text(json.dumps(
         {"calibrations": calibrations, "settings": settings,
          "cases": [asdict(c) | {"named": c.named} for c in cases]}, indent=1), encoding="utf-8")
+    if a.docs:
+        if a.sizes != list(dyno.SIZES) or a.seeds != [1, 2, 3]:
+            raise SystemExit("dyno_score: --docs needs every size and seeds 1 2 3 (the documents quote those)")
+        doc_figures.write("dyno_score", headline(calibrations, cases, settings, time.perf_counter() - t0),
+                          ".venv/bin/python -m damper_tools.dyno_score --seeds 1 2 3 --docs")
     print(report(calibrations, cases, settings))
 
 

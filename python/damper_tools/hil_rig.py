@@ -23,12 +23,13 @@ infinite bandwidths, zero delays and T_rt = the communication step passes every 
 unchanged (tested: bit-identical to the direct coupling).
 
 Computing functions print nothing; `main` (damper-hil-rig) runs the sweep and the robustness
-table, plots and writes out/rig/.
+table, plots and writes out/rig/ (with --docs also the headline figures, docs/hil_rig.json).
 """
 
 import argparse
 import json
 import math
+import shutil
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass, field
@@ -464,6 +465,73 @@ def plot_spectra(path: Path, base: dict[str, Any], curves: Sequence[tuple[str, d
     plt.close(fig)
 
 
+# the robustness table's rows in docs/hil.md: (rig, tared, force controller) -> tag
+ROBUST_TAGS = {("none", True, 0): "tared_ff", ("none", True, 1): "tared_pid", ("none", False, 0): "raw_ff",
+               ("none", False, 1): "raw_pid", **{(f"load-cell delay {1e3 * d:g} ms", True, 0): f"lc{1e3 * d:g}"
+                                                  for d in ROBUST_RIG_DELAYS}}
+
+
+def headline(base: dict[str, Any], points: Sequence[SweepPoint], force_path: Sequence[tuple[float, dict[str, Any]]],
+             rows: Sequence[dict[str, Any]]) -> dict[str, float]:
+    """The figures the documents quote (docs/hil_rig.json): the sweep's rows of docs/hil.md (seed 3:
+    none, act<delay ms>_<bandwidth Hz>, lc<load-cell delay ms>), ranges over the sweep, and the
+    robustness table (robust_<row>_...: mean and standard deviation over the seeds, the peak's range,
+    the seeds with the pattern); forces in kN, shares in %."""
+    out: dict[str, float] = {}
+
+    def seed3(tag: str, m: dict[str, Any]) -> None:
+        out.update({f"{tag}_peak_hz": m["peak_Hz"], f"{tag}_prominence": m["prominence"],
+                    f"{tag}_ext_mean_kn": m["ext_mean_error"] / 1e3, f"{tag}_ext_above_pct": 100 * m["ext_above"],
+                    f"{tag}_comp_mean_kn": m["comp_mean_error"] / 1e3, f"{tag}_comp_below_pct": 100 * m["comp_below"]})
+
+    def span(name: str, values: Sequence[float]) -> None:
+        out[f"{name}_min"], out[f"{name}_max"] = min(values), max(values)
+
+    seed3("none", base)
+    stable = [p for p in points if not p.metrics.get("unstable")]
+    for p in stable:
+        if (p.actuator_delay, p.f_actuator) in ((0.0, 100.0), (2e-3, math.inf)):
+            seed3(f"act{1e3 * p.actuator_delay:g}_{'inf' if math.isinf(p.f_actuator) else f'{p.f_actuator:g}'}",
+                  p.metrics)
+    for d, m in force_path:
+        if not m.get("unstable") and d <= 6e-3:
+            seed3(f"lc{1e3 * d:g}", m)
+    lagged = [p.metrics for p in stable if p.actuator_delay > 0 or not math.isinf(p.f_actuator)]
+    span("actuator_lag_ext_above_pct", [100 * m["ext_above"] for m in lagged])
+    span("actuator_lag_comp_below_pct", [100 * m["comp_below"] for m in lagged])
+    late = [p.metrics for p in stable if p.actuator_delay >= 4e-3]
+    late += [m for d, m in force_path if d >= 4e-3 and not m.get("unstable")]
+    span("lag4_peak_hz", [m["peak_Hz"] for m in late])
+
+    robust = {ROBUST_TAGS[(r["rig"], r["tare_load_cell"], r["force_controller"])]: r for r in rows}
+    for tag, r in robust.items():
+        st = r["stats"]
+        for key, scale, name in (("ext_mean_error", 1e-3, "ext_mean_kn"), ("ext_above", 100, "ext_above_pct"),
+                                 ("comp_mean_error", 1e-3, "comp_mean_kn"), ("comp_below", 100, "comp_below_pct"),
+                                 ("peak_Hz", 1, "peak_hz")):
+            out[f"robust_{tag}_{name}_mean"], out[f"robust_{tag}_{name}_sd"] = scale * st[key][0], scale * st[key][1]
+        out[f"robust_{tag}_peak_hz_min"], out[f"robust_{tag}_peak_hz_max"] = st["peak_Hz"][2], st["peak_Hz"][3]
+        out[f"robust_{tag}_pattern"] = r["pattern_count"]
+    tared = robust["tared_ff"]["stats"]
+    out |= {"robust_seeds": len(robust["tared_ff"]["seeds"]),
+            "robust_tared_ff_ext_mean_kn_min": tared["ext_mean_error"][2] / 1e3,
+            "robust_tared_ff_ext_mean_kn_max": tared["ext_mean_error"][3] / 1e3,
+            "robust_tared_ff_comp_mean_kn_min": tared["comp_mean_error"][2] / 1e3,
+            "robust_tared_ff_comp_mean_kn_max": tared["comp_mean_error"][3] / 1e3,
+            "robust_tared_ff_error_rms_kn": tared["error_rms"][0] / 1e3,
+            "robust_tared_pid_error_rms_kn": robust["tared_pid"]["stats"]["error_rms"][0] / 1e3,
+            "robust_raw_frame_comp_shift_kn": (robust["raw_ff"]["stats"]["comp_mean_error"][0]
+                                               - tared["comp_mean_error"][0]) / 1e3}
+    rigs = [robust[f"lc{1e3 * d:g}"] for d in ROBUST_RIG_DELAYS]
+    for r, d in zip(rigs, ROBUST_RIG_DELAYS, strict=True):
+        tag = f"robust_lc{1e3 * d:g}"
+        out[f"{tag}_prominence_mean"], out[f"{tag}_prominence_sd"] = r["stats"]["prominence"][:2]
+        out[f"{tag}_paper_like"] = r["paper_like_count"]
+    span("robust_lc_peak_hz", [x for r in rigs for x in r["stats"]["peak_Hz"][2:]])
+    span("robust_lc_prominence", [x for r in rigs for x in r["stats"]["prominence"][2:]])
+    return out
+
+
 def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--truck-fmu", type=Path, default=TRUCK_FMU)
@@ -471,6 +539,8 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--out", type=Path, default=OUT)
     parser.add_argument("--duration", type=float, default=DURATION, help="recorded seconds of every sweep run")
     parser.add_argument("--robust-duration", type=float, default=ROBUST_DURATION)
+    parser.add_argument("--docs", action="store_true", help="write the headline figures to docs/hil_rig.json and "
+                        "copy the plots to docs/figures/")
     args = parser.parse_args(argv)
     t0 = time.perf_counter()
     args.out.mkdir(parents=True, exist_ok=True)
@@ -507,6 +577,12 @@ def main(argv: list[str] | None = None) -> None:
                "force_path": [{"load_cell_delay": d, **m} for d, m in force_path],
                "robustness": rows, "wall_time_s": time.perf_counter() - t0}
     (args.out / "results.json").write_text(json.dumps(jsonable(results, drop=("psd",)), indent=1), encoding="utf-8")
+    if args.docs:
+        from damper_tools import doc_figures
+
+        doc_figures.write("hil_rig", headline(base, points, force_path, rows), ".venv/bin/damper-hil-rig --docs")
+        for name in ("rig_sweep.png", "rig_spectra.png"):
+            shutil.copy(args.out / name, REPO / "docs" / "figures" / name)
     print(text)
     print(f"hil_rig: wrote {args.out} in {time.perf_counter() - t0:.0f} s")
 

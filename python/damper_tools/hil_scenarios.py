@@ -19,6 +19,8 @@ on the same road realisation, and writes to the output directory
     belgian_block.png              the OpenCRG Belgian-block run
     table.md, results.json         every metric (table.md is also printed)
 
+and with --docs the headline figures the documents quote to docs/hil_scenarios.json.
+
 Metrics, over the record after the settling time:
     ride          RMS sprung-mass acceleration a_body (m/s^2), also ISO 2631-1 Wk-weighted (damper_tools.ride)
     DLC           dynamic load coefficient std(F_tyre) / ((m_body + m_axle) g)
@@ -38,6 +40,7 @@ Metrics, over the record after the settling time:
 import argparse
 import json
 import math
+import shutil
 import time
 from collections.abc import Sequence
 from pathlib import Path
@@ -507,6 +510,59 @@ def natural_frequencies(consts: dict[str, float]) -> tuple[float, ...]:
     return tuple(float(x) for x in np.sqrt(w2) / (2 * np.pi))
 
 
+def headline(summaries: list[dict[str, Any]], crg: dict[str, Any]) -> dict[str, float]:
+    """The figures the documents quote (docs/hil_scenarios.json): the three headline cases' vehicle
+    metrics (<road>_<speed>_<passive|ideal|fmu>_...), the minor road's tracking and spectrum at 14 m/s,
+    ranges over every case, the Belgian block's; forces in kN, shares and changes in %."""
+    out: dict[str, float] = {}
+    for s in summaries:
+        if (s["road"], s["speed"]) not in HEADLINE:
+            continue
+        tag, b = f"{s['road']}_{s['speed']:g}", s["best_passive"]
+        out[f"{tag}_best_passive_kns_m"] = b["c_passive"] / 1e3
+        for name, m in (("passive", b), ("ideal", s["ideal"]), ("fmu", s["fmu"])):
+            out |= {f"{tag}_{name}_a_body_rms": m["a_body_rms"], f"{tag}_{name}_dlc": m["DLC"],
+                    f"{tag}_{name}_x_rms_mm": 1e3 * m["x_damper_rms"],
+                    f"{tag}_{name}_x_peak_mm": 1e3 * m["x_damper_peak"]}
+        for name in ("ideal", "fmu"):
+            out[f"{tag}_{name}_ride_change_pct"] = 100 * (s[name]["a_body_rms"] / b["a_body_rms"] - 1)
+    minor = next(s for s in summaries if (s["road"], s["speed"]) == HEADLINE[0])
+    tr, pk = minor["tracking"], minor["spectrum"]
+    out |= {"minor_ext_mean_error_kn": tr["extension"]["mean_error"] / 1e3,
+            "minor_ext_above_pct": 100 * tr["extension"]["fraction_above"],
+            "minor_comp_mean_error_kn": tr["compression"]["mean_error"] / 1e3,
+            "minor_comp_below_pct": 100 * tr["compression"]["fraction_below"],
+            "minor_mean_error_kn": tr["mean_error"] / 1e3, "minor_f_rms_kn": tr["F_rms"] / 1e3,
+            "minor_f_demand_rms_kn": tr["F_demand_rms"] / 1e3, "minor_error_rms_kn": tr["error_rms"] / 1e3,
+            "minor_peak_above_3_hz": pk["damper_force"]["peak_above_3Hz"],
+            "minor_peak_band_hz": pk["damper_force"]["peak_wheel_hop_band"],
+            "minor_ideal_peak_band_hz": pk["ideal_force"]["peak_wheel_hop_band"]}
+
+    def span(name: str, values: list[float]) -> None:
+        out[f"{name}_min"], out[f"{name}_max"] = min(values), max(values)
+
+    others = [s for s in summaries if s is not minor]
+    span("others_peak_above_3_hz", [s["spectrum"]["damper_force"]["peak_above_3Hz"] for s in others])
+    span("others_peak_band_hz", [s["spectrum"]["damper_force"]["peak_wheel_hop_band"] for s in others])
+    span("ext_mean_error_kn", [s["tracking"]["extension"]["mean_error"] / 1e3 for s in summaries])
+    span("ext_above_pct", [100 * s["tracking"]["extension"]["fraction_above"] for s in summaries])
+    span("comp_mean_error_kn", [s["tracking"]["compression"]["mean_error"] / 1e3 for s in summaries])
+    span("comp_below_pct", [100 * s["tracking"]["compression"]["fraction_below"] for s in summaries])
+    span("ideal_benefit_pct", [100 * (1 - s["ideal"]["a_body_rms"] / s["best_passive"]["a_body_rms"])
+                               for s in summaries])
+    span("fmu_ride_change_pct", [100 * (s["fmu"]["a_body_rms"] / s["best_passive"]["a_body_rms"] - 1)
+                                 for s in summaries])
+    span("fmu_dlc_change_pct", [100 * (s["fmu"]["DLC"] / s["best_passive"]["DLC"] - 1) for s in summaries])
+    span("fmu_v_max", [s["tracking"]["v_max"] for s in summaries])
+    span("best_passive_kns_m", [s["best_passive"]["c_passive"] / 1e3 for s in summaries])
+    out["crg_best_passive_kns_m"] = crg["best_passive"]["c_passive"] / 1e3
+    for name in ("best_passive", "ideal", "fmu"):
+        key = "passive" if name == "best_passive" else name
+        out[f"crg_{key}_a_body_rms"], out[f"crg_{key}_dlc"] = crg[name]["a_body_rms"], crg[name]["DLC"]
+    out["crg_fmu_v_max"], out["crg_fmu_f_max_kn"] = crg["tracking"]["v_max"], crg["tracking"]["F_max"] / 1e3
+    return out
+
+
 def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--truck-fmu", type=Path, default=TRUCK_FMU)
@@ -518,6 +574,8 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--seed", type=int, default=SEED)
     parser.add_argument("--crg-speed", type=float, default=CRG_SPEED, help="m/s on the Belgian-block track")
     parser.add_argument("--headline-only", action="store_true", help="only minor 14, major 20, motorway 25 m/s")
+    parser.add_argument("--docs", action="store_true", help="write the headline figures to docs/hil_scenarios.json "
+                        "and copy the plots to docs/figures/ (the whole grid at the defaults only)")
     args = parser.parse_args(argv)
 
     t_start = time.perf_counter()
@@ -532,11 +590,11 @@ def main(argv: list[str] | None = None) -> None:
         summary["wall_time_s"] = time.perf_counter() - t0
         cases.append((summary, series))
         print(f"hil_scenarios: {summary['label']} at {speed:g} m/s done in {summary['wall_time_s']:.1f} s", flush=True)
-    headline = [c for c in cases if (c[0]["road"], c[0]["speed"]) in HEADLINE]
-    for summary, series in headline:
+    headline_cases = [c for c in cases if (c[0]["road"], c[0]["speed"]) in HEADLINE]
+    for summary, series in headline_cases:
         plot_fig7(args.out / f"fig7_{summary['road']}_{summary['speed']:g}.png", summary, series)
-    plot_spectra(args.out / "force_spectrum.png", headline, nat[1])
-    plot_tradeoff(args.out / "tradeoff.png", [c[0] for c in headline])
+    plot_spectra(args.out / "force_spectrum.png", headline_cases, nat[1])
+    plot_tradeoff(args.out / "tradeoff.png", [c[0] for c in headline_cases])
     crg_summary, crg_series = run_crg(CRG, args.crg_speed, args.step, truck_fmu=args.truck_fmu,
                                       damper_fmu=args.damper_fmu)
     plot_crg(args.out / "belgian_block.png", crg_summary, crg_series)
@@ -563,6 +621,15 @@ def main(argv: list[str] | None = None) -> None:
                "scenarios": summaries, "belgian_block": crg_summary,
                "wall_time_s": time.perf_counter() - t_start}
     (args.out / "results.json").write_text(json.dumps(jsonable(results), indent=1), encoding="utf-8")
+    if args.docs:
+        if args.headline_only:
+            raise SystemExit("hil_scenarios: --docs needs the whole grid (the documents quote its ranges)")
+        from damper_tools import doc_figures
+
+        doc_figures.write("hil_scenarios", headline(summaries, crg_summary),
+                          ".venv/bin/damper-hil-scenarios --docs")
+        for name in ("fig7_minor_14.png", "force_spectrum.png", "tradeoff.png", "belgian_block.png"):
+            shutil.copy(args.out / name, REPO / "docs" / "figures" / f"hil_{name}")
     print(text)
     print(f"hil_scenarios: wrote {args.out} in {time.perf_counter() - t_start:.0f} s")
 

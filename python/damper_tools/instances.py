@@ -11,7 +11,8 @@ tracks, each axle on the front axle's tracks later.
 The script then shows that the instances are independent (each pair of the six-pair run equals, bit
 for bit, the same pair run alone in its own master) and times 1, 2, 4, 6 and 8 pairs to show that
 the cost grows linearly with the number of instances (pairs 7 and 8 reuse the roads of 1 and 2).
-Writes out/instances/instances.png and results.json.
+Writes out/instances/instances.png and results.json; with --docs the timings the documents quote to
+docs/instances.json (damper_tools.doc_figures).
 """
 
 import argparse
@@ -117,6 +118,7 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--duration", type=float, default=5.0)
     parser.add_argument("--step", type=float, default=1e-3)
     parser.add_argument("--out", type=Path, default=OUT)
+    parser.add_argument("--docs", action="store_true", help="write the timings to docs/instances.json")
     args = parser.parse_args(argv)
     kw = {"truck_fmu": args.truck_fmu, "damper_fmu": args.damper_fmu}
 
@@ -155,6 +157,16 @@ def main(argv: list[str] | None = None) -> None:
                "F_damper_rms_kN": {c.name: float(np.std(r["damper.F_damper"]) / 1e3)
                                    for c, r in zip(cars, results, strict=True)}}
     (args.out / "results.json").write_text(json.dumps(summary, indent=1), encoding="utf-8")
+    if args.docs:
+        from damper_tools import doc_figures
+
+        per_pair = [r["per_pair_s"] for r in rows]
+        figures = {"per_pair_s_min": min(per_pair), "per_pair_s_max": max(per_pair),
+                   "per_pair_step_us_min": min(r["per_pair_per_step_us"] for r in rows),
+                   "per_pair_step_us_max": max(r["per_pair_per_step_us"] for r in rows),
+                   "realtime_per_pair_min": args.duration / max(per_pair),
+                   "realtime_per_pair_max": args.duration / min(per_pair)}
+        doc_figures.write("instances", figures, ".venv/bin/python -m damper_tools.instances --docs")
     print(f"instances: wrote {args.out}")
 
 

@@ -10,6 +10,8 @@ Writes into the output directory:
     table.md                   the paper's statements against the measured numbers (also printed)
     results.json               every measured number
 
+and with --docs the headline figures the documents quote to docs/paper_tests.json (damper_tools.doc_figures).
+
 The scenarios and metrics live in damper_tools.rig_tests, shared with the pytest suite.
 """
 
@@ -26,7 +28,7 @@ import matplotlib
 import matplotlib.pyplot as plt
 from fmpy import extract, read_model_description
 
-from damper_tools import DAMPER_FMU, REPO
+from damper_tools import DAMPER_FMU, REPO, doc_figures
 from damper_tools import rig_tests as rt
 
 BAR = 1e5
@@ -158,6 +160,25 @@ def results_json(rig: dict[str, Any], volume_ratio: float, output_interval: floa
     }
 
 
+def headline(rig: dict[str, Any], volume_ratio: float) -> dict[str, float]:
+    """The figures the documents quote (docs/paper_tests.json): times in ms, overshoots in %."""
+    spool = [m for _, _, m in rig["spool"]]
+    out: dict[str, float] = {}
+    for key in ("dead", "t50", "t90"):
+        values = [1e3 * m[key] for m in spool]
+        out[f"spool_{key}_min_ms"], out[f"spool_{key}_max_ms"] = min(values), max(values)
+    out["spool_overshoot_max_pct"] = max(m["overshoot_pct"] for m in spool)
+    for name, keys in (("extension", ("t10", "t50", "t90", "t100")), ("compression", ("t90",))):
+        for k, m in enumerate(rig["force"][name][1], 1):
+            for key in keys:
+                out[f"{name}_step{k}_{key}_ms"] = 1e3 * m[key]
+            out[f"{name}_step{k}_overshoot_pct"] = m["overshoot_pct"]
+    for k, ratio in enumerate(rt.criteria(rig)["compression_slower"][1], 1):
+        out[f"t90_ratio_step{k}"] = ratio
+    out["compressed_volume_ratio"] = volume_ratio
+    return out
+
+
 # --------------------------------------------------------------------------- plots
 
 def plot_spool_steps(rig: dict[str, Any], path: Path) -> None:
@@ -260,6 +281,8 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--output-interval", type=float, default=rt.OUTPUT_INTERVAL,
                         help=f"communication step [s] (default {rt.OUTPUT_INTERVAL})")
     parser.add_argument("--strict", action="store_true", help="exit 1 if a paper statement is not reproduced")
+    parser.add_argument("--docs", action="store_true", help="write the headline figures to docs/paper_tests.json "
+                        "and copy the plots to docs/figures/")
     args = parser.parse_args(argv)
     matplotlib.use("Agg")  # the plots are files: no display needed
     if not args.fmu.is_file():
@@ -281,6 +304,10 @@ def main(argv: list[str] | None = None) -> None:
     (args.out / "table.md").write_text(text, encoding="utf-8")
     results = results_json(rig, volume_ratio, args.output_interval)
     (args.out / "results.json").write_text(json.dumps(results, indent=2) + "\n", encoding="utf-8")
+    if args.docs:
+        doc_figures.write("paper_tests", headline(rig, volume_ratio), ".venv/bin/damper-paper-tests --docs")
+        for name in ("fig4_spool_steps.png", "fig6_force_steps.png", "fig6_force_step_zoom.png"):
+            shutil.copy(args.out / name, REPO / "docs" / "figures" / name)
     print(text)
     print(f"paper_tests: wrote {args.out}/ (fig4_spool_steps.png, fig6_force_steps.png, "
           "fig6_force_step_zoom.png, table.md, results.json)")

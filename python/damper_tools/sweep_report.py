@@ -321,6 +321,8 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--retries", type=int, default=3, help="retries of a task that raised")
     parser.add_argument("--no-plots", action="store_true")
     parser.add_argument("--quiet", action="store_true", help="no progress bar")
+    parser.add_argument("--docs", action="store_true", help="write this run's wall time to docs/sweep.json, as the "
+                        "section <sweep>_workers_<N>")
     args = parser.parse_args(argv)
 
     try:
@@ -356,14 +358,21 @@ def main(argv: list[str] | None = None) -> int:
         bar.close()
     df = sweep.table(spec, outcome.rows)
     sweep.write_parquet(df, out / "results.parquet")
+    wall_s, cpu_s = round(time.perf_counter() - start, 2), round(float(df["wall_s"].sum()), 2)
     run = {"sweep": str(args.sweep_file), "spec": spec.to_dict(), "points": n, "ran": outcome.ran,
            "skipped": outcome.skipped,
            "failed": outcome.failed, "workers": workers or "serial", "scheduler": args.scheduler or "local",
-           "wall_s": round(time.perf_counter() - start, 2), "sweep_wall_s": round(outcome.wall_s, 2),
-           "cpu_s_of_runs": round(float(df["wall_s"].sum()), 2)}
+           "wall_s": wall_s, "sweep_wall_s": round(outcome.wall_s, 2), "cpu_s_of_runs": cpu_s}
     history = out / "run.json"
     runs = json.loads(history.read_text(encoding="utf-8")).get("runs", []) if history.is_file() else []
     history.write_text(json.dumps({**run, "runs": [*runs, run]}, indent=1) + "\n", encoding="utf-8")
+    if args.docs and not outcome.skipped and not outcome.failed:
+        from damper_tools import doc_figures
+
+        figures = {"points": float(n), "wall_s": wall_s, "cpu_s_of_runs": cpu_s}
+        command = (f"damper-sweep {args.sweep_file} --workers {workers or 'serial'} --docs "
+                   "(a fresh out/ folder: no point resumed)")
+        doc_figures.write("sweep", figures, command, section=f"{spec.name}_workers_{workers or 0}")
     if not args.no_plots:
         drawn = draw(spec, df, out)
         write_html(out / "index.html", spec, df, drawn["images"], drawn["sensitivity"], run)

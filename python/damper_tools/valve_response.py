@@ -584,9 +584,73 @@ def flow_summary(points: Sequence[dict[str, float]], p: dict[str, float]) -> dic
             "dp_min_turbulent": TURBULENT_DP}
 
 
+def headline(vcases: Sequence[ValveCase], fcases: Sequence[ForceCase], points: Sequence[dict[str, float]],
+             fs: dict[str, float]) -> dict[str, float]:
+    """The figures the documents quote (docs/valve_response.json): the valve table per run
+    (valve_<mean in 0.1 mm>_<small|large|rest>_...), its ranges at the small (1 mm) and the mid and
+    large openings, the closed loop's ranges, the force-loop table per velocity at the large amplitude
+    (force_<|v| in cm/s>_<ext|comp>_...), the flow map's; frequencies in Hz, delays in ms."""
+    out: dict[str, float] = {}
+    tags = {}
+    for c in vcases:
+        kind = "rest" if c.velocity == 0 else ("small" if c.amplitude == SPOOL_SMALL else "large")
+        tags[f"{round(1e4 * c.mean)}_{kind}"] = c
+    for tag, vc in tags.items():
+        v, cl = vc.metrics["valve"], vc.metrics["closed_loop"]
+        out |= {f"valve_{tag}_gain_mm_a": 1e3 * v["gain_low"], f"valve_{tag}_f3db_hz": v["f_3dB"],
+                f"valve_{tag}_f90_hz": v["f_90deg"], f"valve_{tag}_delay_ms": 1e3 * v["delay"],
+                f"valve_{tag}_loop_f3db_hz": cl["f_3dB"], f"valve_{tag}_loop_f90_hz": cl["f_90deg"],
+                f"valve_{tag}_loop_delay_ms": 1e3 * cl["delay"]}
+
+    def span(name: str, values: Sequence[float]) -> None:
+        out[f"{name}_min"], out[f"{name}_max"] = min(values), max(values)
+
+    small = [c for c in vcases if c.mean == min(SPOOL_MEANS)]
+    mid = [c for c in vcases if c.mean > min(SPOOL_MEANS)]
+    for name, sel in (("small", small), ("mid", mid)):
+        span(f"valve_{name}_gain_mm_a", [1e3 * c.metrics["valve"]["gain_low"] for c in sel])
+        span(f"valve_{name}_f3db_hz", [c.metrics["valve"]["f_3dB"] for c in sel])
+        span(f"valve_{name}_f90_hz", [c.metrics["valve"]["f_90deg"] for c in sel])
+    span("valve_mid_delay_ms", [1e3 * c.metrics["valve"]["delay"] for c in mid])
+    span("loop_f3db_hz", [c.metrics["closed_loop"]["f_3dB"] for c in vcases])
+    span("loop_f90_hz", [c.metrics["closed_loop"]["f_90deg"] for c in vcases])
+    span("loop_delay_ms", [1e3 * c.metrics["closed_loop"]["delay"] for c in vcases])
+    out["loop_gain_max"] = max(c.metrics["closed_loop"]["peak_gain_ratio"] for c in vcases)
+    span("i_sol_large_a", [x for c in vcases if c.amplitude > SPOOL_SMALL for x in c.metrics["i_sol_range"]])
+    coherence = {tag: min(vc.metrics["valve"]["coherence_min"], vc.metrics["closed_loop"]["coherence_min"])
+                 for tag, vc in tags.items()}
+    out["valve_coherence_mid_min"] = min(v for tag, v in coherence.items() if not tag.startswith("10_"))
+    out["valve_coherence_10_small"], out["valve_coherence_10_large"] = coherence["10_small"], coherence["10_large"]
+
+    large = [fc for fc in fcases if fc.amplitude == max(FORCE_AMPLITUDES)]
+    for fc in large:
+        tag = f"force_{round(100 * abs(fc.velocity)):03d}_{'ext' if fc.velocity > 0 else 'comp'}"
+        out[f"{tag}_f3db_hz"], out[f"{tag}_f90_hz"] = fc.metrics["f_3dB"], fc.metrics["f_90deg"]
+    pairs = [(a, b) for a in fcases for b in fcases if a.velocity == b.velocity and a.amplitude < b.amplitude]
+    out["force_amplitude_max_diff_hz"] = max(abs(a.metrics[k] - b.metrics[k]) for a, b in pairs
+                                             for k in ("f_3dB", "f_90deg"))
+    fast = [c for c in fcases if abs(c.velocity) > min(FORCE_VELOCITIES)]
+    span("force_gain_low", [c.metrics["gain_low"] for c in fcases])
+    span("force_fast_peak_8_40hz", [float(c.frf.magnitude[(c.frf.f >= 8) & (c.frf.f <= 40)].max())
+                                    for c in fast if c.frf is not None])
+    slowest = next(c for c in large if c.velocity == -min(FORCE_VELOCITIES))
+    out["force_coherence_005_comp_large"] = slowest.metrics["coherence_min"]
+    span("force_coherence", [c.metrics["coherence_min"] for c in fcases if c is not slowest])
+
+    out["flow_turbulent_points"] = fs["turbulent_points"]
+    out["flow_max_dev_pct"] = 100 * fs["max_abs_deviation"]
+    widest = [q for q in points
+              if q["x_spool_demand"] == max(FLOW_SPOOL) and abs(q["velocity"]) == max(FLOW_VELOCITIES)]
+    span("flow_spool_at_widest_fastest_mm", [1e3 * q["x_spool"] for q in widest])
+    out["force_velocity_smallest_01_kn"] = next(q["F_damper"] for q in points if q["x_spool_demand"] == min(FLOW_SPOOL)
+                                                 and q["velocity"] == 0.1) / 1e3
+    return out
+
+
 def main(argv: list[str] | None = None) -> None:
     import argparse
     import json
+    import shutil
     import time
 
     from damper_tools import REPO
@@ -594,6 +658,8 @@ def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--fmu", type=Path, default=DAMPER_FMU)
     parser.add_argument("--out", type=Path, default=REPO / "out" / "valve")
+    parser.add_argument("--docs", action="store_true", help="write the headline figures to docs/valve_response.json "
+                        "and copy the plots to docs/figures/")
     args = parser.parse_args(argv)
     t0 = time.perf_counter()
     args.out.mkdir(parents=True, exist_ok=True)
@@ -627,6 +693,13 @@ def main(argv: list[str] | None = None) -> None:
                               for c in fcases],
                "flow_map": points, "flow_summary": fs, "wall_time_s": time.perf_counter() - t0}
     (args.out / "results.json").write_text(json.dumps(jsonable(results), indent=1), encoding="utf-8")
+    if args.docs:
+        from damper_tools import doc_figures
+
+        doc_figures.write("valve_response", headline(vcases, fcases, points, fs),
+                          ".venv/bin/damper-valve-response --docs")
+        for name in ("valve_bode.png", "force_loop_bode.png", "flow_map.png", "force_velocity.png"):
+            shutil.copy(args.out / name, REPO / "docs" / "figures" / name)
     print(text)
     print(f"valve_response: wrote {args.out} in {time.perf_counter() - t0:.0f} s")
 
