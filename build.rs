@@ -1,11 +1,11 @@
 //! Checks `modelDescription.xml` and generates the variable enums, the `Parameters` struct and the
-//! GUID from it (see `crates/fmi2_codegen`), and the effect catalog from the files of
+//! GUID from it (see `crates/fmi_codegen`), and the effect catalog from the files of
 //! `src/effects/`: an effect is one new file there (and its parameters in the XML), nothing else.
 use std::fmt::Write as _;
 use std::path::PathBuf;
 
 fn main() {
-    fmi2_codegen::generate();
+    fmi_codegen::generate();
     effect_catalog();
 }
 

@@ -1,11 +1,12 @@
 #!/usr/bin/env python3
-"""Package the damper as an FMI 2.0 Co-Simulation FMU (standard library only).
+"""Package the damper as FMI 2.0 and FMI 3.0 Co-Simulation FMUs (standard library only).
 
     python3 scripts/package_fmu.py              # cargo build --release (Linux and Windows), then zip
     python3 scripts/package_fmu.py --no-build   # zip what target/ already holds
-    python3 scripts/package_fmu.py --platforms linux64   # the Linux binary only
+    python3 scripts/package_fmu.py --platforms linux64   # the Linux binaries only
+    python3 scripts/package_fmu.py --fmi 2      # the FMI 2.0 FMU only
 
-The FMU (target/fmu/SemiActiveDamper.fmu) holds
+The FMI 2.0 FMU (target/fmu/SemiActiveDamper.fmu) holds
 
     modelDescription.xml
     binaries/linux64/SemiActiveDamper.so      (copy of target/release/libsemi_active_damper.so)
@@ -13,6 +14,11 @@ The FMU (target/fmu/SemiActiveDamper.fmu) holds
     documentation/index.html                  (generated here from modelDescription.xml)
     documentation/physics.md                  (copy of docs/physics.md: equations, parameter reasoning)
     documentation/licenses/                   (the project's licences and those of the code in the binaries)
+
+The FMI 3.0 FMU (target/fmu/fmi3/SemiActiveDamper.fmu) holds the same, with the model description
+that `fmi3-model-description` (crates/fmi_codegen) generates from modelDescription.xml, and the
+binaries of the crate's feature `fmi3` (built into target/fmi3/, so that each standard's binary
+exports its own functions alone) under binaries/x86_64-linux and binaries/x86_64-windows.
 
 The Windows binary is cross-compiled with cargo's x86_64-pc-windows-gnu target and the MinGW-w64
 linker (.cargo/config.toml); scripts/setup.sh installs both. By default (--platforms auto) it is
@@ -44,9 +50,16 @@ PLATFORMS = {
     "linux64": (None, "lib{}.so", ".so"),
     "win64": ("x86_64-pc-windows-gnu", "{}.dll", ".dll"),
 }
+# The FMI 3.0 platform tuple of each FMI 2.0 platform folder.
+FMI3_PLATFORMS = {"linux64": "x86_64-linux", "win64": "x86_64-windows"}
 WINDOWS_LINKER = "x86_64-w64-mingw32-gcc"
 ZIP_DATE = (1980, 1, 1, 0, 0, 0)
-REQUIRED_SYMBOLS = ("fmi2Instantiate", "fmi2DoStep", "fmi2GetReal", "fmi2SetReal", "fmi2FreeInstance")
+# Functions each standard's binary must define (a check that the right build was packaged).
+REQUIRED_SYMBOLS = {
+    2: ("fmi2Instantiate", "fmi2DoStep", "fmi2GetReal", "fmi2SetReal", "fmi2FreeInstance"),
+    3: ("fmi3InstantiateCoSimulation", "fmi3DoStep", "fmi3GetFloat64", "fmi3SetFloat64", "fmi3FreeInstance"),
+}
+FMI_VERSIONS = (2, 3)
 # The model's physics document. Both FMUs ship it as documentation/physics.md, because the variable
 # descriptions cite its sections ("see physics.md §x") and a user of the FMU has no repository.
 PHYSICS_DOC = REPO / "docs" / "physics.md"
@@ -70,8 +83,9 @@ SPDX_TEXTS = {"MIT": "LICENSE-MIT", "Apache-2.0": "LICENSE-APACHE"}
 LICENCE_FILE = re.compile(r"(LICEN[CS]E|COPYING|COPYRIGHT|NOTICE|UNLICENSE)", re.IGNORECASE)
 # cargo tree's target for each FMI platform folder (the host's toolchain builds linux64)
 TREE_TARGETS = {"linux64": "x86_64-unknown-linux-gnu", "win64": "x86_64-pc-windows-gnu"}
-# the FMI 2.0 headers' licence: the FMI layer transcribes their types (the program's importer binds them)
-FMI_HEADERS_LICENCE = REPO / "crates" / "fmi2_slave" / "FMI-HEADERS-LICENSE.txt"
+# the FMI 2.0 and 3.0 headers' licence: the FMI layer transcribes their types (the program's importer
+# binds them)
+FMI_HEADERS_LICENCE = REPO / "crates" / "fmi_slave" / "FMI-HEADERS-LICENSE.txt"
 # Debian's copyright file of the MinGW-w64 runtime that the win64 binaries' start-up code comes from
 MINGW_COPYRIGHT = Path("/usr/share/doc/mingw-w64-x86-64-dev/copyright")
 
@@ -85,15 +99,17 @@ pre { background: #f6f6f6; padding: 0.6em; overflow-x: auto; }
 .tag { font-weight: bold; }
 .tag-P { color: #1a6b1a; } .tag-S { color: #1a4d8f; } .tag-A { color: #8f5a1a; }"""
 
-def target_dir():
-    """Cargo's target directory (CARGO_TARGET_DIR if set)."""
-    return Path(os.environ.get("CARGO_TARGET_DIR", REPO / "target"))
+def target_dir(fmi_version=2):
+    """Cargo's target directory (CARGO_TARGET_DIR if set); the FMI 3.0 binaries are built into its
+    folder fmi3/, where they do not replace the FMI 2.0 ones (the same crates with another feature)."""
+    base = Path(os.environ.get("CARGO_TARGET_DIR", REPO / "target"))
+    return base / "fmi3" if fmi_version == 3 else base
 
 
-def library_path(platform, crate):
-    """Where cargo build --release puts `crate`'s library for `platform`."""
+def library_path(platform, crate, fmi_version=2):
+    """Where cargo build --release puts `crate`'s library for `platform` and FMI version."""
     triple, name, _ = PLATFORMS[platform]
-    return target_dir() / (triple or "") / "release" / name.format(crate)
+    return target_dir(fmi_version) / (triple or "") / "release" / name.format(crate)
 
 
 def windows_missing():
@@ -130,25 +146,32 @@ def platforms_arg(text, program, product="the FMU gets"):
     return ["linux64", "win64"]
 
 
-def cargo_build(platforms, packages=("semi_active_damper", "quarter_truck", "full_truck"), environment=None):
+FMU_CRATES = ("semi_active_damper", "quarter_truck", "full_truck")
+
+
+def cargo_build(platforms, packages=FMU_CRATES, environment=None, fmi_version=2):
     """Builds `packages` for each platform; by default the three FMUs' libraries (the damper's and the
     two trucks'), which need cargo alone, no libclang. `environment(triple)`, if given, is the
-    build's environment for a target triple (None: the host's)."""
+    build's environment for a target triple (None: the host's). For FMI 3.0 each FMU crate gets its
+    feature `fmi3`, in target_dir(3)."""
     for platform in platforms:
         triple = PLATFORMS[platform][0]
         command = ["cargo", "build", "--release"] + [word for package in packages for word in ("-p", package)]
         command += ["--target", triple] if triple else []
+        if fmi_version == 3:
+            features = ",".join(f"{p}/fmi3" for p in packages if p in FMU_CRATES)
+            command += ["--features", features, "--target-dir", str(target_dir(3))]
         print("+ " + " ".join(command), flush=True)
         subprocess.run(command, cwd=REPO, env=environment(triple) if environment else None, check=True)
 
 
-def check_library(path):
-    """Fails unless the shared library exists and names the FMI 2.0 functions (a byte search of its
-    symbol strings; the library is not loaded)."""
+def check_library(path, fmi_version=2):
+    """Fails unless the shared library exists and names the functions of its FMI version (a byte
+    search of its symbol strings; the library is not loaded)."""
     if not path.is_file():
         sys.exit(f"package_fmu: {path} not found (run python3 scripts/package_fmu.py without --no-build)")
     data = path.read_bytes()
-    missing = [name for name in REQUIRED_SYMBOLS if name.encode() + b"\0" not in data]
+    missing = [name for name in REQUIRED_SYMBOLS[fmi_version] if name.encode() + b"\0" not in data]
     if missing:
         sys.exit(f"package_fmu: {path} does not define {', '.join(missing)}")
 
@@ -234,11 +257,30 @@ def variable_rows(model, causality):
     return "\n".join(rows)
 
 
+LINUX_TEXT = ": Linux x86-64 with glibc 2.34 or later"
+WINDOWS_TEXT = ": 64-bit Windows 10 or later (cross-compiled with MinGW-w64; it needs no DLL that Windows itself lacks)"
 PLATFORM_TEXT = {
-    "linux64": "<code>linux64</code>: Linux x86-64 with glibc 2.34 or later",
-    "win64": ("<code>win64</code>: 64-bit Windows 10 or later (cross-compiled with MinGW-w64; it needs "
-              "no DLL that Windows itself lacks)"),
+    "linux64": "<code>linux64</code>" + LINUX_TEXT,
+    "win64": "<code>win64</code>" + WINDOWS_TEXT,
+    "x86_64-linux": "<code>x86_64-linux</code>" + LINUX_TEXT,
+    "x86_64-windows": "<code>x86_64-windows</code>" + WINDOWS_TEXT,
 }
+
+
+def identity_html(model):
+    """The FMU's identity in the documentation: FMI 2.0's GUID, FMI 3.0's instantiation token (the
+    same string: the variable table's fingerprint)."""
+    what = "GUID" if model["fmiVersion"] == "2.0" else "instantiation token"
+    return f"{what} <code>{html.escape(model['guid'])}</code>"
+
+
+def for_version(model, fmi_version):
+    """`model` (read from the FMI 2.0 description) as the documentation of its FMI `fmi_version` FMU."""
+    if fmi_version == 2:
+        return {**model, "prefix": "fmi2", "derivatives": "; a master's fmi2SetRealInputDerivatives ramps the "
+                "velocity and the demands (canInterpolateInputs)"}
+    return {**model, "fmiVersion": "3.0", "prefix": "fmi3", "derivatives": " (FMI 3.0 has no input derivatives)",
+            "platforms": [FMI3_PLATFORMS[p] for p in model["platforms"]]}
 
 
 def platforms_html(model):
@@ -271,7 +313,7 @@ def documentation_html(model):
 <html lang="en">
 <head>
 <meta charset="utf-8">
-<title>{html.escape(model['modelName'])} — FMI 2.0 Co-Simulation FMU</title>
+<title>{html.escape(model['modelName'])} — FMI {model['fmiVersion']} Co-Simulation FMU</title>
 <style>
 {CSS}
 </style>
@@ -280,7 +322,7 @@ def documentation_html(model):
 <h1>{html.escape(model['modelName'])}</h1>
 <p>FMI {model['fmiVersion']} Co-Simulation FMU, version {html.escape(model['version'])},
 model identifier <code>{html.escape(model['modelIdentifier'])}</code>,
-GUID <code>{html.escape(model['guid'])}</code>.</p>
+{identity_html(model)}.</p>
 <p>{html.escape(model['description'])}</p>
 {platforms_html(model)}
 
@@ -292,7 +334,7 @@ directions of motion, and a gas-charged reservoir takes the rod volume. A digita
 (2 kHz by default) closes an inner loop on spool position (PID plus a flow-force compensation current)
 and an outer loop on damper force. The master gives the damper velocity and a force demand; the FMU
 returns the force measured by the load cell and the internal signals of the valve and the chambers.
-The plant is integrated inside every <code>fmi2DoStep</code> by a stiff Rosenbrock method of order 3
+The plant is integrated inside every <code>{model['prefix']}DoStep</code> by a stiff Rosenbrock method of order 3
 with step-size control inside each controller sample (tolerance <code>rtol</code>, steps of at most
 <code>h_max</code>); the controller samples on the grid start time + k·<code>T_sample</code>, whatever
 the communication steps are.</p>
@@ -350,17 +392,20 @@ a velocity-dependent minimum (≈0.1 kN at 0.15 m/s, ≈5 kN at 1 m/s, see physi
 near 37 kN.</li>
 <li>Velocity range: the input accepts |v_damper| ≤ 5 m/s, but the valve is well behaved up to about 0.6 m/s.
 Above ~0.6–1 m/s at high force, flow forces make the spool show small limit cycles (≈0.1 mm, a few % of force).</li>
-<li>Stroke: there are no end stops. Keep |x_damper| below L_half_stroke = {l_half * 1e3:.0f} mm; beyond it the
-chamber volumes are floored and the result is not physical.</li>
+<li>Stroke: end stops act only with the catalog effect <code>effect_end_stops</code> (off by default). Keep
+|x_damper| below L_half_stroke = {l_half * 1e3:.0f} mm without it; beyond, the chamber volumes are floored and
+the result is not physical (the FMU logs a warning).</li>
 <li>Compression is slower than extension: the compressed oil volume at mid-stroke is
 {v_comp * 1e6:.0f} cm³ against {v_ext * 1e6:.0f} cm³ in extension (ratio {v_comp / v_ext:.2f}).</li>
 <li>The paper's 15 Hz peak of the Hardware-in-the-Loop force spectrum is not a property of the damper alone:
-with the quarter truck of the paper it needs 4–5 ms of extra force-path latency of the rig.</li>
-<li>Parameters have variability "fixed": they can be set before <code>fmi2ExitInitializationMode</code> only;
-later changes are refused with fmi2Error. Inputs are held constant over a communication step
-(<code>canInterpolateInputs=false</code>).</li>
-<li>Not modelled: temperature and viscosity changes, air release and dissolution, check-valve dynamics,
-solenoid hysteresis and spool stiction, pipe fluid inertia, load-cell filtering.</li>
+with the quarter truck of the paper it needs a rig's force path delayed 2–3 ms, and even then it is a broad
+maximum, not a peak.</li>
+<li>Parameters have variability "fixed": they can be set before <code>{model['prefix']}ExitInitializationMode</code>
+only; later changes are refused with {model['prefix']}Error. Over a communication step the velocity moves along
+the slope <code>a_damper</code> (0: held){model['derivatives']}.</li>
+<li>Not modelled: cavitation and air release, the temperature of the orifices and the bulk modulus, check-valve
+dynamics, solenoid hysteresis and spool stiction, pipe fluid inertia, load-cell filtering (docs/physics.md §8
+lists their signatures).</li>
 </ul>
 </body>
 </html>
@@ -417,8 +462,8 @@ def third_party_notice(crate, platforms, product="this FMU"):
     packages = {(p["name"], p["version"]): p for p in metadata["packages"]}
     crates = linked_crates(crate, platforms)
     about = ("The binaries are built with Rust from this project's code (MIT OR Apache-2.0: LICENSE-MIT, "
-             "LICENSE-APACHE), with the C types of the FMI 2.0 standard's headers (2-Clause BSD: "
-             "FMI-2.0-headers.txt), and contain code of the Rust standard library (MIT OR Apache-2.0; its notices: "
+             "LICENSE-APACHE), with the C types of the FMI 2.0 and FMI 3.0 standards' headers (2-Clause BSD: "
+             "FMI-headers.txt), and contain code of the Rust standard library (MIT OR Apache-2.0; its notices: "
              "rust-standard-library.html)" + (" and of the crates below, each with the text of its licence files."
                                                if crates else ", and of no other crate."))
     if "win64" in platforms:
@@ -463,10 +508,10 @@ def declared_licence_texts(name, version, meta, folder):
 
 def common_licences(platforms):
     """(file name, bytes) of the notices every binary of the project needs beside THIRD-PARTY.txt: the
-    FMI 2.0 headers' and, for the code the toolchain puts in, the Rust standard library's and for
+    FMI headers' and, for the code the toolchain puts in, the Rust standard library's and for
     win64 the MinGW-w64 runtime's."""
     sysroot = subprocess.run(["rustc", "--print", "sysroot"], check=True, capture_output=True, text=True).stdout
-    files = [("FMI-2.0-headers.txt", FMI_HEADERS_LICENCE.read_bytes()), ("rust-standard-library.html",
+    files = [("FMI-headers.txt", FMI_HEADERS_LICENCE.read_bytes()), ("rust-standard-library.html",
               (Path(sysroot.strip()) / "share" / "doc" / "rust" / "COPYRIGHT-library.html").read_bytes())]
     if "win64" in platforms:
         if not MINGW_COPYRIGHT.exists():
@@ -484,16 +529,28 @@ def licence_files(crate, platforms):
     return [(f"documentation/licenses/{name}", data) for name, data in files]
 
 
-def package(libraries, xml_path, fmu_path, documentation=None, crate=CRATE):
-    """Zips the FMU, with the binary of each platform in `libraries` ({platform: path}) built from
-    `crate`; `documentation(model)` writes its index.html (default: the damper's). Both FMUs also
-    carry docs/physics.md as documentation/physics.md, and the licences."""
+def fmi3_model_description(xml_path):
+    """The FMI 3.0 model description generated from the FMI 2.0 one at `xml_path` (cargo runs
+    crates/fmi_codegen's program: the build's own parser and checks, one variable table)."""
+    command = ["cargo", "run", "--quiet", "--release", "-p", "fmi_codegen", "--bin", "fmi3-model-description", "--",
+               str(xml_path)]
+    return subprocess.run(command, cwd=REPO, check=True, capture_output=True).stdout
+
+
+def package(libraries, xml_path, fmu_path, documentation=None, crate=CRATE, fmi_version=2):
+    """Zips the FMU of FMI `fmi_version`, with the binary of each platform in `libraries` ({FMI 2.0
+    platform folder: path}) built from `crate`; `documentation(model)` writes its index.html
+    (default: the damper's). Every FMU also carries docs/physics.md as documentation/physics.md, and
+    the licences."""
     model = read_model(xml_path)
     model["platforms"] = list(libraries)
-    binaries = [(f"binaries/{platform}/{model['modelIdentifier']}{PLATFORMS[platform][2]}", path.read_bytes())
+    model = for_version(model, fmi_version)
+    folder = (lambda p: p) if fmi_version == 2 else FMI3_PLATFORMS.get
+    binaries = [(f"binaries/{folder(platform)}/{model['modelIdentifier']}{PLATFORMS[platform][2]}", path.read_bytes())
                 for platform, path in libraries.items()]
+    description = xml_path.read_bytes() if fmi_version == 2 else fmi3_model_description(xml_path)
     files = [
-        ("modelDescription.xml", xml_path.read_bytes()),
+        ("modelDescription.xml", description),
         *binaries,
         ("documentation/index.html", (documentation or documentation_html)(model).encode("utf-8")),
         ("documentation/physics.md", PHYSICS_DOC.read_bytes()),
@@ -503,34 +560,62 @@ def package(libraries, xml_path, fmu_path, documentation=None, crate=CRATE):
     return fmu_path
 
 
+def fmi3_output(output):
+    """Where the FMI 3.0 FMU of an FMI 2.0 FMU path goes: its folder's fmi3/, same file name."""
+    return output.parent / "fmi3" / output.name
+
+
 def add_arguments(parser, crate, output):
-    """The options both packaging commands take."""
+    """The options every packaging command takes."""
     parser.add_argument("--no-build", action="store_true", help="do not run cargo build --release")
     parser.add_argument("--platforms", default="auto",
                         help="binaries to package: auto (linux64, and win64 where it can be built) or a "
                              f"comma-separated list of {', '.join(PLATFORMS)} (default: auto)")
+    parser.add_argument("--fmi", default="2,3",
+                        help="FMI versions to package, comma-separated: 2 (the FMI 2.0 FMU), 3 (the FMI 3.0 "
+                             f"FMU, written to {fmi3_output(output).relative_to(REPO)}) (default: 2,3)")
     parser.add_argument("--library", type=Path, default=None,
-                        help=f"linux64 shared library to package (default: <target>/release/lib{crate}.so)")
-    parser.add_argument("--output", type=Path, default=output, help=f"FMU to write (default: {output})")
+                        help=f"linux64 FMI 2.0 shared library to package (default: <target>/release/lib{crate}.so)")
+    parser.add_argument("--output", type=Path, default=output, help=f"FMI 2.0 FMU to write (default: {output})")
 
 
-def libraries(args, crate, program):
+def fmi_versions(args, program):
+    """The FMI versions of --fmi."""
+    try:
+        versions = sorted({int(v) for v in args.fmi.split(",") if v.strip()})
+    except ValueError:
+        versions = []
+    if not versions or any(v not in FMI_VERSIONS for v in versions):
+        sys.exit(f"{program}: --fmi {args.fmi}: choose from 2 and 3, comma-separated")
+    return versions
+
+
+def libraries(args, crate, program, fmi_version=2):
     """Builds (unless --no-build) and checks the libraries to package: {platform: path}."""
     platforms = platforms_arg(args.platforms, program)
     if not args.no_build:
-        cargo_build(platforms)
-    chosen = {p: (args.library if p == "linux64" and args.library else library_path(p, crate)) for p in platforms}
+        cargo_build(platforms, fmi_version=fmi_version)
+    use_given = fmi_version == 2 and args.library
+    chosen = {p: (args.library if p == "linux64" and use_given else library_path(p, crate, fmi_version))
+              for p in platforms}
     for path in chosen.values():
-        check_library(path)
+        check_library(path, fmi_version)
     return chosen
+
+
+def package_versions(args, crate, xml_path, documentation, program):
+    """Builds and packages the FMUs of every FMI version of --fmi; prints what it wrote."""
+    for version in fmi_versions(args, program):
+        output = args.output if version == 2 else fmi3_output(args.output)
+        fmu = package(libraries(args, crate, program, version), xml_path, output, documentation, crate, version)
+        print(f"{program}: wrote {fmu} (FMI {version}.0, {fmu.stat().st_size / 1e6:.1f} MB)")
 
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     add_arguments(parser, CRATE, REPO / "target" / "fmu" / "SemiActiveDamper.fmu")
     args = parser.parse_args(argv)
-    fmu = package(libraries(args, CRATE, "package_fmu"), REPO / "modelDescription.xml", args.output)
-    print(f"package_fmu: wrote {fmu} ({fmu.stat().st_size / 1e6:.1f} MB)")
+    package_versions(args, CRATE, REPO / "modelDescription.xml", documentation_html, "package_fmu")
 
 
 if __name__ == "__main__":

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Package the three-axle full truck as an FMI 2.0 Co-Simulation FMU (standard library only).
+"""Package the three-axle full truck as FMI 2.0 and FMI 3.0 Co-Simulation FMUs (standard library only).
 
     python3 scripts/package_full_truck.py              # cargo build --release (Linux and Windows), then zip
     python3 scripts/package_full_truck.py --no-build   # zip what target/ already holds
@@ -7,7 +7,7 @@
 The FMU (target/fmu/FullTruck.fmu) holds modelDescription.xml (crates/full_truck/), the binaries
 (binaries/linux64/FullTruck.so, binaries/win64/FullTruck.dll), documentation/index.html (generated
 here), documentation/physics.md and the licences, as scripts/package_truck.py packs the quarter
-truck (whose helpers it uses).
+truck (whose helpers it uses), and target/fmu/fmi3/FullTruck.fmu the FMI 3.0 build.
 """
 
 import argparse
@@ -54,9 +54,7 @@ def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     package_fmu.add_arguments(parser, CRATE, OUTPUT)
     args = parser.parse_args(argv)
-    fmu = package_fmu.package(package_fmu.libraries(args, CRATE, "package_full_truck"), XML, args.output,
-                              documentation_html, CRATE)
-    print(f"package_full_truck: wrote {fmu} ({fmu.stat().st_size / 1e6:.1f} MB)")
+    package_fmu.package_versions(args, CRATE, XML, documentation_html, "package_full_truck")
 
 
 if __name__ == "__main__":

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Package the quarter truck as an FMI 2.0 Co-Simulation FMU (standard library only).
+"""Package the quarter truck as FMI 2.0 and FMI 3.0 Co-Simulation FMUs (standard library only).
 
     python3 scripts/package_truck.py              # cargo build --release (Linux and Windows), then zip
     python3 scripts/package_truck.py --no-build   # zip what target/ already holds
@@ -13,8 +13,9 @@ The FMU (target/fmu/QuarterTruck.fmu) holds
     documentation/physics.md              (copy of docs/physics.md, shared with the damper's FMU)
     documentation/licenses/               (as in the damper's FMU)
 
-It takes the options of scripts/package_fmu.py (--platforms among them) and reuses its zip and
-documentation helpers (same fixed time stamps, so the same inputs give the same bytes).
+and target/fmu/fmi3/QuarterTruck.fmu the FMI 3.0 build, as scripts/package_fmu.py packs the damper's.
+It takes the options of scripts/package_fmu.py (--platforms and --fmi among them) and reuses its zip
+and documentation helpers (same fixed time stamps, so the same inputs give the same bytes).
 """
 
 import argparse
@@ -44,7 +45,7 @@ def documentation_html(model):
 <h1>{html.escape(model['modelName'])} {html.escape(model['version'])}</h1>
 <p>{html.escape(model['description'])}</p>
 <p>FMI {html.escape(model['fmiVersion'])} Co-Simulation, model identifier
-<code>{html.escape(model['modelIdentifier'])}</code>, GUID <code>{html.escape(model['guid'])}</code>.</p>
+<code>{html.escape(model['modelIdentifier'])}</code>, {package_fmu.identity_html(model)}.</p>
 {package_fmu.platforms_html(model)}
 <h2>Equations</h2>
 <pre>
@@ -70,16 +71,11 @@ SemiActiveDamper.fmu's inputs and its <code>F_damper</code> (with <code>tare_loa
 """
 
 
-def package(libraries, xml_path=XML, fmu_path=OUTPUT):
-    return package_fmu.package(libraries, xml_path, fmu_path, documentation_html, CRATE)
-
-
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     package_fmu.add_arguments(parser, CRATE, OUTPUT)
     args = parser.parse_args(argv)
-    fmu = package(package_fmu.libraries(args, CRATE, "package_truck"), XML, args.output)
-    print(f"package_truck: wrote {fmu} ({fmu.stat().st_size / 1e6:.1f} MB)")
+    package_fmu.package_versions(args, CRATE, XML, documentation_html, "package_truck")
 
 
 if __name__ == "__main__":

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
-"""Pack a release: the three FMUs and the `damper` program, for Linux and Windows, in one zip archive
-(standard library only).
+"""Pack a release: the three FMUs, FMI 2.0 and FMI 3.0, and the `damper` program, for Linux and Windows,
+in one zip archive (standard library only).
 
     python3 scripts/release.py              # build everything (package_fmu, package_truck, package_full_truck,
                                             # build_cli), then pack
@@ -13,10 +13,11 @@ writes target/dist/semi-active-damper-<version>.zip, whose one folder holds
     fmu/SemiActiveDamper.fmu      the damper (linux64 and win64 binaries; its licences inside)
     fmu/QuarterTruck.fmu          the quarter truck with the clipped Modified Skyhook demand
     fmu/FullTruck.fmu             the three-axle truck (heave, pitch, roll) for six dampers
+    fmu/fmi3/*.fmu                the same three as FMI 3.0 FMUs (x86_64-linux, x86_64-windows)
     bin/linux64/damper            the diagnosis and calibration program for Linux (glibc >= 2.34)
     bin/win64/damper.exe          the same for Windows 10 or later
     bin/THIRD-PARTY.txt           the crates compiled into the program, with their licences' text
-    bin/FMI-2.0-headers.txt, rust-standard-library.html, mingw-w64-runtime.txt   the files it names
+    bin/FMI-headers.txt, rust-standard-library.html, mingw-w64-runtime.txt   the files it names
     examples/rig_valve_test.csv   a rig record to diagnose (a hidden effect: the README says which)
     docs/cli.md, docs/physics.md  the program's command line; the model's equations and parameters
 
@@ -42,11 +43,12 @@ import package_truck
 REPO = package_fmu.REPO
 PLATFORMS = ("linux64", "win64")
 EXAMPLE = REPO / "data" / "measurements" / "rig_valve_test.csv"
+FMU_DIR = REPO / "target" / "fmu"
 DOCS = ("cli.md", "physics.md")
 # a Markdown link to a file (not to a web address or an anchor)
 FILE_LINK = re.compile(r"\[([^\]]+)\]\(((?![a-z]+:|#)[^)\s]+)\)")
 
-README = """Semi-active truck damper {version}: FMI 2.0 Co-Simulation FMUs and the damper program
+README = """Semi-active truck damper {version}: FMI 2.0 and FMI 3.0 Co-Simulation FMUs and the damper program
 
 A model of the continuously variable semi-active damper for heavy trucks of Kitching, Cole and
 Cebon, "The development of a semi-active truck damper": the master gives the damper velocity and a
@@ -59,6 +61,9 @@ fmu/QuarterTruck.fmu       the paper's quarter truck (Table 1) with the clipped 
                            demand, to couple with the damper on a road.
 fmu/FullTruck.fmu          a three-axle truck whose body heaves, pitches and rolls, Table 1 at each
                            corner, to couple with six damper instances.
+fmu/fmi3/                  the same three FMUs for FMI 3.0 masters (binaries x86_64-linux and
+                           x86_64-windows): the same variables and value references, and the same
+                           results bit for bit.
 bin/linux64/damper         compares the model with a measurement and names the physical effect
 bin/win64/damper.exe       the model misses (diagnose), fits nominal parameters (calibrate), makes
                            measurement-like records (generate); docs/cli.md is its help.
@@ -115,7 +120,7 @@ def contents(version, fmus, programs):
                                                               "the damper program").encode("utf-8"),
         **{f"bin/{name}": data for name, data in package_fmu.common_licences(list(programs))},
         "examples/rig_valve_test.csv": EXAMPLE.read_bytes(),
-        **{f"fmu/{path.name}": path.read_bytes() for path in fmus},
+        **{f"fmu/{path.relative_to(FMU_DIR).as_posix()}": path.read_bytes() for path in fmus},
         **{f"bin/{platform}/{path.name}": path.read_bytes() for platform, path in programs.items()},
         **{f"docs/{name}": without_dangling_links((REPO / "docs" / name).read_text(encoding="utf-8"),
                                                   docs).encode("utf-8") for name in DOCS},
@@ -136,15 +141,17 @@ def main(argv=None):
             # a release has both platforms: each script stops with the reason where one cannot be built
             subprocess.run([sys.executable, str(REPO / "scripts" / script), "--platforms", ",".join(PLATFORMS)],
                            check=True)
-    fmus = [REPO / "target" / "fmu" / "SemiActiveDamper.fmu", package_truck.OUTPUT, package_full_truck.OUTPUT]
+    fmi2 = [REPO / "target" / "fmu" / "SemiActiveDamper.fmu", package_truck.OUTPUT, package_full_truck.OUTPUT]
+    fmus = fmi2 + [package_fmu.fmi3_output(path) for path in fmi2]
     programs = {platform: build_cli.program_path(platform) for platform in PLATFORMS}
     missing = [str(p) for p in [*fmus, *programs.values()] if not p.exists()]
     if missing:
         sys.exit(f"release: missing {', '.join(missing)}: run without --no-build (bash scripts/setup.sh installs "
                  "what the Windows build needs)")
     for fmu in fmus:
+        folders = PLATFORMS if fmu in fmi2 else [package_fmu.FMI3_PLATFORMS[p] for p in PLATFORMS]
         with zipfile.ZipFile(fmu) as z:
-            lacking = [p for p in PLATFORMS if not any(n.startswith(f"binaries/{p}/") for n in z.namelist())]
+            lacking = [p for p in folders if not any(n.startswith(f"binaries/{p}/") for n in z.namelist())]
         if lacking:
             sys.exit(f"release: {fmu} has no {', '.join(lacking)} binary: run without --no-build")
     archive = Path(args.out_dir) / f"semi-active-damper-{release}.zip"

@@ -21,9 +21,9 @@ cargo test --release --doc
 # package_fmu.py can build for Windows (its windows_missing() names what is missing otherwise).
 reason=$(python3 -c 'import sys; sys.path.insert(0, "scripts"); import package_fmu; print(package_fmu.windows_missing() or "")')
 if [ -z "$reason" ]; then
-    echo "+ cargo test --release -p fmi2_slave --target x86_64-pc-windows-gnu (under Wine: tests/win64/wine_runner.sh)"
+    echo "+ cargo test --release -p fmi_slave --target x86_64-pc-windows-gnu (under Wine: tests/win64/wine_runner.sh)"
     CARGO_TARGET_X86_64_PC_WINDOWS_GNU_RUNNER="$PWD/tests/win64/wine_runner.sh" \
-        cargo test --release -p fmi2_slave --target x86_64-pc-windows-gnu
+        cargo test --release -p fmi_slave --target x86_64-pc-windows-gnu
 else
     echo "test.sh: the Windows tests of the FMI layer are skipped: $reason"
 fi

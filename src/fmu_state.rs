@@ -1,32 +1,16 @@
-//! The damper's FMU state for the byte format of `fmi2_slave::snapshot`: every field of the
-//! parameters (the generated field lists), inputs and damper state is visited in a fixed order
+//! The damper's FMU state for the byte format of `fmi_slave::snapshot`: every field of the
+//! parameters (their generated layout), inputs and damper state is visited in a fixed order
 //! (destructuring makes a new field of the others a compile error until it is visited here).
 
 use crate::control::{Controller, DelayLine, FilteredDerivative, ForceController, SpoolLoop};
 use crate::damper::{DamperState, Inputs};
 use crate::model_description::{Causality, IntegerVar, RealVar};
-use crate::physics::params::Parameters;
 use crate::slave::SlaveState;
-use fmi2_slave::snapshot::{all_finite, boolean, int32, uint, uint64, Visit, Visitor};
-use fmi2_slave::{check_integer, check_real, Refusal};
+use fmi_slave::snapshot::{all_finite, boolean, uint, uint64, Visit, Visitor};
+use fmi_slave::{check_integer, check_real, Refusal};
 
 /// Tag of a serialised damper state.
 pub const MAGIC: &[u8; 8] = b"SADAMPER";
-
-impl Visit for Parameters {
-    /// Booleans, Integers, then Reals, each in XML order (the generated field lists).
-    fn visit<V: Visitor>(&mut self, v: &mut V) {
-        for b in self.boolean_fields_mut() {
-            boolean(v, b);
-        }
-        for i in self.integer_fields_mut() {
-            int32(v, i);
-        }
-        for r in self.real_fields_mut() {
-            v.real(r);
-        }
-    }
-}
 
 impl Visit for Inputs {
     fn visit<V: Visitor>(&mut self, v: &mut V) {

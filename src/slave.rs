@@ -1,15 +1,15 @@
 //! The co-simulation slave without FMI types: variable access by value reference through the
 //! generated enums, range checks from the XML's min/max, initialisation, stepping and state
-//! save/restore. `fmi2_slave` adds the C boundary and the FMI state machine on top.
+//! save/restore. `fmi_slave` adds the C boundary and the FMI state machines on top.
 
 use crate::damper::{BeyondStroke, Damper, DamperState, Inputs};
 use crate::fmu_state::{check_restored, MAGIC};
-use crate::model_description::{BooleanVar, Causality, IntegerVar, RealVar, CAN_INTERPOLATE_INPUTS, GUID};
+use crate::model_description::{BooleanVar, IntegerVar, RealVar, CAN_INTERPOLATE_INPUTS, GUID};
 use crate::physics::params::Parameters;
 use crate::step_error::StepError;
 use crate::variables::{default_inputs, real_input, real_output};
-use fmi2_slave::snapshot::{self, Visit, Visitor};
-use fmi2_slave::{check_real, Model, Refusal, ToleranceNote};
+use fmi_slave::snapshot::{self, Visit, Visitor};
+use fmi_slave::{Model, Refusal, ToleranceNote};
 
 /// Everything that defines a slave's present condition (the FMU state).
 #[derive(Clone, Copy, Debug)]
@@ -42,11 +42,26 @@ impl Slave {
     /// parameters.
     fn output(&self, v: RealVar) -> Result<f64, Refusal> {
         // with the inputs set last: the force feeds through from v_damper (friction effects)
-        let value = |d: &Damper| real_output(d, &self.inputs, v).expect("every output is mapped (tested)");
+        let value = |d: &Damper| real_output(d, &self.inputs, v).ok_or(Refusal::UnknownReference(v.vr()));
         match &self.damper {
-            Some(d) => Ok(value(d)),
-            None => Ok(value(&Damper::new(self.params, self.inputs, 0.0).map_err(Refusal::model)?)),
+            Some(d) => value(d),
+            None => value(&Damper::new(self.params, self.inputs, 0.0).map_err(Refusal::model)?),
         }
+    }
+
+    /// The value of input `v`, if it is one.
+    fn input(&self, v: RealVar) -> Option<f64> {
+        real_input(&mut self.inputs.clone(), v).map(|x| *x)
+    }
+
+    fn input_mut(&mut self, v: RealVar) -> Option<&mut f64> {
+        real_input(&mut self.inputs, v)
+    }
+
+    /// A master that sets `rtol` keeps it: the tolerance of the experiment does not replace it,
+    /// whichever call came first.
+    fn real_set(&mut self, v: RealVar) {
+        self.rtol_set |= v == RealVar::Rtol;
     }
 }
 
@@ -57,22 +72,11 @@ impl Model for Slave {
     type StepError = StepError;
     type StepWarning = BeyondStroke;
 
-    fmi2_slave::parameter_access!();
+    fmi_slave::parameter_access!();
 
-    /// Outputs before initialisation are those of the damper at rest with the present parameters
-    /// (initial values of the "calculated" outputs).
-    fn get_real(&self, vr: u32) -> Result<f64, Refusal> {
-        let v = RealVar::from_vr(vr).ok_or(Refusal::UnknownReference(vr))?;
-        let (mut params, mut inputs) = (self.params, self.inputs);
-        if let Some(x) = params.real_mut(v).or(real_input(&mut inputs, v)) {
-            return Ok(*x);
-        }
-        let x = self.output(v)?;
-        if !x.is_finite() {
-            return Err(Refusal::OutputNotFinite { name: v.name(), value: x });
-        }
-        Ok(x)
-    }
+    // Outputs before initialisation are those of the damper at rest with the present parameters
+    // (initial values of the "calculated" outputs).
+    fmi_slave::real_access!();
 
     type Settable = (Parameters, Inputs, bool);
 
@@ -82,20 +86,6 @@ impl Model for Slave {
 
     fn restore_settable(&mut self, (params, inputs, rtol_set): Self::Settable) {
         (self.params, self.inputs, self.rtol_set) = (params, inputs, rtol_set);
-    }
-
-    /// Refuses non-finite values and values outside the XML's [min, max].
-    fn set_real(&mut self, vr: u32, value: f64) -> Result<(), Refusal> {
-        let v = RealVar::from_vr(vr).ok_or(Refusal::UnknownReference(vr))?;
-        check_real(v.name(), value, v.min(), v.max())?;
-        let field = match v.causality() {
-            Causality::Parameter => self.params.real_mut(v),
-            Causality::Input => real_input(&mut self.inputs, v),
-            Causality::Output => None,
-        };
-        *field.ok_or(Refusal::Output(v.name()))? = value;
-        self.rtol_set |= v == RealVar::Rtol;
-        Ok(())
     }
 
     /// First derivatives of the inputs (the master's interpolation of a continuous signal): the

@@ -9,8 +9,8 @@
 use crate::common;
 
 use common::*;
-use fmi2_slave::api::fmi2::*;
-use semi_active_damper::fmi2::*;
+use fmi_slave::fmi2::*;
+use semi_active_damper::c_api::*;
 use semi_active_damper::model_description::{IntegerVar, RealVar};
 use std::ffi::CString;
 

@@ -10,7 +10,7 @@
 mod common;
 
 use common::*;
-use fmi2_slave::api::fmi2::{fmi2ComponentEnvironment, fmi2Status, fmi2String};
+use fmi_slave::fmi2::{fmi2ComponentEnvironment, fmi2Status, fmi2String};
 use semi_active_damper::model_description::RealVar;
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;

@@ -12,10 +12,10 @@ use crate::common;
 use crate::fmi_fuzz;
 
 use common::*;
-use fmi2_slave::api::fmi2::*;
-use fmi_fuzz::library::{callbacks, fmus, Fmu as Binary};
+use fmi_fuzz::library::{fmus, Fmu as Binary, Instantiation, Standard};
+use fmi_slave::fmi2::*;
+use semi_active_damper::c_api::*;
 use semi_active_damper::damper::{Damper, Inputs};
-use semi_active_damper::fmi2::*;
 use semi_active_damper::model_description::{IntegerVar, RealVar};
 use semi_active_damper::physics::params::Parameters;
 use semi_active_damper::step_error::StepError;
@@ -232,17 +232,13 @@ fn finding8_dp_relief_at_its_minimum_is_not_stiff() {
     }
 }
 
-/// An instance of one of the binaries.
+/// An instance of one of the FMI 2.0 binaries.
 struct Instance(&'static Binary, fmi2Component);
 
 impl Instance {
     fn new(fmu: &'static Binary) -> Self {
-        let guid = std::ffi::CString::new(fmu.info.guid.clone()).unwrap();
-        let cb = callbacks();
-        // SAFETY: NUL-terminated strings and a valid callback struct, alive for the call.
-        let c = unsafe {
-            (fmu.api.instantiate)(c"robust".as_ptr(), fmi2Type_fmi2CoSimulation, guid.as_ptr(), null(), &cb, 0, 0)
-        };
+        // SAFETY: the instance is freed once, when dropped.
+        let c = unsafe { fmu.instantiate(Instantiation::Valid, false, "") };
         assert!(!c.is_null());
         Instance(fmu, c)
     }
@@ -253,27 +249,27 @@ impl Instance {
 
     fn set(&self, name: &str, x: f64) -> fmi2Status {
         // SAFETY: a live instance; one value reference and one value.
-        unsafe { (self.0.api.set_real)(self.1, &self.vr(name), 1, &x) }
+        unsafe { self.0.set_real(self.1, &self.vr(name), 1, &x, 1) }
     }
 
     fn initialise(&self) -> fmi2Status {
         // SAFETY: a live instance.
         unsafe {
-            assert_eq!((self.0.api.setup_experiment)(self.1, 0, 0.0, 0.0, 0, 0.0), OK);
-            assert_eq!((self.0.api.enter_initialization_mode)(self.1), OK);
-            (self.0.api.exit_initialization_mode)(self.1)
+            assert_eq!(self.0.setup_experiment(self.1, None, 0.0, None), Some(OK));
+            assert_eq!(self.0.enter_initialization_mode(self.1, None, 0.0, None), OK);
+            (self.0.common.exit_initialization_mode)(self.1)
         }
     }
 
     fn step(&self, t: f64, h: f64) -> fmi2Status {
         // SAFETY: a live instance.
-        unsafe { (self.0.api.do_step)(self.1, t, h, 0) }
+        unsafe { self.0.do_step(self.1, t, h).0 }
     }
 
     fn state(&self) -> fmi2FMUstate {
         let mut s = null_mut();
         // SAFETY: a live instance; s is a writable slot.
-        assert_eq!(unsafe { (self.0.api.get_fmu_state)(self.1, &mut s) }, OK);
+        assert_eq!(unsafe { (self.0.common.get_fmu_state)(self.1, &mut s) }, OK);
         s
     }
 
@@ -282,9 +278,9 @@ impl Instance {
         let mut size = 0;
         // SAFETY: a live instance and its state, serialized into a buffer of its size.
         unsafe {
-            assert_eq!((self.0.api.serialized_size)(self.1, s, &mut size), OK);
+            assert_eq!((self.0.common.serialized_size)(self.1, s, &mut size), OK);
             let mut bytes = vec![0 as fmi2Byte; size];
-            assert_eq!((self.0.api.serialize)(self.1, s, bytes.as_mut_ptr(), size), OK);
+            assert_eq!((self.0.common.serialize)(self.1, s, bytes.as_mut_ptr() as *mut u8, size), OK);
             bytes
         }
     }
@@ -292,19 +288,19 @@ impl Instance {
     fn deserialize(&self, bytes: &[fmi2Byte]) -> fmi2Status {
         let mut s = null_mut();
         // SAFETY: a live instance; bytes holds bytes.len() bytes; s is a writable slot.
-        unsafe { (self.0.api.deserialize)(self.1, bytes.as_ptr(), bytes.len(), &mut s) }
+        unsafe { (self.0.common.deserialize)(self.1, bytes.as_ptr() as *const u8, bytes.len(), &mut s) }
     }
 }
 
 impl Drop for Instance {
     fn drop(&mut self) {
         // SAFETY: a live instance, freed once (its states are leaked: a few per test).
-        unsafe { (self.0.api.free_instance)(self.1) }
+        unsafe { (self.0.common.free_instance)(self.1) }
     }
 }
 
 fn truck() -> &'static Binary {
-    &fmus()[1]
+    &fmus(Standard::Fmi2)[1]
 }
 
 #[test]
@@ -348,7 +344,7 @@ fn serialized_truck_states_are_accepted_whatever_the_inputs_did() {
 
 #[test]
 fn finding5_a_state_of_one_fmu_is_refused_by_the_other() {
-    let [damper, truck, _] = fmus();
+    let [damper, truck, _] = fmus(Standard::Fmi2);
     let (d, t) = (Instance::new(damper), Instance::new(truck));
     assert_eq!(d.initialise(), OK);
     assert_eq!(t.initialise(), OK);
@@ -356,11 +352,11 @@ fn finding5_a_state_of_one_fmu_is_refused_by_the_other() {
     let mut size = 0;
     // SAFETY: live instances and states; each FMU must refuse the other's state without using it.
     unsafe {
-        assert_eq!((truck.api.set_fmu_state)(t.1, ds), ERROR);
-        assert_eq!((damper.api.set_fmu_state)(d.1, ts), ERROR);
-        assert_eq!((truck.api.serialized_size)(t.1, ds, &mut size), ERROR);
+        assert_eq!((truck.common.set_fmu_state)(t.1, ds), ERROR);
+        assert_eq!((damper.common.set_fmu_state)(d.1, ts), ERROR);
+        assert_eq!((truck.common.serialized_size)(t.1, ds, &mut size), ERROR);
         let mut foreign = ts;
-        assert_eq!((damper.api.free_fmu_state)(d.1, &mut foreign), ERROR);
+        assert_eq!((damper.common.free_fmu_state)(d.1, &mut foreign), ERROR);
         assert_eq!(foreign, ts, "not freed");
     }
     assert_eq!(t.deserialize(&d.serialized()), ERROR);

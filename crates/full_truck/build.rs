@@ -1,4 +1,4 @@
 //! Checks `modelDescription.xml` and generates the variable enums and GUID from it.
 fn main() {
-    fmi2_codegen::generate();
+    fmi_codegen::generate();
 }

@@ -1,8 +1,8 @@
 //! Calling the exported C API in-process, as an importer would.
 #![allow(dead_code)]
 
-use fmi2_slave::api::fmi2::*;
-use semi_active_damper::fmi2::*;
+use fmi_slave::fmi2::*;
+use semi_active_damper::c_api::*;
 use semi_active_damper::model_description::{RealVar, GUID};
 use std::ffi::{c_char, CStr, CString};
 use std::sync::Mutex;

@@ -1,19 +1,17 @@
 //! What a run found: counts by kind and the first failures, each with its seed and sequence.
 
-use fmi2_slave::api::fmi2::*;
-
 #[derive(Default, Debug)]
 pub struct Report {
     pub sequences: u64,
     pub calls: u64,
-    /// fmi2DoStep answered OK.
+    /// A step answered OK.
     pub steps: u64,
-    /// fmi2Fatal: a panic the FFI guard caught.
+    /// Fatal: a panic the FFI guard caught.
     pub panics: u64,
-    /// fmi2GetReal answered OK with NaN or infinity.
+    /// A Real getter answered OK with NaN or infinity.
     pub non_finite: u64,
     /// A status the standard does not allow for that call in that state (OK where it must fail,
-    /// Discard outside fmi2DoStep, Pending, an unknown code, a refusal of the FMU's own state).
+    /// Discard outside a step, Pending, an unknown code, a refusal of the FMU's own state).
     pub non_conforming: u64,
     /// Statuses seen, by code 0..=5.
     pub statuses: [u64; 6],
@@ -57,6 +55,6 @@ impl Report {
 }
 
 /// A status code's name.
-pub fn name(status: fmi2Status) -> &'static str {
+pub fn name(status: u32) -> &'static str {
     ["OK", "Warning", "Discard", "Error", "Fatal", "Pending"].get(status as usize).copied().unwrap_or("unknown")
 }

@@ -1,31 +1,32 @@
-//! One run of random call sequences over both FMUs: live instances (kept across sequences, up to
-//! [`MAX_LIVE`]), FMU states and serialized blobs (shared between instances and, on purpose,
-//! between the two FMUs), each call's status checked against the mirror of the state table.
+//! One run of random call sequences over the FMUs of one standard: live instances (kept across
+//! sequences, up to [`MAX_LIVE`]), FMU states and serialized blobs (shared between instances and,
+//! on purpose, between the FMUs), each call's status checked against the mirror of the state table.
 
-use super::library::{callbacks, fmus, Fmu, FMUS};
+use super::library::{fmus, Fmu, Instantiation, Standard, FMUS, H, S};
 use super::mirror::{may_succeed, Call, Phase};
 use super::report::{name, Report};
 use super::rng::Rng;
 use super::watchdog::Watchdog;
-use fmi2_slave::api::fmi2::*;
-use std::ptr::null;
 
 /// Most instances alive at once.
 const MAX_LIVE: usize = 24;
 
 pub(super) struct Instance {
     pub(super) fmu: usize,
-    pub(super) c: fmi2Component,
+    pub(super) c: H,
     pub(super) phase: Phase,
     pub(super) start: f64,
     pub(super) stop: Option<f64>,
     /// The FMU's time once initialised.
     pub(super) time: f64,
+    /// FMI 3.0: the experiment (tolerance, start, stop) the next fmi3EnterInitializationMode
+    /// passes, drawn where FMI 2.0 calls fmi2SetupExperiment.
+    pub(super) experiment: (Option<f64>, f64, Option<f64>),
 }
 
 pub(super) struct State {
     pub(super) fmu: usize,
-    pub(super) ptr: fmi2FMUstate,
+    pub(super) ptr: H,
     /// The time of an initialised state; `None` before initialisation; unknown (outer `None`)
     /// after a mutated blob was accepted.
     pub(super) time: Option<Option<f64>>,
@@ -33,12 +34,13 @@ pub(super) struct State {
 
 pub(super) struct Blob {
     pub(super) fmu: usize,
-    pub(super) bytes: Vec<fmi2Byte>,
+    pub(super) bytes: Vec<u8>,
     /// As [`State::time`].
     pub(super) time: Option<Option<f64>>,
 }
 
 pub struct Fuzzer<'a> {
+    pub(super) standard: Standard,
     pub(super) rng: Rng,
     pub(super) seed: u64,
     pub(super) sequence: u64,
@@ -49,14 +51,16 @@ pub struct Fuzzer<'a> {
     pub(super) blobs: Vec<Blob>,
 }
 
-pub(super) fn api(fmu: usize) -> &'static Fmu {
-    &fmus()[fmu]
-}
-
 impl<'a> Fuzzer<'a> {
-    pub fn new(seed: u64, dog: &'a Watchdog) -> Self {
+    pub fn new(standard: Standard, seed: u64, dog: &'a Watchdog) -> Self {
         let rng = Rng::new(seed);
-        Fuzzer { rng, seed, sequence: 0, dog, report: Report::default(), live: vec![], states: vec![], blobs: vec![] }
+        let report = Report::default();
+        Fuzzer { standard, rng, seed, sequence: 0, dog, report, live: vec![], states: vec![], blobs: vec![] }
+    }
+
+    /// FMU `fmu` of the run's standard.
+    pub(super) fn api(&self, fmu: usize) -> &'static Fmu {
+        &fmus(self.standard)[fmu]
     }
 
     /// Runs `n` sequences and frees everything.
@@ -75,21 +79,21 @@ impl<'a> Fuzzer<'a> {
     }
 
     /// Records a call's status; `may_ok`: the standard allows OK here; `may_discard`: a step.
-    pub(super) fn check(&mut self, what: &str, status: fmi2Status, may_ok: bool, may_discard: bool) {
+    pub(super) fn check(&mut self, what: &str, status: S, may_ok: bool, may_discard: bool) {
         self.report.calls += 1;
         self.report.statuses[(status as usize).min(5)] += 1;
         let bad = match status {
-            fmi2Status_fmi2OK | fmi2Status_fmi2Warning => !may_ok,
-            fmi2Status_fmi2Discard => !may_discard,
-            fmi2Status_fmi2Error => false,
-            fmi2Status_fmi2Fatal => {
+            OK | WARNING => !may_ok,
+            DISCARD => !may_discard,
+            ERROR => false,
+            FATAL => {
                 self.report.panics += 1;
                 true
             }
             _ => true,
         };
         if bad {
-            if status != fmi2Status_fmi2Fatal {
+            if status != FATAL {
                 self.report.non_conforming += 1;
             }
             let (seed, seq) = (self.seed, self.sequence);
@@ -168,83 +172,71 @@ impl<'a> Fuzzer<'a> {
 
     fn instantiate(&mut self) {
         let fmu = self.rng.below(FMUS);
-        let guid = std::ffi::CString::new(api(fmu).info.guid.clone()).unwrap();
-        let cb = callbacks();
-        let logging = self.rng.below(2) as i32;
-        let c = self.dog.call("fmi2Instantiate", || {
-            // SAFETY: NUL-terminated strings and a valid callback struct, alive for the call.
-            unsafe {
-                (api(fmu).api.instantiate)(
-                    c"fuzz".as_ptr(),
-                    fmi2Type_fmi2CoSimulation,
-                    guid.as_ptr(),
-                    null(),
-                    &cb,
-                    0,
-                    logging,
-                )
-            }
-        });
+        let logging = self.rng.chance(0.5);
+        let f = self.api(fmu);
+        let what = f.name("fmi2Instantiate", "fmi3InstantiateCoSimulation");
+        // SAFETY: the instance is kept in `live` and freed once.
+        let c = self.dog.call(what, || unsafe { f.instantiate(Instantiation::Valid, logging, "") });
         self.report.calls += 1;
         if c.is_null() {
             self.report.non_conforming += 1;
-            self.report
-                .fail(format!("seed {} sequence {}: valid fmi2Instantiate returned NULL", self.seed, self.sequence));
+            self.report.fail(format!("seed {} sequence {}: valid {what} returned NULL", self.seed, self.sequence));
             return;
         }
-        self.live.push(Instance { fmu, c, phase: Phase::Instantiated, start: 0.0, stop: None, time: 0.0 });
+        let experiment = (None, 0.0, None);
+        self.live.push(Instance { fmu, c, phase: Phase::Instantiated, start: 0.0, stop: None, time: 0.0, experiment });
     }
 
-    /// NULL or empty name, wrong or NULL GUID, Model Exchange: must give NULL.
+    /// NULL or empty name, another FMU's or a NULL GUID, Model Exchange; for FMI 3.0 also Event
+    /// Mode and intermediate variables: must give NULL.
     fn bad_instantiate(&mut self) {
         let fmu = self.rng.below(FMUS);
-        let guid = std::ffi::CString::new(api(fmu).info.guid.clone()).unwrap();
-        let other = std::ffi::CString::new(api((fmu + 1) % FMUS).info.guid.clone()).unwrap();
-        let cb = callbacks();
-        let (name, ty, g) = match self.rng.below(5) {
-            0 => (null(), fmi2Type_fmi2CoSimulation, guid.as_ptr()),
-            1 => (c"".as_ptr(), fmi2Type_fmi2CoSimulation, guid.as_ptr()),
-            2 => (c"x".as_ptr(), fmi2Type_fmi2CoSimulation, other.as_ptr()),
-            3 => (c"x".as_ptr(), fmi2Type_fmi2CoSimulation, null()),
-            _ => (c"x".as_ptr(), fmi2Type_fmi2ModelExchange, guid.as_ptr()),
-        };
-        // SAFETY: the pointers are NULL or NUL-terminated strings alive for the call.
-        let c = self
-            .dog
-            .call("fmi2Instantiate (bad)", || unsafe { (api(fmu).api.instantiate)(name, ty, g, null(), &cb, 0, 0) });
+        let other = self.api((fmu + 1) % FMUS).info.guid.clone();
+        let mut ways = vec![
+            Instantiation::NullName,
+            Instantiation::EmptyName,
+            Instantiation::OtherGuid,
+            Instantiation::NullGuid,
+            Instantiation::ModelExchange,
+        ];
+        if self.standard == Standard::Fmi3 {
+            ways.extend([Instantiation::EventMode, Instantiation::IntermediateVariables]);
+        }
+        let how = *self.rng.pick(&ways);
+        let f = self.api(fmu);
+        // SAFETY: an instance the FMU gives by mistake is freed below.
+        let c = self.dog.call("instantiate (bad)", || unsafe { f.instantiate(how, false, &other) });
         self.report.calls += 1;
         if !c.is_null() {
             self.report.non_conforming += 1;
-            self.report
-                .fail(format!("seed {} sequence {}: bad fmi2Instantiate gave an instance", self.seed, self.sequence));
+            self.report.fail(format!("seed {} sequence {}: {how:?} gave an instance", self.seed, self.sequence));
             // SAFETY: c is an instance of this library, freed once.
-            unsafe { (api(fmu).api.free_instance)(c) };
+            unsafe { (f.common.free_instance)(c) };
         }
     }
 
     fn free_instance(&mut self, k: usize) {
         let i = self.live.swap_remove(k);
+        let f = self.api(i.fmu);
         // SAFETY: i.c is a live instance of this library, not used afterwards.
-        self.dog.call("fmi2FreeInstance", || unsafe { (api(i.fmu).api.free_instance)(i.c) });
+        self.dog.call("free instance", || unsafe { (f.common.free_instance)(i.c) });
         self.report.calls += 1;
     }
 
     /// Frees every state through a fresh instance of its FMU.
     fn free_states(&mut self) {
         for s in std::mem::take(&mut self.states) {
-            let f = &api(s.fmu).api;
-            let cb = callbacks();
-            let guid = std::ffi::CString::new(api(s.fmu).info.guid.clone()).unwrap();
+            let f = self.api(s.fmu);
             let mut ptr = s.ptr;
-            // SAFETY: valid strings and callbacks; ptr is a live state of this FMU, freed once.
+            // SAFETY: a fresh instance; ptr is a live state of this FMU, freed once.
             let status = unsafe {
-                let c = (f.instantiate)(c"free".as_ptr(), fmi2Type_fmi2CoSimulation, guid.as_ptr(), null(), &cb, 0, 0);
-                let status = (f.free_fmu_state)(c, &mut ptr);
-                (f.free_instance)(c);
+                let c = f.instantiate(Instantiation::Valid, false, "");
+                let status = (f.common.free_fmu_state)(c, &mut ptr);
+                (f.common.free_instance)(c);
                 status
             };
-            self.check("fmi2FreeFMUstate (cleanup)", status, true, false);
-            if status != fmi2Status_fmi2OK {
+            self.check("free FMU state (cleanup)", status, true, false);
+            if status != OK {
                 self.report.non_conforming += 1;
                 self.report.fail(format!("seed {} sequence {}: a state could not be freed", self.seed, self.sequence));
             }
@@ -260,6 +252,8 @@ impl<'a> Fuzzer<'a> {
         self.setup_experiment_at(k, start);
     }
 
+    /// The experiment: FMI 2.0's fmi2SetupExperiment; for FMI 3.0, drawn for the next
+    /// fmi3EnterInitializationMode.
     fn setup_experiment_at(&mut self, k: usize, start: f64) {
         let stop = match self.rng.below(4) {
             0 => Some(start + self.rng.unit()),
@@ -267,20 +261,27 @@ impl<'a> Fuzzer<'a> {
             2 => Some(self.time_value()),
             _ => None,
         };
-        let tol = *self.rng.pick(&[1e-4, 0.0, -1.0, f64::NAN]);
-        let i = &self.live[k];
-        let (c, fmu, phase) = (i.c, i.fmu, i.phase);
-        let status = self.dog.call("fmi2SetupExperiment", || {
-            // SAFETY: c is a live instance of this FMU; the other arguments are plain values.
-            unsafe {
-                (api(fmu).api.setup_experiment)(c, 1, tol, start, stop.is_some() as i32, stop.unwrap_or(f64::NAN))
-            }
-        });
+        let tol = Some(*self.rng.pick(&[1e-4, 0.0, -1.0, f64::NAN]));
+        let (c, fmu, phase) = (self.live[k].c, self.live[k].fmu, self.live[k].phase);
+        let f = self.api(fmu);
+        // SAFETY: c is a live instance of this FMU; the other arguments are plain values.
+        let Some(status) = self.dog.call("fmi2SetupExperiment", || unsafe { f.setup_experiment(c, tol, start, stop) })
+        else {
+            self.live[k].experiment = (tol, start, stop);
+            return;
+        };
         let valid = start.is_finite() && stop.is_none_or(|s| s.is_finite() && s >= start);
-        self.check("fmi2SetupExperiment", status, may_succeed(phase, Call::SetupExperiment) && valid, false);
-        if status == fmi2Status_fmi2OK {
+        let may = may_succeed(self.standard, phase, Call::SetupExperiment) && valid;
+        self.check("fmi2SetupExperiment", status, may, false);
+        if status == OK {
             let i = &mut self.live[k];
             (i.start, i.stop) = (start, stop);
         }
     }
 }
+
+pub(super) const OK: S = 0;
+pub(super) const WARNING: S = 1;
+pub(super) const DISCARD: S = 2;
+pub(super) const ERROR: S = 3;
+pub(super) const FATAL: S = 4;

@@ -4,7 +4,8 @@ The FMUs under test are built (cargo build --release of the three FMU packages) 
 per session into tests/python/work/ by the packaging commands a user runs (python3
 scripts/package_fmu.py, scripts/package_truck.py, scripts/package_full_truck.py), or taken from
 `--fmu PATH` (the damper), `--truck-fmu PATH` (the quarter truck) and `--full-truck-fmu PATH` (the
-full truck). The tests import the scenario and metric code of the scripts from the installed package
+full truck). Their FMI 3.0 builds (`fmu3`, `truck_fmu3`, `full_truck_fmu3`) are the packaging commands'
+fmi3/ beside each FMI 2.0 FMU, or `--fmu3`, `--truck-fmu3`, `--full-truck-fmu3`. The tests import the scenario and metric code of the scripts from the installed package
 damper_tools (scripts/setup.sh installs it). `damper` is the `damper` program (target/release/damper,
 built by cargo; `damper_exe` its Windows build, from scripts/build_cli.py), `dask_client` a Dask
 client of a real LocalCluster of two single-threaded worker processes (the sweep and campaign tests).
@@ -42,6 +43,9 @@ def pytest_addoption(parser):
                      help="use this quarter-truck FMU instead of packaging target/release/libquarter_truck.so")
     parser.addoption("--full-truck-fmu", action="store", default=None,
                      help="use this full-truck FMU instead of packaging target/release/libfull_truck.so")
+    for option, what in (("--fmu3", "damper"), ("--truck-fmu3", "quarter-truck"), ("--full-truck-fmu3", "full-truck")):
+        parser.addoption(option, action="store", default=None,
+                         help=f"the FMI 3.0 {what} FMU (default: fmi3/ beside the FMI 2.0 one)")
 
 
 def given(request, option):
@@ -86,6 +90,33 @@ def truck_fmu(request, fmu):
 def full_truck_fmu(request, fmu):
     """Path of the packaged full-truck FMU."""
     return truck(request, "--full-truck-fmu", "package_full_truck.py", "FullTruck.fmu")
+
+
+def fmi3_beside(request, option, fmi2_path):
+    """An FMI 3.0 FMU: the option's, or the packaging commands' fmi3/ beside the FMI 2.0 one."""
+    path = given(request, option) or fmi2_path.parent / "fmi3" / fmi2_path.name
+    if not path.is_file():
+        pytest.fail(f"{path}: no FMI 3.0 FMU (the packaging commands write it beside the FMI 2.0 one; "
+                    f"or give {option})")
+    return path
+
+
+@pytest.fixture(scope="session")
+def fmu3(request, fmu):
+    """Path of the damper's FMI 3.0 FMU."""
+    return fmi3_beside(request, "--fmu3", fmu)
+
+
+@pytest.fixture(scope="session")
+def truck_fmu3(request, truck_fmu):
+    """Path of the quarter truck's FMI 3.0 FMU."""
+    return fmi3_beside(request, "--truck-fmu3", truck_fmu)
+
+
+@pytest.fixture(scope="session")
+def full_truck_fmu3(request, full_truck_fmu):
+    """Path of the full truck's FMI 3.0 FMU."""
+    return fmi3_beside(request, "--full-truck-fmu3", full_truck_fmu)
 
 
 @pytest.fixture(scope="session")

@@ -33,7 +33,7 @@ def test_the_fmu_carries_the_licences_of_what_its_binaries_contain(request, whic
         index = fmu.read("documentation/index.html").decode("utf-8")
     assert 'href="licenses/THIRD-PARTY.txt"' in index  # from documentation/index.html
 
-    expected_files = {"LICENSE-MIT", "LICENSE-APACHE", "THIRD-PARTY.txt", "FMI-2.0-headers.txt",
+    expected_files = {"LICENSE-MIT", "LICENSE-APACHE", "THIRD-PARTY.txt", "FMI-headers.txt",
                       "rust-standard-library.html"}
     if "win64" in platforms:
         expected_files.add("mingw-w64-runtime.txt")
@@ -41,7 +41,7 @@ def test_the_fmu_carries_the_licences_of_what_its_binaries_contain(request, whic
     for name in ["LICENSE-MIT", "LICENSE-APACHE"]:
         assert licences[name] == (REPO / name).read_bytes()
     assert b"Rust Standard Library" in licences["rust-standard-library.html"]
-    assert b'Modelica Association Project "FMI"' in licences["FMI-2.0-headers.txt"]
+    assert b'Modelica Association Project "FMI"' in licences["FMI-headers.txt"]
 
     sections = third_party_sections(licences["THIRD-PARTY.txt"].decode("utf-8"))
     assert set(sections) == set().union(*(crates_compiled_in(CRATES[which], p) for p in platforms))

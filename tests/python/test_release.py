@@ -1,5 +1,5 @@
-"""The release archive (scripts/release.py): the three FMUs and the `damper` program for Linux and
-Windows in one zip, as a user unpacks it. The program from the archive diagnoses the example record
+"""The release archive (scripts/release.py): the three FMUs (FMI 2.0 and 3.0) and the `damper` program
+for Linux and Windows in one zip, as a user unpacks it. The program from the archive diagnoses the example record
 through the FMU from the archive; the program's THIRD-PARTY.txt lists every crate compiled into it;
 the same inputs give the same archive, byte for byte."""
 
@@ -42,8 +42,9 @@ def test_the_archive_holds_the_fmus_and_both_programs(archive):
         modes = {info.filename.removeprefix(folder): info.external_attr >> 16 for info in z.infolist()}
     assert set(modes) == {
         "README.txt", "LICENSE-MIT", "LICENSE-APACHE", "fmu/SemiActiveDamper.fmu", "fmu/QuarterTruck.fmu",
-        "fmu/FullTruck.fmu", "bin/linux64/damper", "bin/win64/damper.exe", "bin/THIRD-PARTY.txt",
-        "bin/FMI-2.0-headers.txt", "bin/rust-standard-library.html",
+        "fmu/FullTruck.fmu", "fmu/fmi3/SemiActiveDamper.fmu", "fmu/fmi3/QuarterTruck.fmu", "fmu/fmi3/FullTruck.fmu",
+        "bin/linux64/damper", "bin/win64/damper.exe", "bin/THIRD-PARTY.txt",
+        "bin/FMI-headers.txt", "bin/rust-standard-library.html",
         "bin/mingw-w64-runtime.txt", "examples/rig_valve_test.csv",
         "docs/cli.md", "docs/physics.md"}
     assert {name for name, mode in modes.items() if mode & 0o111} == {"bin/linux64/damper", "bin/win64/damper.exe"}

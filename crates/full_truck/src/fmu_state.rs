@@ -1,10 +1,10 @@
-//! The full truck's FMU state for the byte format of `fmi2_slave::snapshot`: every field of the
-//! parameters (the generated field lists), inputs and states is visited in a fixed order
+//! The full truck's FMU state for the byte format of `fmi_slave::snapshot`: every field of the
+//! parameters (their generated layout), inputs and states is visited in a fixed order
 //! (destructuring makes a new field of the others a compile error until it is visited here).
 
 use crate::body::Inputs;
 use crate::slave::Slave;
-use fmi2_slave::snapshot::{boolean, int32, uint, Visit, Visitor};
+use fmi_slave::snapshot::{boolean, uint, Visit, Visitor};
 use suspension::tracking::DemandHistory;
 
 /// Tag of a serialised full-truck state.
@@ -13,13 +13,7 @@ pub const MAGIC: &[u8; 8] = b"FTRUCK01";
 impl Visit for Slave {
     fn visit<V: Visitor>(&mut self, v: &mut V) {
         let Slave { params, inputs, y, past, time, initialized } = self;
-        // the parameters in the generated field lists' order (Integers, then Reals, each in XML order)
-        for i in params.integer_fields_mut() {
-            int32(v, i);
-        }
-        for r in params.real_fields_mut() {
-            v.real(r);
-        }
+        params.visit(v);
         let Inputs { z_road, v_road, f_damper } = inputs;
         for x in z_road.iter_mut().chain(v_road.iter_mut()).chain(f_damper.iter_mut()).chain(y.iter_mut()) {
             v.real(x);

@@ -2,21 +2,21 @@
 //! ([`truck_slave::truck_slave!`]: variable access by value reference through the generated enums
 //! ([`crate::variables`]), range checks from the XML's min/max, initialisation, stepping and state
 //! save/restore ([`crate::fmu_state`])), and what is the full truck's own: six road inputs and six
-//! demands' pasts. `fmi2_slave` adds the C boundary and the FMI state machine on top.
+//! demands' pasts. `fmi_slave` adds the C boundary and the FMI state machines on top.
 
 use crate::body::{At, Evaluation, Inputs, Params, State, CORNERS, MODE_TRACKING};
 use crate::fmu_state::MAGIC;
 use crate::limits::MAX_SUBSTEPS;
-use crate::model_description::{BooleanVar, Causality, IntegerVar, RealVar, CAN_INTERPOLATE_INPUTS, GUID};
+use crate::model_description::{BooleanVar, IntegerVar, RealVar, CAN_INTERPOLATE_INPUTS, GUID};
 use crate::variables::{real_input, real_output};
-use fmi2_slave::snapshot;
-use fmi2_slave::{check_integer, check_real, Model, Refusal, ToleranceNote};
+use fmi_slave::snapshot;
+use fmi_slave::{check_integer, check_real, Model, Refusal, ToleranceNote};
 use suspension::tracking::DemandHistory;
 
 truck_slave::truck_slave!([DemandHistory; CORNERS]);
 
 impl Slave {
-    fn output(&self, y: &State, e: &Evaluation, v: RealVar) -> Option<f64> {
+    fn output_at(&self, y: &State, e: &Evaluation, v: RealVar) -> Option<f64> {
         real_output(&self.params, y, e, v)
     }
 

@@ -1,6 +1,6 @@
 //! The co-simulation slave that `QuarterTruck.fmu` and `FullTruck.fmu` share: [`truck_slave!`]
 //! defines, inside a truck crate's `slave` module, the `Slave` struct (the FMU state: parameters,
-//! inputs, states, the demand's past, time) and its `fmi2_slave::Model` implementation: variable
+//! inputs, states, the demand's past, time) and its `fmi_slave::Model` implementation: variable
 //! access through the generated enums with the XML's ranges, initialisation with the RK4 stability
 //! check, RK4 steps that put everything back when a step fails, and the FMU state's checks.
 //!
@@ -11,10 +11,10 @@
 //! The invoking module has in scope: the generated `RealVar`, `IntegerVar`, `BooleanVar`,
 //! `Causality`, `GUID`, `CAN_INTERPOLATE_INPUTS`; the truck's `Params`, `Inputs`, `State`,
 //! `Evaluation`, `At`, `MODE_TRACKING`; `MAX_SUBSTEPS`, `MAGIC`, `DemandHistory`, `real_input`; and
-//! from `fmi2_slave`: `Model`, `Refusal`, `ToleranceNote`, `check_real`, `check_integer`,
+//! from `fmi_slave`: `Model`, `Refusal`, `ToleranceNote`, `check_real`, `check_integer`,
 //! `snapshot`. It implements on `Slave` what differs between the trucks:
 //!
-//! - `fn output(&self, y: &State, e: &Evaluation, v: RealVar) -> Option<f64>`: an output's value;
+//! - `fn output_at(&self, y: &State, e: &Evaluation, v: RealVar) -> Option<f64>`: an output's value;
 //! - `fn outputs_finite(&self) -> bool`: whether every output is a finite number;
 //! - `fn pasts(&self) -> &[DemandHistory]`: the demands' pasts, for the restored state's check;
 //! - `fn hold_road_end(&mut self, h: f64)` and `fn road_finite(&self) -> bool`: the road inputs
@@ -44,6 +44,23 @@ macro_rules! truck_slave {
                 let at = At { step_start: self.time, since_step: 0.0, past: &self.past };
                 (y, self.params.evaluate(&self.inputs, &y, at))
             }
+
+            /// An output's value, at the present state (the start state before initialisation).
+            fn output(&self, v: RealVar) -> Result<f64, Refusal> {
+                let (y, e) = self.evaluation();
+                self.output_at(&y, &e, v).ok_or(Refusal::UnknownReference(v.vr()))
+            }
+
+            fn input(&self, v: RealVar) -> Option<f64> {
+                real_input(&mut self.inputs.clone(), v).map(|x| *x)
+            }
+
+            fn input_mut(&mut self, v: RealVar) -> Option<&mut f64> {
+                real_input(&mut self.inputs, v)
+            }
+
+            /// Setting a Real means nothing beyond its value.
+            fn real_set(&mut self, _: RealVar) {}
 
             /// Checks that a restored state is one this FMU could have made: every parameter in
             /// its XML range (and, once initialised, stable), every number finite.
@@ -79,21 +96,9 @@ macro_rules! truck_slave {
             type StepError = &'static str;
             type StepWarning = std::convert::Infallible;
 
-            fmi2_slave::parameter_access!();
+            fmi_slave::parameter_access!();
 
-            fn get_real(&self, vr: u32) -> Result<f64, Refusal> {
-                let v = RealVar::from_vr(vr).ok_or(Refusal::UnknownReference(vr))?;
-                let (mut p, mut u) = (self.params, self.inputs);
-                if let Some(x) = p.real_mut(v).or(real_input(&mut u, v)) {
-                    return Ok(*x);
-                }
-                let (y, e) = self.evaluation();
-                let x = self.output(&y, &e, v).ok_or(Refusal::UnknownReference(vr))?;
-                if !x.is_finite() {
-                    return Err(Refusal::OutputNotFinite { name: v.name(), value: x });
-                }
-                Ok(x)
-            }
+            fmi_slave::real_access!();
 
             type Settable = (Params, Inputs);
 
@@ -103,18 +108,6 @@ macro_rules! truck_slave {
 
             fn restore_settable(&mut self, (params, inputs): Self::Settable) {
                 (self.params, self.inputs) = (params, inputs);
-            }
-
-            fn set_real(&mut self, vr: u32, value: f64) -> Result<(), Refusal> {
-                let v = RealVar::from_vr(vr).ok_or(Refusal::UnknownReference(vr))?;
-                check_real(v.name(), value, v.min(), v.max())?;
-                let field = match v.causality() {
-                    Causality::Parameter => self.params.real_mut(v),
-                    Causality::Input => real_input(&mut self.inputs, v),
-                    Causality::Output => None,
-                };
-                *field.ok_or(Refusal::Output(v.name()))? = value;
-                Ok(())
             }
 
             /// The truck integrates with fixed RK4 steps: a tolerance has nothing to control.

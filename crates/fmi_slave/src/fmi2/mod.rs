@@ -1,172 +1,29 @@
-//! The FMI 2.0 Co-Simulation C API for any model that implements [`Model`]: plain safe Rust on one
-//! side, the C ABI on the other. An FMU crate implements the trait and calls
-//! [`export_fmi2!`] once; the macro emits the 34 `#[no_mangle] extern "C"` functions, each a thin
-//! shim over the generic functions of [`api`], which check pointers and the FMI state machine,
-//! catch panics (a panic becomes fmi2Fatal, never an unwind into the host) and log through the
-//! importer's callback without allocating.
-//!
-//! Layout: `fmi2` (the C types), `api` (pointer handling per entry point), `instance` (one FMU instance: state machine,
-//! experiment times, variable access rules), `state_machine` (the legal-call table), `logger`,
-//! `guard` (panic guard and checked slices), `snapshot` (versioned byte format of FMU states).
-// The C ABI's raw pointers: the crate denies unsafe code (Cargo.toml) except in these modules.
+//! FMI 2.0 Co-Simulation: the C types (module `types`, re-exported here), the entry points generic over
+//! the model ([`api`]), and [`export_fmi2!`](crate::export_fmi2), which emits the 34 functions of
+//! `fmi2Functions.h` for a model type.
+
+// the C entry points: raw pointers (the crate denies unsafe code elsewhere)
 #[allow(unsafe_code)]
 pub mod api;
-pub mod fmi2;
-#[allow(unsafe_code)]
-mod guard;
-mod instance;
-#[allow(unsafe_code)]
-mod logger;
-mod refusal;
-pub mod snapshot;
-mod state_machine;
+mod types;
+pub use types::*;
 
-pub use instance::{Failure, Instance};
-pub use refusal::{check_integer, check_real, Refusal, Unreadable};
-pub use state_machine::Phase;
-
-/// Causality of a variable (the subset these FMUs use).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Causality {
-    Input,
-    Output,
-    Parameter,
-}
-
-/// What the FMI layer needs to know about a variable.
-#[derive(Clone, Copy, Debug)]
-pub struct VarInfo {
-    pub name: &'static str,
-    pub causality: Causality,
-}
-
-/// A co-simulation model without FMI types. Value references are checked with the `*_info`
-/// functions before the getters and setters are called with them.
-pub trait Model: Default {
-    /// GUID of the model description.
-    const GUID: &'static str;
-    /// Everything that defines the model's present condition (the FMU state).
-    type State: Clone;
-    /// Why a step failed; displayed into a stack buffer (no allocation).
-    type StepError: std::fmt::Display;
-    /// What a step that succeeded warns about (logged with status fmi2Warning; displayed into a
-    /// stack buffer too). `std::convert::Infallible` for a model without such warnings.
-    type StepWarning: std::fmt::Display;
-
-    fn real_info(vr: u32) -> Option<VarInfo>;
-    fn integer_info(vr: u32) -> Option<VarInfo>;
-    fn boolean_info(vr: u32) -> Option<VarInfo>;
-
-    fn get_real(&self, vr: u32) -> Result<f64, Refusal>;
-    fn get_integer(&self, vr: u32) -> Result<i32, Refusal>;
-    fn get_boolean(&self, vr: u32) -> Result<bool, Refusal>;
-    /// What the `set_*` functions below change (the parameters, the inputs and what goes with
-    /// them). A batch of values is applied all or nothing: the FMI layer keeps a copy of this
-    /// part, not of the whole model, and puts it back when one value is refused. (Copying the
-    /// damper's whole model, integrator state and tables, at every fmi2SetReal costs more than
-    /// its communication step.)
-    type Settable;
-    fn settable(&self) -> Self::Settable;
-    fn restore_settable(&mut self, settable: Self::Settable);
-
-    /// Sets a value, refusing non-finite or out-of-range values with a message.
-    fn set_real(&mut self, vr: u32, value: f64) -> Result<(), Refusal>;
-    fn set_integer(&mut self, vr: u32, value: i32) -> Result<(), Refusal>;
-    fn set_boolean(&mut self, vr: u32, value: bool) -> Result<(), Refusal>;
-
-    /// `CoSimulation/@canInterpolateInputs` of the model description: whether
-    /// [`Model::set_real_input_derivative`] takes derivatives (else fmi2SetRealInputDerivatives is
-    /// refused before it is called).
-    const CAN_INTERPOLATE_INPUTS: bool = false;
-    /// Sets the `order`-th time derivative of the Real input `vr` (causality checked by the
-    /// caller), from the start of the next communication step.
-    fn set_real_input_derivative(&mut self, vr: u32, order: i32, value: f64) -> Result<(), Refusal> {
-        let _ = (vr, order, value);
-        Err(Refusal::NoInputDerivatives)
-    }
-    /// Takes the tolerance a master gives `fmi2SetupExperiment` (toleranceDefined): Ok with what
-    /// the model made of it, for the log, or Err when the value is refused.
-    fn use_tolerance(&mut self, tolerance: f64) -> Result<ToleranceNote, Refusal>;
-    /// Checks the parameters and starts at `start_time` (s).
-    fn initialize(&mut self, start_time: f64) -> Result<(), Refusal>;
-    /// Time of the model's state (s), `None` before initialisation.
-    fn time(&self) -> Option<f64>;
-    /// Sets the model's clock to the master's communication point (equal to within rounding).
-    fn align_time(&mut self, t: f64);
-    /// Refuses, before any work, a step of `h` (s) > 0 from the present time that would exceed the
-    /// model's documented work limits or that its time arithmetic cannot resolve (docs/robustness.md).
-    fn check_step(&self, h: f64) -> Result<(), Self::StepError>;
-    /// Advances by `h` (s) > 0 with the present inputs held; on failure (including non-finite
-    /// outputs at the new time) the state is unchanged. `Ok(Some(w))`: done, with a warning `w`.
-    fn do_step(&mut self, h: f64) -> Result<Option<Self::StepWarning>, Self::StepError>;
-
-    fn state(&self) -> Self::State;
-    fn set_state(&mut self, state: &Self::State) -> Result<(), Refusal>;
-    /// Whether a state is initialised (then fmi2SetFMUstate leaves the instance in StepComplete).
-    fn state_time(state: &Self::State) -> Option<f64>;
-    fn serialize(state: &Self::State) -> Vec<u8>;
-    fn deserialize(bytes: &[u8]) -> Result<Self::State, Refusal>;
-}
-
-/// Inside an `impl Model for …` whose Integer and Boolean variables are all parameters: the
-/// `*_info` lookups and the Integer and Boolean get and set, through the enums and the `Parameters`
-/// accessors that `fmi2_codegen` generates (`RealVar`, `IntegerVar`, `BooleanVar` in scope; the
-/// parameters in `self.params`). Every FMU of this workspace has the same; Reals differ (inputs,
-/// outputs) and stay with each model.
-#[macro_export]
-macro_rules! parameter_access {
-    () => {
-        fn real_info(vr: u32) -> Option<$crate::VarInfo> {
-            RealVar::from_vr(vr).map(RealVar::info)
-        }
-
-        fn integer_info(vr: u32) -> Option<$crate::VarInfo> {
-            IntegerVar::from_vr(vr).map(IntegerVar::info)
-        }
-
-        fn boolean_info(vr: u32) -> Option<$crate::VarInfo> {
-            BooleanVar::from_vr(vr).map(BooleanVar::info)
-        }
-
-        fn get_integer(&self, vr: u32) -> Result<i32, $crate::Refusal> {
-            IntegerVar::from_vr(vr).and_then(|v| self.params.integer(v)).ok_or($crate::Refusal::UnknownReference(vr))
-        }
-
-        fn get_boolean(&self, vr: u32) -> Result<bool, $crate::Refusal> {
-            BooleanVar::from_vr(vr).and_then(|v| self.params.boolean(v)).ok_or($crate::Refusal::UnknownReference(vr))
-        }
-
-        fn set_integer(&mut self, vr: u32, value: i32) -> Result<(), $crate::Refusal> {
-            let v = IntegerVar::from_vr(vr).ok_or($crate::Refusal::UnknownReference(vr))?;
-            $crate::check_integer(v.name(), value, v.min(), v.max())?;
-            *self.params.integer_mut(v).ok_or($crate::Refusal::NotSettable(v.name()))? = value;
-            Ok(())
-        }
-
-        fn set_boolean(&mut self, vr: u32, value: bool) -> Result<(), $crate::Refusal> {
-            let v = BooleanVar::from_vr(vr).ok_or($crate::Refusal::UnknownReference(vr))?;
-            *self.params.boolean_mut(v).ok_or($crate::Refusal::NotSettable(v.name()))? = value;
-            Ok(())
-        }
-    };
-}
-
-/// Emits the FMI 2.0 Co-Simulation C API for the [`Model`] type `$model`: call once, at the crate
+/// Emits the FMI 2.0 Co-Simulation C API for the [`Model`](crate::Model) type `$model`: call once, at the crate
 /// root or in a module of the FMU crate.
 // Neither rustc's unsafe_code nor Clippy's undocumented_unsafe_blocks looks at the expansion in
 // another crate, so the SAFETY comments below are kept by hand.
 #[macro_export]
 macro_rules! export_fmi2 {
     ($model:ty) => {
-        use $crate::api::fmi2 as __fmi2;
+        use $crate::fmi2 as __fmi2;
 
         #[unsafe(no_mangle)]
         pub extern "C" fn fmi2GetTypesPlatform() -> *const ::std::ffi::c_char {
-            $crate::api::get_types_platform()
+            $crate::fmi2::api::get_types_platform()
         }
         #[unsafe(no_mangle)]
         pub extern "C" fn fmi2GetVersion() -> *const ::std::ffi::c_char {
-            $crate::api::get_version()
+            $crate::fmi2::api::get_version()
         }
         /// # Safety
         /// See the FMI 2.0 standard: arrays must hold the given number of valid elements.
@@ -178,7 +35,7 @@ macro_rules! export_fmi2 {
             categories: *const __fmi2::fmi2String,
         ) -> __fmi2::fmi2Status {
             // SAFETY: the caller upholds this function's safety section, which is the api function's.
-            unsafe { $crate::api::set_debug_logging::<$model>(c, on, n, categories) }
+            unsafe { $crate::fmi2::api::set_debug_logging::<$model>(c, "fmi2SetDebugLogging", on != 0, n, categories) }
         }
         /// # Safety
         /// String arguments must be NULL or NUL-terminated; `functions` NULL or valid.
@@ -193,14 +50,16 @@ macro_rules! export_fmi2 {
             logging_on: __fmi2::fmi2Boolean,
         ) -> __fmi2::fmi2Component {
             // SAFETY: the caller upholds this function's safety section, which is the api function's.
-            unsafe { $crate::api::instantiate::<$model>(name, ty, guid, resources, functions, visible, logging_on) }
+            unsafe {
+                $crate::fmi2::api::instantiate::<$model>(name, ty, guid, resources, functions, visible, logging_on)
+            }
         }
         /// # Safety
         /// `c` must be NULL or an instance of this library, not used afterwards.
         #[unsafe(no_mangle)]
         pub unsafe extern "C" fn fmi2FreeInstance(c: __fmi2::fmi2Component) {
             // SAFETY: the caller upholds this function's safety section, which is the api function's.
-            unsafe { $crate::api::free_instance::<$model>(c) }
+            unsafe { $crate::fmi2::api::free_instance::<$model>(c) }
         }
         #[unsafe(no_mangle)]
         pub extern "C" fn fmi2SetupExperiment(
@@ -211,23 +70,23 @@ macro_rules! export_fmi2 {
             stop_defined: __fmi2::fmi2Boolean,
             stop: f64,
         ) -> __fmi2::fmi2Status {
-            $crate::api::setup_experiment::<$model>(c, tol_defined, tol, start, stop_defined, stop)
+            $crate::fmi2::api::setup_experiment::<$model>(c, tol_defined, tol, start, stop_defined, stop)
         }
         #[unsafe(no_mangle)]
         pub extern "C" fn fmi2EnterInitializationMode(c: __fmi2::fmi2Component) -> __fmi2::fmi2Status {
-            $crate::api::enter_initialization_mode::<$model>(c)
+            $crate::fmi2::api::enter_initialization_mode::<$model>(c)
         }
         #[unsafe(no_mangle)]
         pub extern "C" fn fmi2ExitInitializationMode(c: __fmi2::fmi2Component) -> __fmi2::fmi2Status {
-            $crate::api::exit_initialization_mode::<$model>(c)
+            $crate::fmi2::api::exit_initialization_mode::<$model>(c)
         }
         #[unsafe(no_mangle)]
         pub extern "C" fn fmi2Terminate(c: __fmi2::fmi2Component) -> __fmi2::fmi2Status {
-            $crate::api::terminate::<$model>(c)
+            $crate::fmi2::api::terminate::<$model>(c)
         }
         #[unsafe(no_mangle)]
         pub extern "C" fn fmi2Reset(c: __fmi2::fmi2Component) -> __fmi2::fmi2Status {
-            $crate::api::reset::<$model>(c)
+            $crate::fmi2::api::reset::<$model>(c)
         }
         /// # Safety
         /// `vr` and `value` must hold `nvr` elements.
@@ -239,7 +98,7 @@ macro_rules! export_fmi2 {
             value: *mut f64,
         ) -> __fmi2::fmi2Status {
             // SAFETY: the caller upholds this function's safety section, which is the api function's.
-            unsafe { $crate::api::get_real::<$model>(c, vr, nvr, value) }
+            unsafe { $crate::fmi2::api::get_real::<$model>(c, vr, nvr, value) }
         }
         /// # Safety
         /// `vr` and `value` must hold `nvr` elements.
@@ -251,7 +110,7 @@ macro_rules! export_fmi2 {
             value: *mut i32,
         ) -> __fmi2::fmi2Status {
             // SAFETY: the caller upholds this function's safety section, which is the api function's.
-            unsafe { $crate::api::get_integer::<$model>(c, vr, nvr, value) }
+            unsafe { $crate::fmi2::api::get_integer::<$model>(c, vr, nvr, value) }
         }
         /// # Safety
         /// `vr` and `value` must hold `nvr` elements.
@@ -263,7 +122,7 @@ macro_rules! export_fmi2 {
             value: *mut i32,
         ) -> __fmi2::fmi2Status {
             // SAFETY: the caller upholds this function's safety section, which is the api function's.
-            unsafe { $crate::api::get_boolean::<$model>(c, vr, nvr, value) }
+            unsafe { $crate::fmi2::api::get_boolean::<$model>(c, vr, nvr, value) }
         }
         /// # Safety
         /// `vr` must hold `nvr` elements.
@@ -275,7 +134,7 @@ macro_rules! export_fmi2 {
             _value: *mut __fmi2::fmi2String,
         ) -> __fmi2::fmi2Status {
             // SAFETY: the caller upholds this function's safety section, which is the api function's.
-            unsafe { $crate::api::no_strings::<$model>(c, "fmi2GetString", vr, nvr) }
+            unsafe { $crate::fmi2::api::no_strings::<$model>(c, "fmi2GetString", vr, nvr) }
         }
         /// # Safety
         /// `vr` and `value` must hold `nvr` elements.
@@ -287,7 +146,7 @@ macro_rules! export_fmi2 {
             value: *const f64,
         ) -> __fmi2::fmi2Status {
             // SAFETY: the caller upholds this function's safety section, which is the api function's.
-            unsafe { $crate::api::set_real::<$model>(c, vr, nvr, value) }
+            unsafe { $crate::fmi2::api::set_real::<$model>(c, vr, nvr, value) }
         }
         /// # Safety
         /// `vr` and `value` must hold `nvr` elements.
@@ -299,7 +158,7 @@ macro_rules! export_fmi2 {
             value: *const i32,
         ) -> __fmi2::fmi2Status {
             // SAFETY: the caller upholds this function's safety section, which is the api function's.
-            unsafe { $crate::api::set_integer::<$model>(c, vr, nvr, value) }
+            unsafe { $crate::fmi2::api::set_integer::<$model>(c, vr, nvr, value) }
         }
         /// # Safety
         /// `vr` and `value` must hold `nvr` elements.
@@ -311,7 +170,7 @@ macro_rules! export_fmi2 {
             value: *const i32,
         ) -> __fmi2::fmi2Status {
             // SAFETY: the caller upholds this function's safety section, which is the api function's.
-            unsafe { $crate::api::set_boolean::<$model>(c, vr, nvr, value) }
+            unsafe { $crate::fmi2::api::set_boolean::<$model>(c, vr, nvr, value) }
         }
         /// # Safety
         /// `vr` must hold `nvr` elements.
@@ -323,7 +182,7 @@ macro_rules! export_fmi2 {
             _value: *const __fmi2::fmi2String,
         ) -> __fmi2::fmi2Status {
             // SAFETY: the caller upholds this function's safety section, which is the api function's.
-            unsafe { $crate::api::no_strings::<$model>(c, "fmi2SetString", vr, nvr) }
+            unsafe { $crate::fmi2::api::no_strings::<$model>(c, "fmi2SetString", vr, nvr) }
         }
         /// # Safety
         /// `state` must point to writable storage for one pointer.
@@ -333,7 +192,7 @@ macro_rules! export_fmi2 {
             state: *mut __fmi2::fmi2FMUstate,
         ) -> __fmi2::fmi2Status {
             // SAFETY: the caller upholds this function's safety section, which is the api function's.
-            unsafe { $crate::api::get_fmu_state::<$model>(c, state) }
+            unsafe { $crate::fmi2::api::get_fmu_state::<$model>(c, "fmi2GetFMUstate", state) }
         }
         /// # Safety
         /// `state` must be a state of this library, not yet freed.
@@ -343,7 +202,7 @@ macro_rules! export_fmi2 {
             state: __fmi2::fmi2FMUstate,
         ) -> __fmi2::fmi2Status {
             // SAFETY: the caller upholds this function's safety section, which is the api function's.
-            unsafe { $crate::api::set_fmu_state::<$model>(c, state) }
+            unsafe { $crate::fmi2::api::set_fmu_state::<$model>(c, "fmi2SetFMUstate", state) }
         }
         /// # Safety
         /// `state` must point to NULL or a state of this library.
@@ -353,7 +212,7 @@ macro_rules! export_fmi2 {
             state: *mut __fmi2::fmi2FMUstate,
         ) -> __fmi2::fmi2Status {
             // SAFETY: the caller upholds this function's safety section, which is the api function's.
-            unsafe { $crate::api::free_fmu_state::<$model>(c, state) }
+            unsafe { $crate::fmi2::api::free_fmu_state::<$model>(c, "fmi2FreeFMUstate", state) }
         }
         /// # Safety
         /// `state` must be a state of this library; `size` writable.
@@ -364,7 +223,9 @@ macro_rules! export_fmi2 {
             size: *mut usize,
         ) -> __fmi2::fmi2Status {
             // SAFETY: the caller upholds this function's safety section, which is the api function's.
-            unsafe { $crate::api::serialized_fmu_state_size::<$model>(c, state, size) }
+            unsafe {
+                $crate::fmi2::api::serialized_fmu_state_size::<$model>(c, "fmi2SerializedFMUstateSize", state, size)
+            }
         }
         /// # Safety
         /// `state` must be a state of this library; `bytes` must hold `size` bytes.
@@ -376,7 +237,15 @@ macro_rules! export_fmi2 {
             size: usize,
         ) -> __fmi2::fmi2Status {
             // SAFETY: the caller upholds this function's safety section, which is the api function's.
-            unsafe { $crate::api::serialize_fmu_state::<$model>(c, state, bytes, size) }
+            unsafe {
+                $crate::fmi2::api::serialize_fmu_state::<$model>(
+                    c,
+                    "fmi2SerializeFMUstate",
+                    state,
+                    bytes as *mut u8,
+                    size,
+                )
+            }
         }
         /// # Safety
         /// `bytes` must hold `size` bytes; `state` must point to NULL or a state of this library.
@@ -388,7 +257,15 @@ macro_rules! export_fmi2 {
             state: *mut __fmi2::fmi2FMUstate,
         ) -> __fmi2::fmi2Status {
             // SAFETY: the caller upholds this function's safety section, which is the api function's.
-            unsafe { $crate::api::deserialize_fmu_state::<$model>(c, bytes, size, state) }
+            unsafe {
+                $crate::fmi2::api::deserialize_fmu_state::<$model>(
+                    c,
+                    "fmi2DeSerializeFMUstate",
+                    bytes as *const u8,
+                    size,
+                    state,
+                )
+            }
         }
         #[unsafe(no_mangle)]
         pub extern "C" fn fmi2GetDirectionalDerivative(
@@ -400,7 +277,7 @@ macro_rules! export_fmi2 {
             _: *const f64,
             _: *mut f64,
         ) -> __fmi2::fmi2Status {
-            $crate::api::unsupported::<$model>(
+            $crate::fmi2::api::unsupported::<$model>(
                 c,
                 "fmi2GetDirectionalDerivative",
                 "providesDirectionalDerivative is false",
@@ -417,14 +294,14 @@ macro_rules! export_fmi2 {
             value: *const f64,
         ) -> __fmi2::fmi2Status {
             if !<$model as $crate::Model>::CAN_INTERPOLATE_INPUTS {
-                return $crate::api::unsupported::<$model>(
+                return $crate::fmi2::api::unsupported::<$model>(
                     c,
                     "fmi2SetRealInputDerivatives",
                     "canInterpolateInputs is false",
                 );
             }
             // SAFETY: the caller upholds this function's safety section, which is the api function's.
-            unsafe { $crate::api::set_real_input_derivatives::<$model>(c, vr, nvr, order, value) }
+            unsafe { $crate::fmi2::api::set_real_input_derivatives::<$model>(c, vr, nvr, order, value) }
         }
         #[unsafe(no_mangle)]
         pub extern "C" fn fmi2GetRealOutputDerivatives(
@@ -434,7 +311,7 @@ macro_rules! export_fmi2 {
             _: *const i32,
             _: *mut f64,
         ) -> __fmi2::fmi2Status {
-            $crate::api::unsupported::<$model>(c, "fmi2GetRealOutputDerivatives", "maxOutputDerivativeOrder is 0")
+            $crate::fmi2::api::unsupported::<$model>(c, "fmi2GetRealOutputDerivatives", "maxOutputDerivativeOrder is 0")
         }
         #[unsafe(no_mangle)]
         pub extern "C" fn fmi2DoStep(
@@ -443,11 +320,11 @@ macro_rules! export_fmi2 {
             h: f64,
             _no_set_state_prior: __fmi2::fmi2Boolean,
         ) -> __fmi2::fmi2Status {
-            $crate::api::do_step::<$model>(c, t, h)
+            $crate::fmi2::api::do_step::<$model>(c, t, h)
         }
         #[unsafe(no_mangle)]
         pub extern "C" fn fmi2CancelStep(c: __fmi2::fmi2Component) -> __fmi2::fmi2Status {
-            $crate::api::unsupported::<$model>(
+            $crate::fmi2::api::unsupported::<$model>(
                 c,
                 "fmi2CancelStep",
                 "fmi2DoStep is synchronous, no step is ever pending",
@@ -459,7 +336,7 @@ macro_rules! export_fmi2 {
             _: __fmi2::fmi2StatusKind,
             _: *mut __fmi2::fmi2Status,
         ) -> __fmi2::fmi2Status {
-            $crate::api::unsupported::<$model>(
+            $crate::fmi2::api::unsupported::<$model>(
                 c,
                 "fmi2GetStatus",
                 "fmi2DoStep is synchronous, there is no pending status",
@@ -474,7 +351,7 @@ macro_rules! export_fmi2 {
             value: *mut f64,
         ) -> __fmi2::fmi2Status {
             // SAFETY: the caller upholds this function's safety section, which is the api function's.
-            unsafe { $crate::api::get_real_status::<$model>(c, kind, value) }
+            unsafe { $crate::fmi2::api::get_real_status::<$model>(c, kind, value) }
         }
         #[unsafe(no_mangle)]
         pub extern "C" fn fmi2GetIntegerStatus(
@@ -482,7 +359,7 @@ macro_rules! export_fmi2 {
             _: __fmi2::fmi2StatusKind,
             _: *mut i32,
         ) -> __fmi2::fmi2Status {
-            $crate::api::unsupported::<$model>(
+            $crate::fmi2::api::unsupported::<$model>(
                 c,
                 "fmi2GetIntegerStatus",
                 "no Integer status is defined for FMI 2.0 Co-Simulation",
@@ -497,7 +374,7 @@ macro_rules! export_fmi2 {
             value: *mut i32,
         ) -> __fmi2::fmi2Status {
             // SAFETY: the caller upholds this function's safety section, which is the api function's.
-            unsafe { $crate::api::get_boolean_status::<$model>(c, kind, value) }
+            unsafe { $crate::fmi2::api::get_boolean_status::<$model>(c, kind, value) }
         }
         #[unsafe(no_mangle)]
         pub extern "C" fn fmi2GetStringStatus(
@@ -505,19 +382,11 @@ macro_rules! export_fmi2 {
             _: __fmi2::fmi2StatusKind,
             _: *mut __fmi2::fmi2String,
         ) -> __fmi2::fmi2Status {
-            $crate::api::unsupported::<$model>(
+            $crate::fmi2::api::unsupported::<$model>(
                 c,
                 "fmi2GetStringStatus",
                 "fmi2DoStep is synchronous, no status message is pending",
             )
         }
     };
-}
-
-/// What a model made of a master's tolerance, for the log: a note on what it did, or a warning
-/// where it used a value other than the one given.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub enum ToleranceNote {
-    Event(String),
-    Warning(String),
 }

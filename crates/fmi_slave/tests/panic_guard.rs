@@ -1,11 +1,14 @@
-//! A panic inside a model never unwinds into the host: the call that panicked returns fmi2Fatal with a
-//! logged message, every later call on that instance but fmi2FreeInstance is refused with fmi2Error,
-//! and other instances go on. A model that panics on demand stands in for a bug. scripts/test.sh also
-//! runs this test as a Windows program under Wine, where unwinding takes a different path (SEH).
+//! A panic inside a model never unwinds into the host, through either standard's C API: the call
+//! that panicked returns Fatal with a logged message, every later call on that instance but freeing
+//! it is refused with Error, and other instances go on. A model that panics on demand stands in for
+//! a bug. scripts/test.sh also runs this test as a Windows program under Wine, where unwinding takes
+//! a different path (SEH). (A test program may export both standards' functions; an FMU's binary
+//! exports one.)
 #![allow(unsafe_code)]
 
-use fmi2_slave::api::fmi2::*;
-use fmi2_slave::{Causality, Model, Refusal, ToleranceNote, VarInfo};
+use fmi_slave::fmi2::*;
+use fmi_slave::fmi3::{fmi3Instance, fmi3InstanceEnvironment, fmi3Status, fmi3String};
+use fmi_slave::{Causality, Model, Refusal, ToleranceNote, VarInfo};
 use std::ffi::{CStr, CString};
 use std::sync::Mutex;
 
@@ -100,11 +103,14 @@ impl Model for Fragile {
         Vec::new()
     }
     fn deserialize(_: &[u8]) -> Result<Self::State, Refusal> {
-        Err(Refusal::Unreadable(fmi2_slave::Unreadable::ShorterThanHeader))
+        Err(Refusal::Unreadable(fmi_slave::Unreadable::ShorterThanHeader))
     }
 }
 
-fmi2_slave::export_fmi2!(Fragile);
+fmi_slave::export_fmi2!(Fragile);
+/// The FMI 3.0 independent variable's value reference.
+const TIME_VR: u32 = 0;
+fmi_slave::export_fmi3!(Fragile, time_vr = TIME_VR);
 
 static LOG: Mutex<Vec<(String, fmi2Status, String)>> = Mutex::new(Vec::new());
 
@@ -185,5 +191,88 @@ fn a_panic_in_a_step_is_fatal_for_its_instance_only_and_never_unwinds_into_the_h
     unsafe {
         fmi2FreeInstance(fragile);
         fmi2FreeInstance(sound);
+    }
+}
+
+static LOG3: Mutex<Vec<(usize, fmi3Status, String)>> = Mutex::new(Vec::new());
+
+/// FMI 3.0's logger: the instance environment (here the instance's number) names the instance.
+unsafe extern "C" fn log_message(
+    env: fmi3InstanceEnvironment,
+    status: fmi3Status,
+    _category: fmi3String,
+    message: fmi3String,
+) {
+    // SAFETY: the FMU passes a NUL-terminated message, valid for the call.
+    let message = unsafe { CStr::from_ptr(message) }.to_string_lossy().into_owned();
+    LOG3.lock().unwrap().push((env as usize, status, message));
+}
+
+fn instantiate3(number: usize) -> fmi3Instance {
+    let (name, token) = (CString::new(format!("instance {number}")).unwrap(), CString::new(Fragile::GUID).unwrap());
+    // SAFETY: NUL-terminated strings, no intermediate variables, a logger that lives for the test.
+    let c = unsafe {
+        fmi3InstantiateCoSimulation(
+            name.as_ptr(),
+            token.as_ptr(),
+            std::ptr::null(),
+            false,
+            false,
+            false,
+            false,
+            std::ptr::null(),
+            0,
+            number as fmi3InstanceEnvironment,
+            Some(log_message),
+            None,
+        )
+    };
+    assert!(!c.is_null());
+    assert_eq!(fmi3EnterInitializationMode(c, false, 0.0, 0.0, false, 0.0), 0);
+    assert_eq!(fmi3ExitInitializationMode(c), 0);
+    c
+}
+
+fn step3(c: fmi3Instance, t: f64) -> fmi3Status {
+    let (mut event, mut terminate, mut early, mut last) = (true, true, true, f64::NAN);
+    // SAFETY: four writable out-arguments.
+    let status = unsafe { fmi3DoStep(c, t, 0.1, true, &mut event, &mut terminate, &mut early, &mut last) };
+    if status == 0 {
+        assert!(!event && !terminate && !early);
+        assert_eq!(last, t + 0.1);
+    }
+    status
+}
+
+#[test]
+fn fmi3_a_panic_in_a_step_is_fatal_for_its_instance_only() {
+    let (fragile, sound) = (instantiate3(1), instantiate3(2));
+    assert_eq!(step3(fragile, 0.0), 0);
+    // SAFETY: one value reference and one value.
+    assert_eq!(unsafe { fmi3SetFloat64(fragile, &1, 1, &PANIC_ON_STEP, 1) }, 0);
+    assert_eq!(step3(fragile, 0.1), 4, "fmi3Fatal");
+    let fatal: Vec<_> = LOG3.lock().unwrap().iter().filter(|(_, s, _)| *s == 4).cloned().collect();
+    assert_eq!(fatal.len(), 1, "{fatal:?}");
+    assert_eq!(fatal[0].0, 1, "logged to the instance's own environment");
+    assert!(
+        fatal[0].2.contains("fmi3DoStep: internal error (panic: deliberate panic in do_step); only fmi3FreeInstance"),
+        "{}",
+        fatal[0].2
+    );
+    assert_eq!(step3(fragile, 0.1), 3, "fmi3Error from now on");
+    assert_eq!(fmi3Reset(fragile), 3);
+
+    assert_eq!(step3(sound, 0.0), 0);
+    let (mut steps, mut time) = (f64::NAN, f64::NAN);
+    // SAFETY: one value reference and room for one value, twice.
+    unsafe {
+        assert_eq!(fmi3GetFloat64(sound, &2, 1, &mut steps, 1), 0);
+        assert_eq!(fmi3GetFloat64(sound, &TIME_VR, 1, &mut time, 1), 0);
+    }
+    assert_eq!((steps, time), (1.0, 0.1), "the step counter and the independent variable");
+    // SAFETY: each instance freed once and not used afterwards.
+    unsafe {
+        fmi3FreeInstance(fragile);
+        fmi3FreeInstance(sound);
     }
 }

@@ -1,7 +1,7 @@
 //! Why a call into a [`Model`](crate::Model) is refused: one enum for the FMI layer and the
 //! models' slaves, displayed as the message the master's log receives. Every variant but
 //! [`Refusal::Model`] and [`Refusal::Restored`] is built without allocating, so a refused
-//! `fmi2SetReal` inside a simulation loop costs no heap.
+//! `fmi2SetReal` or `fmi3SetFloat64` inside a simulation loop costs no heap.
 
 use std::error::Error;
 

@@ -1,6 +1,6 @@
 //! The FMI 2.0 C types, transcribed from the standard's `fmi2TypesPlatform.h` and
 //! `fmi2FunctionTypes.h` (FMI 2.0.4, "default" platform). Their licence (2-Clause BSD, Modelica
-//! Association Project "FMI") is in `crates/fmi2_slave/FMI-HEADERS-LICENSE.txt`; every FMU ships it.
+//! Association Project "FMI") is in `crates/fmi_slave/FMI-HEADERS-LICENSE.txt`; every FMU ships it.
 //!
 //! Carried here rather than taken from `fmi-sys` because an exporting FMU needs only these few
 //! dozen names: `fmi-sys` generates them with bindgen (so building the FMU would need libclang)

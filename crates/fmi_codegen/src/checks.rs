@@ -1,6 +1,7 @@
 //! The checks of a model description that the FMU's code relies on, and the GUID as a fingerprint
 //! of its variable table.
 
+use crate::parse::Unknown;
 use crate::parse::{ModelDescription, Var};
 use crate::{camel, fail, field};
 use std::collections::BTreeSet;
@@ -27,7 +28,7 @@ pub fn check(md: &ModelDescription) {
             fail(v.line, format!("{}: valueReference {} used twice for type {}", v.name, v.vr, v.ty));
         }
         check_causality(v);
-        check_type(v, &md.units);
+        check_type(v, md);
     }
     check_structure(md);
 }
@@ -48,9 +49,9 @@ fn check_causality(v: &Var) {
     }
 }
 
-fn check_type(v: &Var, units: &BTreeSet<String>) {
+fn check_type(v: &Var, md: &ModelDescription) {
     if let Some(u) = &v.unit {
-        if !units.contains(u) {
+        if !md.has_unit(u) {
             fail(v.line, format!("{}: unit {u} is not in UnitDefinitions (add <Unit name=\"{u}\">)", v.name));
         }
     }
@@ -86,24 +87,64 @@ fn check_type(v: &Var, units: &BTreeSet<String>) {
     }
 }
 
+/// Fails unless `ModelStructure` lists every output, in order, under `Outputs` and
+/// `InitialUnknowns`, each with its `dependencies` declared (absent, they would mean "depends on
+/// every known", an algebraic loop for masters that is not there): an output's on inputs alone;
+/// an initial unknown's on inputs and on every parameter (the knowns of Initialization Mode: the
+/// outputs at rest follow from most parameters, and a parameter closes no loop, so all are
+/// declared; which inputs, `tests/python/test_conformance.py` probes).
 fn check_structure(md: &ModelDescription) {
     let output_indices: Vec<usize> = md.vars.iter().filter(|v| v.causality == "output").map(|v| v.index).collect();
-    let listed: Vec<usize> = md.outputs.iter().map(|o| o.0).collect();
-    if listed != output_indices {
-        fail(
-            md.outputs.first().map_or(1, |o| o.1),
-            format!("ModelStructure/Outputs lists {listed:?}, the outputs are {output_indices:?}"),
-        );
+    for (section, unknowns) in [("Outputs", &md.outputs), ("InitialUnknowns", &md.initial_unknowns)] {
+        let listed: Vec<usize> = unknowns.iter().map(|o| o.index).collect();
+        if listed != output_indices {
+            fail(
+                unknowns.first().map_or(1, |o| o.line),
+                format!("ModelStructure/{section} lists {listed:?}, the outputs are {output_indices:?}"),
+            );
+        }
     }
-    if md.initial_unknowns != output_indices {
-        fail(
-            1,
-            format!(
-                "ModelStructure/InitialUnknowns lists {:?}, the outputs are {output_indices:?}",
-                md.initial_unknowns
+    for u in &md.outputs {
+        check_dependencies(md, u, &["input"]);
+    }
+    let parameters: Vec<usize> = md.vars.iter().filter(|v| v.causality == "parameter").map(|v| v.index).collect();
+    for u in &md.initial_unknowns {
+        let deps = check_dependencies(md, u, &["input", "parameter"]);
+        let missing: Vec<&usize> = parameters.iter().filter(|p| !deps.contains(p)).collect();
+        if !missing.is_empty() {
+            fail(u.line, format!("InitialUnknowns: index {} must depend on every parameter; add {missing:?}", u.index));
+        }
+    }
+}
+
+/// The declared dependencies of `u`, failing unless they are present, ascending and of variables
+/// whose causality is one of `knowns`, with a `dependenciesKind` per dependency if any.
+fn check_dependencies<'a>(md: &ModelDescription, u: &'a Unknown, knowns: &[&str]) -> &'a [usize] {
+    let Some(deps) = &u.dependencies else {
+        fail(u.line, format!("Unknown index {}: declare its dependencies (absent means \"on every known\")", u.index));
+    };
+    if !deps.windows(2).all(|w| w[0] < w[1]) {
+        fail(u.line, format!("Unknown index {}: dependencies must be ascending, without repeats", u.index));
+    }
+    for d in deps {
+        match md.by_index(*d) {
+            Some(v) if knowns.contains(&v.causality.as_str()) => {}
+            Some(v) => fail(
+                u.line,
+                format!(
+                    "Unknown index {}: dependency {d} is {} ({}), not one of {knowns:?}",
+                    u.index, v.name, v.causality
+                ),
             ),
-        );
+            None => fail(u.line, format!("Unknown index {}: dependency {d} is no variable's index", u.index)),
+        }
     }
+    if let Some(kinds) = &u.dependencies_kind {
+        if kinds.split_whitespace().count() != deps.len() {
+            fail(u.line, format!("Unknown index {}: one dependenciesKind per dependency", u.index));
+        }
+    }
+    deps
 }
 
 /// FNV-1a, 64 bit: stable across Rust versions (std's hashers are not).

@@ -22,6 +22,9 @@ pub fn emit(md: &ModelDescription) -> String {
     let _ =
         writeln!(out, "/// `CoSimulation/@canInterpolateInputs`: whether fmi2SetRealInputDerivatives is supported.");
     let _ = writeln!(out, "pub const CAN_INTERPOLATE_INPUTS: bool = {};", md.can_interpolate_inputs);
+    let _ =
+        writeln!(out, "/// Value reference of `time`, the independent variable the FMI 3.0 model description adds.");
+    let _ = writeln!(out, "pub const FMI3_TIME_VR: u32 = {};", crate::fmi3::time_vr(md));
     for (ty, rust_ty, enum_name) in TYPES {
         let vs: Vec<&Var> = md.vars.iter().filter(|v| v.ty == ty).collect();
         enum_of(&mut out, ty, rust_ty, enum_name, &vs);
@@ -159,4 +162,25 @@ fn parameters(out: &mut String, vars: &[Var]) {
         out,
         "}}\n\nimpl Default for Parameters {{\n    fn default() -> Self {{\n        Parameters::START\n    }}\n}}"
     );
+    visit(out);
+}
+
+/// The parameters' part of the FMU state: Booleans, Integers, then Reals, each in XML order.
+fn visit(out: &mut String) {
+    let _ = writeln!(
+        out,
+        "\n/// The FMU state's layout of the parameters: Booleans, Integers, then Reals, each in XML order."
+    );
+    let _ = writeln!(out, "impl fmi_slave::snapshot::Visit for Parameters {{");
+    let _ = writeln!(out, "    fn visit<V: fmi_slave::snapshot::Visitor>(&mut self, v: &mut V) {{");
+    let _ = writeln!(
+        out,
+        "        for b in self.boolean_fields_mut() {{\n            fmi_slave::snapshot::boolean(v, b);\n        }}"
+    );
+    let _ = writeln!(
+        out,
+        "        for i in self.integer_fields_mut() {{\n            fmi_slave::snapshot::int32(v, i);\n        }}"
+    );
+    let _ = writeln!(out, "        for r in self.real_fields_mut() {{\n            v.real(r);\n        }}");
+    let _ = writeln!(out, "    }}\n}}");
 }
