@@ -50,12 +50,13 @@ How ecos 0.7.2 runs them, and what that means here:
 9. ecos steps the instances through std::execution::par (Intel's TBB): libecosc.so needs
    libtbb.so.12 (Debian's libtbb12), without which importing ecospy fails. The wheel installs its
    proxyfmu program without the execute bit ("Unable to create/bind proxyfmu process!");
-   scripts/setup.sh sets it.
+   scripts/setup.sh sets it. proxyfmu writes its log to logs/<instance>.txt under the working
+   directory.
 
 FMI 3.0: ecos 0.7.2 loads FMI 1.0, 2.0 and, in part, 3.0 Co-Simulation FMUs (fmi4c; its FMI 3.0
 slave runs without event mode or early return). Nothing here is specific to FMI 2.0 (the variables
-are read with fmpy, which reads both), so an FMI 3.0 build of the FMUs with the same variable names
-goes through the same functions; tests/python/test_ecos.py runs one when it exists.
+are read with fmpy, which reads both), so the FMI 3.0 FMUs (target/fmu/fmi3/) go through the same
+functions; tests/python/test_ecos.py runs both, with the same results bit for bit.
 """
 
 import argparse

@@ -215,7 +215,7 @@ def test_the_architecture_map_names_every_module_and_script():
     the one-per-effect files, which docs/effects.md lists, and lib.rs/mod.rs), every Python module
     and every script is named on it."""
     text = (REPO / "docs" / "architecture.md").read_text(encoding="utf-8")
-    named = set(re.findall(r"[\w.]+\.(?:rs|py|sh)\b", text))
+    named = set(re.findall(r"[\w.-]+\.(?:rs|py|sh)\b", text))
     missing = []
     for path in tracked_files():
         rel = path.relative_to(REPO)

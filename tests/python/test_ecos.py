@@ -6,19 +6,18 @@ same doubles (inputs, parameters, communicationStepSize = h; its accumulated com
 not used in the FMUs' numerics), and both masters are Jacobi. Any coupling difference (one step more
 or less of lag, an input set late or not at all, a parameter not applied) moves the force by newtons.
 
-Each test runs on the FMI 2.0 FMUs and on FMI 3.0 builds at target/fmu/fmi3/, which ecos loads too
-(skipped while those do not exist). The references are always fmpy's runs of the FMI 2.0 FMUs: an FMI
-3.0 build of the same model must give the same numbers.
+Each test runs on the FMI 2.0 FMUs and on their FMI 3.0 builds, which ecos loads too. The references
+are always fmpy's runs of the FMI 2.0 FMUs: an FMI 3.0 build of the same model must give the same
+numbers.
 """
 
 import numpy as np
 import pytest
 from fmpy import read_model_description
 
-from damper_tools import FMU_DIR, cosim, ecos, roads, ssp
+from damper_tools import cosim, ecos, roads, ssp
 from damper_tools.fmu import FmuUnit, Slave
 
-FMI3 = {"truck_fmu": FMU_DIR / "fmi3" / "QuarterTruck.fmu", "damper_fmu": FMU_DIR / "fmi3" / "SemiActiveDamper.fmu"}
 DURATION = 2.0  # s
 # 2^-9 s keeps ecos's accumulated time exact (t_k + h = (k + 1) h); at 1 ms it is rounded.
 STEPS = [2.0**-9, 1e-3]
@@ -28,15 +27,13 @@ STATE_OUTPUTS = [n for n in cosim.TRUCK_OUTPUTS if n not in ("a_body", "a_axle",
 
 @pytest.fixture(params=["FMI 2.0", "FMI 3.0"])
 def ecos_fmus(request, fmus):
-    """The FMUs ecos runs: the session's FMI 2.0 ones, or the FMI 3.0 builds of target/fmu/fmi3/."""
+    """The FMUs ecos runs: the session's FMI 2.0 ones, or their FMI 3.0 builds."""
     if request.param == "FMI 2.0":
         return fmus
-    missing = [str(p) for p in FMI3.values() if not p.is_file()]
-    if missing:
-        pytest.skip(f"no FMI 3.0 build of the FMUs yet: {', '.join(missing)} missing")
-    for path in FMI3.values():
+    fmi3 = {"truck_fmu": request.getfixturevalue("truck_fmu3"), "damper_fmu": request.getfixturevalue("fmu3")}
+    for path in fmi3.values():
         assert read_model_description(str(path)).fmiVersion.startswith("3."), path
-    return FMI3
+    return fmi3
 
 
 def damper_inputs(step):
@@ -80,8 +77,10 @@ def test_the_damper_alone_in_ecos_gives_fmpys_forces(ecos_fmus, fmu, step):
     assert np.array_equal(result["damper.F_damper"], reference)
 
 
-def test_the_damper_in_a_process_of_its_own_gives_the_same_forces(ecos_fmus, fmu):
-    # ecos's proxyfmu program runs the instance; it needs the execute bit that scripts/setup.sh sets
+def test_the_damper_in_a_process_of_its_own_gives_the_same_forces(ecos_fmus, fmu, tmp_path, monkeypatch):
+    # ecos's proxyfmu program runs the instance; it needs the execute bit that scripts/setup.sh sets,
+    # and writes its log to logs/ under the working directory (here a temporary one)
+    monkeypatch.chdir(tmp_path)
     v, f, n = damper_inputs(1e-3)
     result = ecos.run_damper(v, f, 1e-3, n, ecos_fmus["damper_fmu"], {"tare_load_cell": True},
                              separate_processes=True)
