@@ -4,9 +4,10 @@ The FMUs under test are built (cargo build --release of the three FMU packages) 
 per session into tests/python/work/ by the packaging commands a user runs (python3
 scripts/package_fmu.py, scripts/package_truck.py, scripts/package_full_truck.py), or taken from
 `--fmu PATH` (the damper), `--truck-fmu PATH` (the quarter truck) and `--full-truck-fmu PATH` (the
-full truck). Their FMI 3.0 builds (`fmu3`, `truck_fmu3`, `full_truck_fmu3`) are the packaging commands'
-fmi3/ beside each FMI 2.0 FMU, or `--fmu3`, `--truck-fmu3`, `--full-truck-fmu3`. The tests import the scenario and metric code of the scripts from the installed package
-damper_tools (scripts/setup.sh installs it). `damper` is the `damper` program (target/release/damper,
+full truck). Their FMI 3.0 builds (`fmu3`, `truck_fmu3`, `full_truck_fmu3`) are the packaging
+commands' fmi3/ beside each FMI 2.0 FMU, or `--fmu3`, `--truck-fmu3`, `--full-truck-fmu3`. The tests
+import the scenario and metric code of the scripts from the installed package damper_tools
+(scripts/setup.sh installs it). `damper` is the `damper` program (target/release/damper,
 built by cargo; `damper_exe` its Windows build, from scripts/build_cli.py), `dask_client` a Dask
 client of a real LocalCluster of two single-threaded worker processes (the sweep and campaign tests).
 """

@@ -14,13 +14,15 @@
 import numpy as np
 import pytest
 from fmpy import read_model_description, simulate_fmu
+from fmpy.fmi1 import FMICallException
 from fmpy.fmi3 import FMU3Slave
 from fmpy.validation import validate_fmu
 
 from damper_tools import REPO, cosim, roads
 from damper_tools.fmu import FmuUnit, Slave
 
-PAIRS = {"damper": ("fmu", "fmu3"), "truck": ("truck_fmu", "truck_fmu3"), "full_truck": ("full_truck_fmu", "full_truck_fmu3")}
+PAIRS = {"damper": ("fmu", "fmu3"), "truck": ("truck_fmu", "truck_fmu3"),
+         "full_truck": ("full_truck_fmu", "full_truck_fmu3")}
 TYPES = {"Real": "Float64", "Integer": "Int32", "Boolean": "Boolean"}
 
 
@@ -44,7 +46,8 @@ def test_the_fmi3_variables_are_the_fmi2_ones_and_time(which, request):
     for v2, v3 in zip(md2.modelVariables, rest, strict=True):
         assert (v3.name, v3.valueReference, v3.type, v3.causality, v3.variability) == \
             (v2.name, v2.valueReference, TYPES[v2.type], v2.causality, v2.variability)
-        assert (v3.start, v3.min, v3.max, v3.unit, v3.description) == (v2.start, v2.min, v2.max, v2.unit, v2.description)
+        assert (v3.start, v3.min, v3.max, v3.unit, v3.description) == \
+            (v2.start, v2.min, v2.max, v2.unit, v2.description)
     named = {v.name for u in md2.outputs for v in u.dependencies}
     assert {v.name for u in md3.outputs for v in u.dependencies} == named
 
@@ -93,7 +96,7 @@ def test_a_discarded_fmi3_step_leaves_the_fmu_in_step_mode_to_retry(fmu3):
     damper = Slave(FmuUnit.load(fmu3), "retry", echo=False)
     damper.initialize(0.0, T_sample=0.01, h_max=1e-7)
     assert isinstance(damper.fmu, FMU3Slave)
-    with pytest.raises(Exception, match="status 2"):
+    with pytest.raises(FMICallException, match="status 2"):
         damper.fmu.doStep(currentCommunicationPoint=0.0, communicationStepSize=1e-3)
     assert any(status == 2 and "state kept at 0 s" in text for status, _, text in damper.messages), damper.messages
     event, terminate, early, last = damper.fmu.doStep(currentCommunicationPoint=0.0, communicationStepSize=1e-4)
@@ -143,7 +146,7 @@ def test_fmi3_log_messages_escape_the_value_reference_character(fmu3):
     wrapper's logger reads it back."""
     damper = Slave(FmuUnit.load(fmu3), "log", echo=False)
     damper.fmu.setDebugLogging(True, [])
-    with pytest.raises(Exception):
+    with pytest.raises(FMICallException):
         damper.fmu.setDebugLogging(True, ["#nonsense"])
     assert any('"#nonsense"' in text for _, _, text in damper.messages), damper.messages
     damper.fmu.freeInstance()  # never initialised: nothing to terminate

@@ -1,6 +1,7 @@
 """Each FMU, FMI 2.0 and FMI 3.0, carries the licences of the code in its binaries
-(documentation/licenses/): the project's own, the FMI headers' (the FMI layer transcribes their types), the Rust standard library's
-notices, the MinGW-w64 runtime's where there is a win64 binary, and THIRD-PARTY.txt with every crate
+(documentation/licenses/): the project's own, the FMI headers' (the FMI layer transcribes their
+types), the Rust standard library's notices, the MinGW-w64 runtime's where there is a win64 binary,
+and THIRD-PARTY.txt with every crate
 compiled in and the text of its licence files.
 
 The crates expected are asked of `cargo tree` here, per platform, and each crate's section must hold

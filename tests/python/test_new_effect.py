@@ -3,8 +3,9 @@
 
 A copy of the project gets a toy effect with a dead band, a position-sensitive bypass groove (a
 laminar bypass past the piston that is open only within x_groove of mid-stroke, as the grooves of
-position-sensitive dampers are), and two variables appended to modelDescription.xml. The build
-stops once with the GUID to set, as the how-to says; then the catalog-wide checks pass unedited, and
+position-sensitive dampers are), and three variables appended to modelDescription.xml. The build
+stops once, naming the GUID to set and the new parameters' indices for the initial unknowns'
+dependencies, as the how-to says; then the catalog-wide checks pass unedited, and
 a record that hides the groove is diagnosed `effect` with the default options.
 
 The copy builds into target/new-effect/ (kept between runs, so a second run is incremental), which
@@ -121,13 +122,19 @@ def extended(tmp_path_factory: pytest.TempPathFactory, seed_target_dir: Callable
     xml = copy / "modelDescription.xml"
     xml.write_text(xml.read_text().replace("  </ModelVariables>", VARIABLES + "  </ModelVariables>"))
 
-    # the build stops once, naming the GUID to set
+    # the build stops once, naming what to write: the GUID to set, and the new parameters' indices
+    # for the dependencies of the initial unknowns
     first = cargo(["build", "--release", "-p", "damper_cli"], copy)
     assert first.returncode != 0, "the build accepted a changed interface under the old GUID"
     guid = re.search(r'set guid="(\{[0-9a-f-]+\})"', first.stderr)
-    assert guid, first.stderr[-3000:]
-    text = xml.read_text()
-    xml.write_text(re.sub(r'guid="\{[0-9a-f-]+\}"', f'guid="{guid.group(1)}"', text, count=1))
+    indices = re.search(r'append "([0-9 ]+)" to the dependencies of each Unknown of ModelStructure/InitialUnknowns',
+                        first.stderr)
+    assert guid and indices, first.stderr[-3000:]
+    text = re.sub(r'guid="\{[0-9a-f-]+\}"', f'guid="{guid.group(1)}"', xml.read_text(), count=1)
+    head, rest = text.split("<InitialUnknowns>", 1)
+    unknowns, tail = rest.split("</InitialUnknowns>", 1)
+    unknowns = re.sub(r'dependencies="([0-9 ]*)"', lambda m: f'dependencies="{m.group(1)} {indices.group(1)}"', unknowns)
+    xml.write_text(f"{head}<InitialUnknowns>{unknowns}</InitialUnknowns>{tail}")
     second = cargo(["build", "--release", "-p", "damper_cli"], copy)
     assert second.returncode == 0, second.stderr[-3000:]
     return copy

@@ -572,8 +572,8 @@ impl<'a> Cells<'a> {
             return Err(in_file(
                 self.at(k, j),
                 format!(
-                    "'{cell}' {} a time zone, the first sample's '{}' {}; the timestamps must agree",
-                    if zoned { "has" } else { "has no" },
+                    "'{cell}' {}, the first sample's '{}' {}; the timestamps must agree",
+                    if zoned { "has a time zone" } else { "has no time zone" },
                     self.raw[0][j],
                     if zoned0 { "has one" } else { "has none" }
                 ),

@@ -39,19 +39,19 @@ pub enum Verdict {
     /// `effect`: the named effects explain the record down to the floor.
     #[serde(rename = "effect")]
     Effect,
-    /// `partial`: the named effects explain part of the error; the rest is outside the catalog.
-    #[serde(rename = "partial")]
-    Partial,
     /// `does_not_fit`: the model, even with the catalog's effects, is far from this damper.
     #[serde(rename = "does_not_fit")]
     DoesNotFit,
+    /// `partial`: the named effects explain part of the error; the rest is outside the catalog.
+    #[serde(rename = "partial")]
+    Partial,
     /// `unexplained`: no confident explanation.
     #[serde(rename = "unexplained")]
     Unexplained,
 }
 
 impl Verdict {
-    /// Every verdict, in the order of the module docs' list.
+    /// Every verdict, in the order of the module docs' list and of the declaration.
     pub const ALL: [Verdict; 5] =
         [Verdict::NothingMissing, Verdict::Effect, Verdict::DoesNotFit, Verdict::Partial, Verdict::Unexplained];
 
@@ -60,8 +60,8 @@ impl Verdict {
         match self {
             Verdict::NothingMissing => "none",
             Verdict::Effect => "effect",
-            Verdict::Partial => "partial",
             Verdict::DoesNotFit => "does_not_fit",
+            Verdict::Partial => "partial",
             Verdict::Unexplained => "unexplained",
         }
     }

@@ -90,9 +90,9 @@ fn check_type(v: &Var, md: &ModelDescription) {
 /// Fails unless `ModelStructure` lists every output, in order, under `Outputs` and
 /// `InitialUnknowns`, each with its `dependencies` declared (absent, they would mean "depends on
 /// every known", an algebraic loop for masters that is not there): an output's on inputs alone;
-/// an initial unknown's on inputs and on every parameter (the knowns of Initialization Mode: the
-/// outputs at rest follow from most parameters, and a parameter closes no loop, so all are
-/// declared; which inputs, `tests/python/test_conformance.py` probes).
+/// an initial unknown's on inputs and parameters (the knowns of Initialization Mode; that every
+/// parameter is listed, [`fixes`] checks: the outputs at rest follow from most parameters, and a
+/// parameter closes no loop; which inputs, `tests/python/test_conformance.py` probes).
 fn check_structure(md: &ModelDescription) {
     let output_indices: Vec<usize> = md.vars.iter().filter(|v| v.causality == "output").map(|v| v.index).collect();
     for (section, unknowns) in [("Outputs", &md.outputs), ("InitialUnknowns", &md.initial_unknowns)] {
@@ -107,14 +107,40 @@ fn check_structure(md: &ModelDescription) {
     for u in &md.outputs {
         check_dependencies(md, u, &["input"]);
     }
-    let parameters: Vec<usize> = md.vars.iter().filter(|v| v.causality == "parameter").map(|v| v.index).collect();
     for u in &md.initial_unknowns {
-        let deps = check_dependencies(md, u, &["input", "parameter"]);
-        let missing: Vec<&usize> = parameters.iter().filter(|p| !deps.contains(p)).collect();
-        if !missing.is_empty() {
-            fail(u.line, format!("InitialUnknowns: index {} must depend on every parameter; add {missing:?}", u.index));
-        }
+        check_dependencies(md, u, &["input", "parameter"]);
     }
+}
+
+/// The parameters' indices that some initial unknown does not list among its dependencies.
+fn undeclared_parameters(md: &ModelDescription) -> Vec<usize> {
+    let declared = |u: &Unknown, p: usize| u.dependencies.as_ref().is_some_and(|d| d.contains(&p));
+    let parameters = md.vars.iter().filter(|v| v.causality == "parameter").map(|v| v.index);
+    parameters.filter(|&p| md.initial_unknowns.iter().any(|u| !declared(u, p))).collect()
+}
+
+/// What the author of the XML must write after an interface change, each said as the edit to make:
+/// a new parameter's index in every initial unknown's dependencies, and the GUID of the new table.
+/// Reported together, so that adding variables stops the build once.
+pub fn fixes(md: &ModelDescription) -> Vec<String> {
+    let mut fixes = Vec::new();
+    let missing = undeclared_parameters(md);
+    if !missing.is_empty() {
+        let list = missing.iter().map(usize::to_string).collect::<Vec<_>>().join(" ");
+        fixes.push(format!(
+            "every initial unknown depends on every parameter (a known of Initialization Mode): append \"{list}\" to \
+             the dependencies of each Unknown of ModelStructure/InitialUnknowns, in index order"
+        ));
+    }
+    let expected = fingerprint(md);
+    if md.guid != expected {
+        fixes.push(format!(
+            "guid is {} but the variable table's fingerprint is {expected}: set guid=\"{expected}\" (the interface \
+             changed, so must the GUID)",
+            md.guid
+        ));
+    }
+    fixes
 }
 
 /// The declared dependencies of `u`, failing unless they are present, ascending and of variables
@@ -175,16 +201,10 @@ pub fn fingerprint(md: &ModelDescription) -> String {
     )
 }
 
-/// Fails the build unless the XML's GUID is the variable table's fingerprint, giving the GUID to set.
-pub fn check_guid(md: &ModelDescription) {
-    let expected = fingerprint(md);
-    if md.guid != expected {
-        fail(
-            2,
-            format!(
-                "guid is {} but the variable table's fingerprint is {expected}: set guid=\"{expected}\" (the interface changed, so must the GUID)",
-                md.guid
-            ),
-        );
+/// Fails the build, naming each edit to make, unless the XML needs none ([`fixes`]).
+pub fn check_fixes(md: &ModelDescription) {
+    let fixes = fixes(md);
+    if !fixes.is_empty() {
+        fail(2, fixes.join("; and "));
     }
 }
