@@ -5,7 +5,9 @@
 //!   term and floor) and the passive damper (linear, or asymmetric with a knee);
 //! - [`tracking`]: the idealised tracking damper (a delay and a lag per direction) and the demand's
 //!   past it needs;
-//! - [`integration`]: classical RK4 in equal substeps and its stability bound.
+//! - [`integration`]: classical RK4 in equal substeps and its stability bound;
+//! - [`road`]: the ISO 8608 random road of `python/damper_tools/roads.py` (numpy's random numbers,
+//!   the profile, the road under the wheel in time), for a truck that makes its own road.
 //!
 //! ```
 //! use suspension::laws::{DemandLaw, PassiveDamper};
@@ -19,4 +21,5 @@
 pub mod error;
 pub mod integration;
 pub mod laws;
+pub mod road;
 pub mod tracking;
