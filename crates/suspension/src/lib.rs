@@ -7,7 +7,9 @@
 //!   past it needs;
 //! - [`integration`]: classical RK4 in equal substeps and its stability bound;
 //! - [`road`]: the ISO 8608 random road of `python/damper_tools/roads.py` (numpy's random numbers,
-//!   the profile, the road under the wheel in time), for a truck that makes its own road.
+//!   the profile, the road under the wheel in time), for a truck that makes its own road;
+//! - [`fft`]: the road's FFT, of any length (radix-2, Bluestein's otherwise), its cosines and sines
+//!   from libm, so that the Linux and Windows builds make the same road.
 //!
 //! ```
 //! use suspension::laws::{DemandLaw, PassiveDamper};
@@ -19,6 +21,7 @@
 //! assert_eq!(passive.force(-0.05), -1000.0);
 //! ```
 pub mod error;
+pub mod fft;
 pub mod integration;
 pub mod laws;
 pub mod road;

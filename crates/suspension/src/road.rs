@@ -15,8 +15,9 @@
 //! - [`SeedSequence`] and [`Pcg64`]: numpy's `SeedSequence` (hashmix, pool of 4 words,
 //!   `generate_state`) and its PCG64 (128-bit LCG, XSL-RR output) seeded as `PCG64.__init__` does;
 //!   [`Pcg64::uniform`] is `Generator.uniform`, bit for bit;
-//! - [`Iso8608`]: the spectrum and `generate_profile`; the inverse FFT is rustfft's, not pocketfft's,
-//!   so the profile agrees with numpy's to rounding (about 1e-15 of its RMS), not bit for bit;
+//! - [`Iso8608`]: the spectrum and `generate_profile`; the inverse FFT is [`crate::fft`]'s (radix-2,
+//!   Bluestein's for other lengths), not pocketfft's, so the profile agrees with numpy's to rounding
+//!   (about 1e-15 of its RMS), not bit for bit;
 //! - [`Profile::interpolate`]: `numpy.interp` on the profile's grid x_i = i·dx;
 //! - [`Road`]: the road under the wheel at time t ([`Road::z_at`]), and its samples at the
 //!   communication points ([`Road::segment`], [`Road::at_step`]) from which a truck extrapolates
@@ -24,16 +25,15 @@
 //!
 //! Allocation happens once, in [`Road::new`] (the profile, the FFT's buffers); [`Road::z_at`] and
 //! the rest allocate nothing. A 25 m/s × 18 s road (451 m, 22 551 samples) keeps 180 kB; making it
-//! takes about 5 ms and 2.3 MB at most, while the FFT runs.
+//! takes about 5 ms and 3 MB at most, while the FFT runs (Bluestein's, through FFTs of 65 536).
 //!
-//! Determinism: the random numbers are integer arithmetic; the spectrum's cos, sin and pow come
-//! from the `libm` crate, as the rest of the model's (clippy.toml); the FFT plan is rustfft's scalar
-//! one, fixed by the length alone, whatever the CPU. But rustfft computes its twiddle factors with
-//! std's `cos` and `sin`, that is with the platform's C library, and glibc's and MinGW-w64's differ
-//! in the last bit: the Linux and Windows builds make profiles that differ by up to 2e-15 of their
-//! RMS (in 6 of 7 profiles measured under Wine, in up to 78 % of the samples; with the twiddles taken
-//! from `libm` instead, the two builds agreed bit for bit). A road made here is the same on every
-//! CPU of one platform, not yet on both platforms.
+//! Determinism: the random numbers are integer arithmetic; the spectrum's cos, sin and pow and the
+//! FFT's twiddles and chirp come from the `libm` crate, as the rest of the model's (clippy.toml),
+//! not from the platform's C library, whose glibc and MinGW-w64 builds differ in the last bit; the
+//! rest is IEEE arithmetic in an order fixed by the length alone, whatever the CPU. A road made here
+//! has the same bits on Linux and on Windows (the test `profiles_are_the_same_bits_on_linux_and_windows`;
+//! with rustfft's FFT, whose twiddles came from std's `cos` and `sin`, they differed by up to 2e-15
+//! of the RMS).
 //!
 //! ```
 //! use suspension::road::{Road, RoadParameters};
@@ -47,8 +47,7 @@
 //! ```
 
 use crate::error::RoadError;
-use rustfft::num_complex::Complex;
-use rustfft::FftPlannerScalar;
+use crate::fft::{self, Complex};
 use std::f64::consts::PI;
 
 /// ISO 8608 reference spatial frequency n0 (cycle/m), roads.N0.
@@ -60,8 +59,9 @@ pub const N_MIN: f64 = 0.01;
 pub const N_MAX: f64 = 10.0;
 /// roads.py's spatial sample step (m).
 pub const DX: f64 = 0.02;
-/// Most samples a profile may have: 2²² (83.9 km at dx = 0.02 m, 56 min at 25 m/s). Beyond it the
-/// FFT's buffers would take hundreds of MB; an error says so before anything is allocated.
+/// Most samples a profile may have: 2²² (83.9 km at dx = 0.02 m, 56 min at 25 m/s). Just below it
+/// the FFT's buffers take 400 MB and the profile about 2.6 s (2²² − 1 samples: Bluestein's through
+/// FFTs of 2²³), beyond it more; an error says so before anything is allocated.
 pub const MAX_SAMPLES: usize = 1 << 22;
 /// roads.time_series's tolerances (m) at the profile's start and end: a wheel within them is on it.
 const START_TOLERANCE: f64 = 1e-12;
@@ -326,7 +326,7 @@ impl Iso8608 {
 
     /// The full Hermitian spectrum of the profile (n bins) whose first n/2 + 1 are
     /// generate_profile's `0.5 * n * amplitude * exp(1j * phases)`.
-    fn spectrum(&self, n: usize, dx: f64, seed: u64) -> Vec<Complex<f64>> {
+    fn spectrum(&self, n: usize, dx: f64, seed: u64) -> Vec<Complex> {
         let spacing = frequency_spacing(n, dx); // rfftfreq's 1/(n d), and dn = n[1] − n[0]
         let scale = 0.5 * n as f64;
         let mut rng = Pcg64::new(seed);
@@ -353,7 +353,7 @@ fn frequency_spacing(n: usize, dx: f64) -> f64 {
 
 /// Puts bin `k` of a real signal's spectrum and its mirror n − k. irfft reads only the real part of
 /// the mean (k = 0) and, for even n, of the Nyquist bin (k = n/2): their imaginary parts are dropped.
-fn put_hermitian(full: &mut [Complex<f64>], k: usize, value: Complex<f64>) {
+fn put_hermitian(full: &mut [Complex], k: usize, value: Complex) {
     let n = full.len();
     if k == 0 || 2 * k == n {
         full[k] = Complex::new(value.re, 0.0);
@@ -364,13 +364,10 @@ fn put_hermitian(full: &mut [Complex<f64>], k: usize, value: Complex<f64>) {
 }
 
 /// numpy.fft.irfft of a full Hermitian spectrum: the unnormalised inverse DFT's real part times
-/// 1/n (numpy's default "backward" norm multiplies by reciprocal(n)). rustfft's scalar planner:
-/// the plan depends on the length alone, not on the CPU's instruction sets.
-fn inverse_real_fft(full: &mut [Complex<f64>]) -> Vec<f64> {
+/// 1/n (numpy's default "backward" norm multiplies by reciprocal(n)), by [`fft::inverse`].
+fn inverse_real_fft(full: &mut [Complex]) -> Vec<f64> {
     let n = full.len();
-    let fft = FftPlannerScalar::<f64>::new().plan_fft_inverse(n);
-    let mut scratch = vec![Complex::new(0.0, 0.0); fft.get_inplace_scratch_len()];
-    fft.process_with_scratch(full, &mut scratch);
+    fft::inverse(full);
     let norm = 1.0 / n as f64;
     full.iter().map(|c| c.re * norm).collect()
 }
@@ -859,6 +856,52 @@ mod tests {
         // np.random.SeedSequence(2**160 - 1).generate_state(4): five words, one beyond the pool
         let words = SeedSequence::from_words(&[u32::MAX; 5]).generate_state::<4>();
         assert_eq!(words, [0x6981_bca9, 0x20de_dfba, 0x343d_d9d0, 0xe326_4fcb]);
+    }
+
+    /// FNV-1a (64-bit) over the little-endian bytes of the heights' bits.
+    fn fnv1a(z: &[f64]) -> u64 {
+        let mut hash = 0xcbf2_9ce4_8422_2325_u64;
+        for byte in z.iter().flat_map(|v| v.to_bits().to_le_bytes()) {
+            hash = (hash ^ u64::from(byte)).wrapping_mul(0x0000_0100_0000_01b3);
+        }
+        hash
+    }
+
+    /// The profiles' bits, the same on Linux and on Windows: every cosine and sine of the spectrum
+    /// and of the FFT is libm's, the rest IEEE arithmetic in a fixed order. The hashes are the bits
+    /// of this implementation (a change of its arithmetic changes them), recorded with the Linux
+    /// build and the same with the Windows one, under Wine:
+    ///
+    /// ```text
+    /// CARGO_TARGET_X86_64_PC_WINDOWS_GNU_RUNNER="$PWD/tests/win64/wine_runner.sh" \
+    ///     cargo test --release -p suspension --target x86_64-pc-windows-gnu -- --nocapture profiles_are
+    /// ```
+    ///
+    /// (rerun so after a change, and record new hashes only where both print them). With rustfft's
+    /// FFT, whose twiddles came from the C library, the 1009- and 22 551-sample profiles differed.
+    #[test]
+    fn profiles_are_the_same_bits_on_linux_and_windows() {
+        let minor = Iso8608 { gd0: 128e-6, waviness: WAVINESS, n0: N0, n_min: N_MIN, n_max: N_MAX };
+        let other = Iso8608 { gd0: 256e-6, waviness: 2.5, n0: 0.2, n_min: 0.05, n_max: 2.0 };
+        // (spectrum, length m, dx m, seed, FNV-1a of the heights): n = 1001 (odd), 1009 (prime),
+        // 202 (even), 1024 (2¹⁰: the radix-2 FFT alone), 22 551 (road_case(minor, 25 m/s, 18 s))
+        let cases = [
+            (minor, 20.0, DX, 0, 0x4a8a_f3b8_dade_e1a0_u64),
+            (minor, 20.15, DX, 2_147_483_647, 0xe64d_e2ee_7e35_0db5),
+            (other, 10.05, 0.05, 7, 0xb2bd_9e7e_6191_2d7c),
+            (other, 255.75, 0.25, 12_345_678_901_234_567_890, 0x487a_cc69_52e9_a2f5),
+            (minor, 451.0, DX, 2024, 0x73d6_1b69_8d7b_dec4),
+        ];
+        let mut differ = vec![];
+        for (spectrum, length, dx, seed, expected) in cases {
+            let profile = spectrum.profile(length, dx, seed).unwrap();
+            let (z, hash) = (profile.heights(), fnv1a(profile.heights()));
+            eprintln!("profile of {} samples, seed {seed}: FNV-1a {hash:#018x}", z.len());
+            if hash != expected {
+                differ.push(format!("{} samples: {hash:#018x}, not {expected:#018x}", z.len()));
+            }
+        }
+        assert!(differ.is_empty(), "other bits: {differ:?}");
     }
 
     #[test]

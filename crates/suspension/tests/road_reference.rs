@@ -1,7 +1,7 @@
 //! The Rust road source (src/road.rs) against numpy: the reference values in tests/data/ are
 //! written by tests/data/make_road_reference.py (its docstring says what each file holds).
 //!
-//! The random numbers must agree bit for bit; the profiles within 1e-13 of their RMS (rustfft
+//! The random numbers must agree bit for bit; the profiles within 1e-13 of their RMS (src/fft.rs
 //! is not pocketfft: the FFTs round differently); the time series on numpy's own profile bit for
 //! bit where no cosine of the fade enters, and within rounding of the cosine where one does.
 
