@@ -197,15 +197,15 @@ impl<M: Model> Instance<M> {
 
     pub fn get_real(&self, function: &str, vrs: &[u32], values: &mut [f64]) -> Outcome {
         self.check(Api::Get, function)?;
-        for (vr, value) in vrs.iter().zip(values) {
+        for (vr, value) in vrs.iter().zip(values.iter_mut()) {
             if let Some(t) = self.independent(*vr) {
                 *value = t;
-                continue;
+            } else {
+                self.lookup(function, *vr, "Real", M::real_info)?;
             }
-            self.lookup(function, *vr, "Real", M::real_info)?;
-            *value = self.slave.get_real(*vr).map_err(|e| self.error(format_args!("{function}: {e}")))?;
         }
-        Ok(())
+        let independent = |i: usize| self.independent(vrs[i]).is_some();
+        self.slave.get_reals(vrs, values, &independent).map_err(|(_, e)| self.error(format_args!("{function}: {e}")))
     }
 
     pub fn get_integer(&self, function: &str, vrs: &[u32], values: &mut [i32]) -> Outcome {

@@ -64,6 +64,18 @@ pub trait Model: Default {
     fn boolean_info(vr: u32) -> Option<VarInfo>;
 
     fn get_real(&self, vr: u32) -> Result<f64, Refusal>;
+    /// The Reals of one get call: `values[i]` of `vrs[i]` for every `i` that `skip` leaves (the FMI
+    /// layer's own variables, FMI 3.0's time); the error names the value reference refused. The
+    /// default asks [`Model::get_real`] for each; a model whose outputs come from one evaluation
+    /// overrides it to evaluate once per call (the trucks: a master reads ten outputs a step).
+    fn get_reals(&self, vrs: &[u32], values: &mut [f64], skip: &dyn Fn(usize) -> bool) -> Result<(), (u32, Refusal)> {
+        for (i, (&vr, x)) in vrs.iter().zip(values).enumerate() {
+            if !skip(i) {
+                *x = self.get_real(vr).map_err(|e| (vr, e))?;
+            }
+        }
+        Ok(())
+    }
     fn get_integer(&self, vr: u32) -> Result<i32, Refusal>;
     fn get_boolean(&self, vr: u32) -> Result<bool, Refusal>;
     /// What the `set_*` functions below change (the parameters, the inputs and what goes with

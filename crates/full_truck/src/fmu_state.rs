@@ -12,7 +12,7 @@ pub const MAGIC: &[u8; 8] = b"FTRUCK01";
 
 impl Visit for Slave {
     fn visit<V: Visitor>(&mut self, v: &mut V) {
-        let Slave { params, inputs, y, past, time, initialized } = self;
+        let Slave { params, inputs, y, past, time, initialized, road: () } = self;
         params.visit(v);
         let Inputs { z_road, v_road, f_damper } = inputs;
         for x in z_road.iter_mut().chain(v_road.iter_mut()).chain(f_damper.iter_mut()).chain(y.iter_mut()) {

@@ -13,7 +13,7 @@ use fmi_slave::snapshot;
 use fmi_slave::{check_integer, check_real, Model, Refusal, ToleranceNote};
 use suspension::tracking::DemandHistory;
 
-truck_slave::truck_slave!([DemandHistory; CORNERS]);
+truck_slave::truck_slave!([DemandHistory; CORNERS], ());
 
 impl Slave {
     fn output_at(&self, y: &State, e: &Evaluation, v: RealVar) -> Option<f64> {
@@ -41,4 +41,15 @@ impl Slave {
     fn road_finite(&self) -> bool {
         self.inputs.z_road.iter().all(|z| z.is_finite())
     }
+
+    /// The full truck's road is always its inputs (a master feeds the six wheels' roads).
+    fn start_road(&mut self, _fresh: bool) -> Result<(), Refusal> {
+        Ok(())
+    }
+
+    fn road_covers(&self, _h: f64) -> bool {
+        true
+    }
+
+    fn feed_road(&mut self, _h: f64) {}
 }

@@ -12,7 +12,8 @@ pub const MAGIC: &[u8; 8] = b"QTRUCK02";
 
 impl Visit for Slave {
     fn visit<V: Visitor>(&mut self, v: &mut V) {
-        let Slave { params, inputs, y, past, time, initialized } = self;
+        // the road is made again from the parameters (truck_slave's set_state)
+        let Slave { params, inputs, y, past, time, initialized, road: _ } = self;
         params.visit(v);
         let Inputs { z_road, v_road, f_damper } = inputs;
         for x in [z_road, v_road, f_damper].into_iter().chain(y.iter_mut()) {

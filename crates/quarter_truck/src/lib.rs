@@ -8,11 +8,13 @@
 //! - [`variables`]: the binding of `modelDescription.xml`'s variables onto the parameters, inputs and
 //!   outputs (exhaustive matches over the generated enums);
 //! - [`limits`]: the step limit and the RK4 stability check of the parameters;
+//! - [`road_source`]: the road from the inputs, or the ISO 8608 road the FMU makes itself;
 //! - [`slave`]: variable access, initialisation and stepping, without FMI types;
 //! - [`fmu_state`]: the FMU state's bytes;
 //! - [`c_api`]: the FMI 2.0 or FMI 3.0 C API, emitted by the shared `fmi_slave` crate.
 pub mod fmu_state;
 pub mod limits;
+pub mod road_source;
 pub mod slave;
 pub mod truck;
 pub mod variables;

@@ -1,19 +1,20 @@
 //! The co-simulation slave without FMI types, from the macro both trucks share
 //! ([`truck_slave::truck_slave!`]: variable access by value reference through the generated enums
 //! ([`crate::variables`]), range checks from the XML's min/max, initialisation, stepping and state
-//! save/restore ([`crate::fmu_state`])), and what is the quarter truck's own: one road input and
-//! one demand's past. `fmi_slave` adds the C boundary and the FMI state machines on top.
+//! save/restore ([`crate::fmu_state`])), and what is the quarter truck's own: one road input (or its
+//! own road, [`crate::road_source`]) and one demand's past. `fmi_slave` adds the C boundary and the FMI state machines on top.
 
 use crate::fmu_state::MAGIC;
 use crate::limits::MAX_SUBSTEPS;
 use crate::model_description::{BooleanVar, IntegerVar, RealVar, CAN_INTERPOLATE_INPUTS, GUID};
+use crate::road_source::RoadSource;
 use crate::tracking::DemandHistory;
 use crate::truck::{At, Evaluation, Inputs, Params, State, MODE_TRACKING};
 use crate::variables::{real_input, real_output};
 use fmi_slave::snapshot;
 use fmi_slave::{check_integer, check_real, Model, Refusal, ToleranceNote};
 
-truck_slave::truck_slave!(DemandHistory);
+truck_slave::truck_slave!(DemandHistory, RoadSource);
 
 impl Slave {
     fn output_at(&self, y: &State, e: &Evaluation, v: RealVar) -> Option<f64> {

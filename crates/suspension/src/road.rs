@@ -660,6 +660,12 @@ impl Road {
         Ok(RoadSegment { z_road, v_road })
     }
 
+    /// Whether the wheel is on the profile at `t` (s), without interpolating: what [`Road::z_at`]
+    /// checks before it does.
+    pub fn covers(&self, t: f64) -> bool {
+        t.is_finite() && on_profile(self.travel.distance(t), self.profile.end())
+    }
+
     /// Whether the wheel stays on the profile from `t_start` to `t_end` (s): an initialisation that
     /// knows its stop time can refuse a road too short for it before the first step.
     pub fn check_until(&self, t_start: f64, t_end: f64) -> Result<(), RoadError> {

@@ -18,14 +18,20 @@
 //! - `fn outputs_finite(&self) -> bool`: whether every output is a finite number;
 //! - `fn pasts(&self) -> &[DemandHistory]`: the demands' pasts, for the restored state's check;
 //! - `fn hold_road_end(&mut self, h: f64)` and `fn road_finite(&self) -> bool`: the road inputs
-//!   extrapolated over a step of `h` (s), held at their end values for the outputs.
+//!   extrapolated over a step of `h` (s), held at their end values for the outputs;
+//! - `fn start_road(&mut self, fresh: bool) -> Result<(), Refusal>`, `fn road_covers(&self, h: f64)
+//!   -> bool` and `fn feed_road(&mut self, h: f64)`: a road the FMU makes itself (the `road` field,
+//!   of type `$road`), made at initialisation (`fresh`: the inputs take it at the start time) and
+//!   for a restored state (a deserialized one lacks it), checked to cover a step before it starts,
+//!   and fed to the road inputs at the step's start.
 
-/// Defines `Slave` with the demand's past of type `$past` ([crate docs](crate)).
+/// Defines `Slave` with the demand's past of type `$past` and the FMU's own road of type `$road`
+/// ([crate docs](crate)).
 #[macro_export]
 macro_rules! truck_slave {
-    ($past:ty) => {
+    ($past:ty, $road:ty) => {
         /// The FMU state: parameters, inputs, and once initialised the states and time.
-        #[derive(Clone, Copy, Debug, Default)]
+        #[derive(Clone, Debug, Default)]
         pub struct Slave {
             pub(crate) params: Params,
             pub(crate) inputs: Inputs,
@@ -34,6 +40,9 @@ macro_rules! truck_slave {
             pub(crate) past: $past,
             pub(crate) time: f64,
             pub(crate) initialized: bool,
+            /// A road the FMU makes from its parameters (not in the serialized state: the
+            /// parameters make it again).
+            pub(crate) road: $road,
         }
 
         impl Slave {
@@ -74,8 +83,11 @@ macro_rules! truck_slave {
                         check_real(v.name(), *x, None, None)?;
                     }
                 }
-                let mode = IntegerVar::DamperMode;
-                check_integer(mode.name(), self.params.damper_mode, mode.min(), mode.max())?;
+                for v in IntegerVar::ALL {
+                    if let Some(x) = self.params.integer(v) {
+                        check_integer(v.name(), x, v.min(), v.max())?;
+                    }
+                }
                 if !self.y.iter().chain([&self.time]).all(|x| x.is_finite()) {
                     return Err(Refusal::StateNotFinite("a state or the time"));
                 }
@@ -100,6 +112,33 @@ macro_rules! truck_slave {
 
             fmi_slave::real_access!();
 
+            /// One evaluation of the equations for every output of the call.
+            fn get_reals(
+                &self,
+                vrs: &[u32],
+                values: &mut [f64],
+                skip: &dyn Fn(usize) -> bool,
+            ) -> Result<(), (u32, Refusal)> {
+                let mut evaluated: Option<(State, Evaluation)> = None;
+                for (i, (&vr, x)) in vrs.iter().zip(values).enumerate() {
+                    if skip(i) {
+                        continue;
+                    }
+                    let v = RealVar::from_vr(vr).ok_or((vr, Refusal::UnknownReference(vr)))?;
+                    if let Some(known) = self.params.real(v).or_else(|| self.input(v)) {
+                        *x = known;
+                        continue;
+                    }
+                    let (y, e) = evaluated.get_or_insert_with(|| self.evaluation());
+                    let value = self.output_at(y, e, v).ok_or((vr, Refusal::UnknownReference(vr)))?;
+                    if !value.is_finite() {
+                        return Err((vr, Refusal::OutputNotFinite { name: v.name(), value }));
+                    }
+                    *x = value;
+                }
+                Ok(())
+            }
+
             type Settable = (Params, Inputs);
 
             fn settable(&self) -> Self::Settable {
@@ -119,9 +158,10 @@ macro_rules! truck_slave {
 
             fn initialize(&mut self, start_time: f64) -> Result<(), Refusal> {
                 self.params.validate().map_err(Refusal::model)?;
+                self.time = start_time;
+                self.start_road(true)?;
                 self.y = self.params.start_state();
                 self.past = Default::default();
-                self.time = start_time;
                 self.initialized = true;
                 Ok(())
             }
@@ -145,18 +185,23 @@ macro_rules! truck_slave {
                     return Err("a tracking delay longer than the demand's past holds (510 internal steps of the \
                                 step divided by h_max): raise h_max or shorten tracking_delay_*");
                 }
+                if !self.road_covers(h) {
+                    return Err("the step would take the wheel beyond the end of the road the FMU made \
+                                (road_source = 1): raise road_length");
+                }
                 Ok(())
             }
 
             fn do_step(&mut self, h: f64) -> Result<Option<Self::StepWarning>, &'static str> {
                 // what a refused step puts back; the demand's past (4 kB a side and corner) only
                 // where it moves
-                let (y0, z_road0, time0) = (self.y, self.inputs.z_road, self.time);
+                let (y0, inputs0, time0) = (self.y, self.inputs, self.time);
                 let past0 = (self.params.damper_mode == MODE_TRACKING).then_some(self.past);
+                self.feed_road(h);
                 let mut y = self.y;
                 self.params.advance(&self.inputs, &mut y, h, self.time, &mut self.past);
                 let restore = |s: &mut Self| {
-                    (s.y, s.inputs.z_road, s.time) = (y0, z_road0, time0);
+                    (s.y, s.inputs, s.time) = (y0, inputs0, time0);
                     if let Some(past) = past0 {
                         s.past = past;
                     }
@@ -176,11 +221,16 @@ macro_rules! truck_slave {
             }
 
             fn state(&self) -> Slave {
-                *self
+                self.clone()
             }
 
+            /// A restored state (a deserialized one has no road of its own) gets its road again.
             fn set_state(&mut self, s: &Slave) -> Result<(), Refusal> {
-                *self = *s;
+                let mut restored = s.clone();
+                if restored.initialized {
+                    restored.start_road(false)?;
+                }
+                *self = restored;
                 Ok(())
             }
 
