@@ -109,6 +109,8 @@ class Slave:
         self.echo = echo
         self.messages: list[tuple[int, str, str]] = []
         self.time = 0.0
+        # in Step Mode: fmi2Terminate is allowed there (and only there) before fmi2FreeInstance
+        self.stepping = False
         # Value references and a value buffer per list of Real variables: one fmi2Get/SetReal call
         # per list, without building them again at every step of a master.
         self._reals: dict[tuple[str, ...], tuple[Array[c_uint], Array[c_double]]] = {}
@@ -213,6 +215,7 @@ class Slave:
         start_time."""
         self.setup(start_time, stop_time, **start_values)
         self.fmu.exitInitializationMode()
+        self.stepping = True
 
     def step(self, h: float, t: float | None = None, **inputs: Value) -> None:
         """Sets the inputs, then one doStep of length h from t (default: where the last step ended).
@@ -223,8 +226,12 @@ class Slave:
         self.time = t + h
 
     def free(self) -> None:
+        """Terminates an instance in Step Mode that has reported no error, then frees it. After an
+        error the standard allows freeing (or resetting) it, not terminating it: an instance that
+        refused to initialise is still in Initialization Mode."""
         try:
-            self.fmu.terminate()
+            if self.stepping and not self.errors():
+                self.fmu.terminate()
         finally:
             self.fmu.freeInstance()
 

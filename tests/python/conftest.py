@@ -9,7 +9,8 @@ commands' fmi3/ beside each FMI 2.0 FMU, or `--fmu3`, `--truck-fmu3`, `--full-tr
 import the scenario and metric code of the scripts from the installed package damper_tools
 (scripts/setup.sh installs it). `damper` is the `damper` program (target/release/damper,
 built by cargo; `damper_exe` its Windows build, from scripts/build_cli.py), `dask_client` a Dask
-client of a real LocalCluster of two single-threaded worker processes (the sweep and campaign tests).
+client of a real LocalCluster of two single-threaded worker processes (the sweep and campaign tests),
+and `runner_library` (every session) the coupled-run library of crates/cosim_runner, built by cargo.
 """
 
 import importlib.util
@@ -118,6 +119,15 @@ def truck_fmu3(request, truck_fmu):
 def full_truck_fmu3(request, full_truck_fmu):
     """Path of the full truck's FMI 3.0 FMU."""
     return fmi3_beside(request, "--full-truck-fmu3", full_truck_fmu)
+
+
+@pytest.fixture(scope="session", autouse=True)
+def runner_library():
+    """The compiled coupled run's library (damper_tools.runner), built as scripts/test.sh builds it:
+    the sweeps step their HiL runs with it."""
+    subprocess.run(["cargo", "build", "--release", "-p", "cosim_runner"], cwd=REPO, check=True)
+    from damper_tools import runner
+    return runner.library_path()
 
 
 @pytest.fixture(scope="session")
