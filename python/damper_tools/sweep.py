@@ -58,14 +58,25 @@ from typing import Any, cast
 import numpy as np
 from distributed.diagnostics.plugin import WorkerPlugin
 
-from damper_tools import FULL_TRUCK_FMU, TRUCK_FMU, cosim, full_truck, hil_scenarios, rig_tests, roads, tracking_quality
+from damper_tools import (
+    FULL_TRUCK_FMU,
+    TRUCK_FMU,
+    FloatArray,
+    cosim,
+    full_truck,
+    hil_scenarios,
+    rig_tests,
+    roads,
+    runner,
+    tracking_quality,
+)
 from damper_tools.fmu import FmuUnit
 
 SCENARIOS = ("hil", "full_truck", "rig")
 # Settings of each scenario and their defaults; everything else in a point is an FMU parameter.
 SCENARIO_KEYS: dict[str, dict[str, Any]] = {
     "hil": {"road": "minor", "speed": 14.0, "mode": "fmu", "duration": 15.0, "settle": 3.0, "step": 1e-3,
-            "fade_in": hil_scenarios.FADE_IN, "replicate": 0,
+            "fade_in": hil_scenarios.FADE_IN, "replicate": 0, "master": "runner",
             "tracking_delay": 0.0, "tracking_bandwidth": math.inf, "tracking_direction": "both"},
     "full_truck": {"road": "minor", "speed": 14.0, "mode": "fmu", "duration": 15.0, "settle": 3.0, "step": 1e-3,
                    "correlation": full_truck.TRACK_CORRELATION, "replicate": 0,
@@ -77,6 +88,9 @@ TRUCK_FMUS = {"hil": TRUCK_FMU, "full_truck": FULL_TRUCK_FMU, "rig": TRUCK_FMU}
 MODES = {"fmu": cosim.MODE_EXTERNAL, "ideal": cosim.MODE_IDEAL, "passive": cosim.MODE_PASSIVE,
          "tracking": cosim.MODE_TRACKING}
 TRACKING_DIRECTIONS = ("both", "extension", "compression")
+# Who steps a HiL run: the compiled loop (damper_tools.runner, the truck making its own road), or
+# the fmpy loop (damper_tools.cosim, the road fed from roads.road_case), the reference.
+MASTERS = ("runner", "fmpy")
 # the `road` of the measured Belgian block (data/roads/belgian_block.crg, docs/hil.md); `duration`,
 # `settle` and `fade_in` do not apply to it
 CRG_ROAD = hil_scenarios.CRG_ROAD
@@ -291,20 +305,13 @@ def run_hil(point: dict[str, Any], seed: int, truck_fmu: Path, damper_fmu: Path)
     s, truck, damper = split_parameters("hil", point, truck_unit.variables, damper_unit.variables)
     if s["mode"] not in MODES:
         raise SweepError(f"mode must be one of {tuple(MODES)}, not {s['mode']!r}")
+    if s["master"] not in MASTERS:
+        raise SweepError(f"master must be one of {MASTERS}, not {s['master']!r}")
     step = float(s["step"])
-    if s["road"] == CRG_ROAD:
-        # the measured track between level road; the metrics while the wheel is on it
-        _, z_road, v_road, first, last, _ = hil_scenarios.crg_road(speed=float(s["speed"]), step=step)
-        window = slice(first, last + 1)
-    else:
-        case = roads.road_case(s["road"], float(s["speed"]), float(s["settle"]) + float(s["duration"]), seed,
-                               step=step, fade_in=float(s["fade_in"]))
-        z_road, v_road, window = case.z_road, case.v_road, slice(int(round(float(s["settle"]) / step)), None)
     dp = {**cosim.HIL_DAMPER_PARAMETERS, **damper}
     if s["mode"] == "tracking":
         truck = {**tracking_parameters(s), **truck}
-    res = cosim.simulate_one(z_road, v_road, step, z_road.size - 1, MODES[s["mode"]], truck, dp,
-                             truck_fmu=truck_fmu, damper_fmu=damper_fmu)
+    res, window = _hil_run(s, seed, truck, dp, truck_fmu, damper_fmu)
     out = hil_scenarios.vehicle_metrics(res, window, _static_load(truck_unit, truck))
     if s["mode"] == "fmu":
         force = res["damper.F_damper"][window]
@@ -325,6 +332,34 @@ def run_hil(point: dict[str, Any], seed: int, truck_fmu: Path, damper_fmu: Path)
             out[f"tracking_bandwidth_{direction}"] = tr_fit.bandwidth
             out[f"tracking_fit_error_{direction}"] = tr_fit.fit_error_rms / tr_fit.error_rms
     return {m: float(out.get(m, math.nan)) for m in HIL_METRICS}
+
+
+def _hil_run(s: dict[str, Any], seed: int, truck: dict[str, Any], dp: dict[str, Any], truck_fmu: Path,
+             damper_fmu: Path) -> tuple[dict[str, FloatArray], slice]:
+    """The coupled HiL run of a point and the window of its metrics. The generated road: the truck's
+    own (road_source 1) under the runner, roads.road_case's fed by the fmpy loop. The Belgian block:
+    fed by either, the metrics while the wheel is on it."""
+    step, speed = float(s["step"]), float(s["speed"])
+    tp = {**truck, "damper_mode": MODES[s["mode"]]}
+    if s["road"] == CRG_ROAD:
+        _, z_road, v_road, first, last, _ = hil_scenarios.crg_road(speed=speed, step=step)
+        window, road = slice(first, last + 1), (z_road, v_road)
+    else:
+        duration = float(s["settle"]) + float(s["duration"])
+        window = slice(int(round(float(s["settle"]) / step)), None)
+        if s["master"] == "runner":
+            own = runner.own_road(s["road"], speed, duration, seed, step=step, fade_in=float(s["fade_in"]))
+            n_steps = int(round(duration / step))
+            return runner.run_quarter_truck({**own, **tp}, step, n_steps, damper_parameters=dp,
+                                            truck_fmu=truck_fmu, damper_fmu=damper_fmu), window
+        case = roads.road_case(s["road"], speed, duration, seed, step=step, fade_in=float(s["fade_in"]))
+        road = (case.z_road, case.v_road)
+    n_steps = road[0].size - 1
+    if s["master"] == "runner":
+        return runner.run_quarter_truck(tp, step, n_steps, road=road, damper_parameters=dp, truck_fmu=truck_fmu,
+                                        damper_fmu=damper_fmu), window
+    return cosim.simulate_one(road[0], road[1], step, n_steps, tp["damper_mode"], truck, dp, truck_fmu=truck_fmu,
+                              damper_fmu=damper_fmu), window
 
 
 def tracking_parameters(settings: dict[str, Any]) -> dict[str, float]:
@@ -433,14 +468,19 @@ class ShipFmus(WorkerPlugin):
 
     name = PLUGIN_NAME
 
-    def __init__(self, fmus: dict[str, Path]) -> None:
+    def __init__(self, fmus: dict[str, Path], library: Path | None = None) -> None:
         self.blobs = {k: Path(p).read_bytes() for k, p in fmus.items()}
         self.names = {k: Path(p).name for k, p in fmus.items()}
         self.paths: dict[str, Path] = {}
+        # the compiled coupled run's library (damper_tools.runner), where it is built
+        self.library = (library.name, library.read_bytes()) if library is not None and library.is_file() else None
 
     def setup(self, worker: Any) -> None:
         self.paths = {k: _write_once(Path(worker.local_directory) / "fmus", self.names[k], blob)
                       for k, blob in self.blobs.items()}
+        if self.library is not None:
+            name, blob = self.library
+            os.environ[runner.ENVIRONMENT] = str(_write_once(Path(worker.local_directory) / "lib", name, blob))
 
 
 def _write_once(folder: Path, name: str, blob: bytes) -> Path:
@@ -545,7 +585,7 @@ def run_sweep(sweep: Sweep, work: str | Path, fmus: dict[str, Path], client: Any
     elif todo:
         from distributed import as_completed
 
-        client.register_plugin(ShipFmus(fmus), name=PLUGIN_NAME)
+        client.register_plugin(ShipFmus(fmus, runner.library_path()), name=PLUGIN_NAME)
         futures = [client.submit(run_point, sweep.scenario, t.index, t.point_id, t.run_seed, t.point,
                                  key=f"sweep-{sweep.name}-{t.point_id}", retries=retries, pure=False)
                    for t in todo]
