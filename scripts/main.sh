@@ -15,6 +15,8 @@ python3 scripts/package_fmu.py
 echo "+ python3 scripts/package_truck.py --no-build && python3 scripts/package_full_truck.py --no-build"
 python3 scripts/package_truck.py --no-build
 python3 scripts/package_full_truck.py --no-build
+echo "+ cargo build --release -p cosim_runner (the sweeps' compiled coupled runs)"
+cargo build --release -p cosim_runner
 echo "+ .venv/bin/damper-paper-tests $*"
 .venv/bin/damper-paper-tests "$@"
 echo "+ .venv/bin/damper-hil-scenarios"

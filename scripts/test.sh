@@ -31,6 +31,8 @@ echo "+ python3 scripts/package_fmu.py && python3 scripts/package_truck.py --no-
 python3 scripts/package_fmu.py
 python3 scripts/package_truck.py --no-build
 python3 scripts/package_full_truck.py --no-build
+echo "+ cargo build --release -p cosim_runner (the sweeps' compiled coupled runs)"
+cargo build --release -p cosim_runner
 echo "+ python3 scripts/build_cli.py (the damper program; for Windows too where it can be built)"
 python3 scripts/build_cli.py
 echo "+ .venv/bin/ruff check python scripts tests/python"

@@ -253,12 +253,13 @@ def ecos_ssd(ssd_text: str) -> str:
     return '<?xml version="1.0" encoding="UTF-8"?>\n' + ET.tostring(root, encoding="unicode") + "\n"
 
 
-def run_ssp(ssp_path: str | Path, z_road: FloatArray, v_road: FloatArray, step: float, n_steps: int,
+def run_ssp(ssp_path: str | Path, z_road: FloatArray | None, v_road: FloatArray | None, step: float, n_steps: int,
             truck_outputs: Sequence[str] = cosim.TRUCK_OUTPUTS,
             damper_outputs: Sequence[str] = ("F_damper",)) -> dict[str, FloatArray]:
     """The .ssp written by damper_tools.ssp, loaded by ecos from an extracted copy (ecos_ssd), its
     ParameterBindings applied at init; the road set on the truck before each step as in
-    run_quarter_truck, whose result dict it returns."""
+    run_quarter_truck, whose result dict it returns (z_road and v_road None: the SSP's truck makes
+    its own road, and nothing is set)."""
     ecospy = _ecospy()
     with tempfile.TemporaryDirectory(prefix="ecos_ssp_") as tmp:
         with zipfile.ZipFile(ssp_path) as z:
@@ -276,8 +277,9 @@ def run_ssp(ssp_path: str | Path, z_road: FloatArray, v_road: FloatArray, step: 
             params.update(_typed(variables, instance, {name: p.value}))
         sim = ecospy.EcosSimulation(ssp_path=tmp, step_size=step)
         try:
-            return _run(sim, variables, PARAMETER_SET, params, step, n_steps,
-                        {f"{TRUCK}::z_road": z_road, f"{TRUCK}::v_road": v_road},
+            road = {} if z_road is None or v_road is None else {f"{TRUCK}::z_road": z_road,
+                                                                   f"{TRUCK}::v_road": v_road}
+            return _run(sim, variables, PARAMETER_SET, params, step, n_steps, road,
                         [f"{TRUCK}::{n}" for n in truck_outputs] + [f"{DAMPER}::{n}" for n in damper_outputs])
         finally:
             sim.free()

@@ -134,3 +134,41 @@ def run_quarter_truck(truck_parameters: Mapping[str, Value], step: float, n_step
     for j, (instance, name) in enumerate(record):
         res[name if instance == ssp.TRUCK else f"damper.{name}"] = out[:, j]
     return res
+
+
+def run_full_truck(wheels: dict[str, tuple[FloatArray, FloatArray]], step: float, n_steps: int,
+                   truck_parameters: Mapping[str, Value] | None = None,
+                   damper_parameters: Mapping[str, Value] | None = None,
+                   full_truck_fmu: str | Path | None = None,
+                   damper_fmu: str | Path = DAMPER_FMU) -> dict[str, FloatArray]:
+    """The three-axle truck with, for damper_mode 0, a damper instance per corner (its v_damper and
+    F_demand from the corner, its F_damper back), each corner's road fed as a series: the calls and
+    the result dict of full_truck.simulate (the fmpy loop), bit for bit."""
+    from damper_tools import FULL_TRUCK_FMU, full_truck
+
+    tp = dict(truck_parameters or {})
+    corners = full_truck.CORNERS
+    if set(wheels) != set(corners) or any(min(len(z), len(v)) < n_steps + 1 for z, v in wheels.values()):
+        raise ValueError(f"need the road of each of {corners} with {n_steps + 1} samples")
+    truck = "full_truck"
+    models: list[tuple[str, str | Path, Mapping[str, Value]]] = [(truck, full_truck_fmu or FULL_TRUCK_FMU, tp)]
+    truck_out = [f"{c}.{n}" for c in corners for n in full_truck.CORNER_OUTPUTS] + list(full_truck.BODY_OUTPUTS)
+    record = [(truck, name) for name in truck_out]
+    connections: list[tuple[str, str, str, str]] = []
+    if int(tp.get("damper_mode", cosim.MODE_EXTERNAL)) == cosim.MODE_EXTERNAL:
+        dp = cosim.HIL_DAMPER_PARAMETERS if damper_parameters is None else damper_parameters
+        for c in corners:
+            damper = f"{c}.damper"
+            models.append((damper, damper_fmu, dp))
+            connections += [(truck, f"{c}.v_damper", damper, "v_damper"),
+                            (truck, f"{c}.F_demand", damper, "F_demand"),
+                            (damper, "F_damper", truck, f"{c}.F_damper")]
+            record.append((damper, "F_damper"))
+    inputs = {(truck, f"{c}.{name}"): wheels[c][j] for c in corners for j, name in enumerate(("z_road", "v_road"))}
+    out = run(models, step, n_steps, record, connections, inputs)
+    res: dict[str, FloatArray] = {"time": step * np.arange(n_steps + 1, dtype=float)}
+    for c in corners:
+        res[f"{c}.z_road"] = np.asarray(wheels[c][0][:n_steps + 1], float)
+    for j, (instance, name) in enumerate(record):
+        res[name if instance == truck else f"{instance}.{name}"] = out[:, j]
+    return res

@@ -124,31 +124,41 @@ def _parameter_binding(parent: ET.Element, set_name: str, values: dict[str, Valu
             ET.SubElement(p, _q(SSV, "Real"), value=repr(float(value)))
 
 
+def own_road(truck_parameters: dict[str, Value]) -> bool:
+    """Whether the truck makes its own road (road_source 1): the system then has no road inputs."""
+    return int(truck_parameters.get("road_source", 0)) == 1
+
+
 def ssd_xml(truck_unit: FmuUnit, damper_unit: FmuUnit, truck_parameters: dict[str, Value],
             damper_parameters: dict[str, Value], step: float | None = None, stop_time: float | None = None) -> str:
-    """The SystemStructure.ssd text of the quarter truck + damper system."""
+    """The SystemStructure.ssd text of the quarter truck + damper system: with the road inputs z_road
+    and v_road, or self-contained when the truck makes its own road."""
+    fed = not own_road(truck_parameters)
     root = ET.Element(_q(SSD, "SystemStructureDescription"), version="1.0", name=SYSTEM_NAME)
+    road = "road input z_road, v_road" if fed else "the truck's own ISO 8608 road (road_source = 1), no inputs"
     system = ET.SubElement(root, _q(SSD, "System"), name=SYSTEM_NAME,
                            description="Quarter truck (Kitching, Cole & Cebon, Table 1) with the semi-active "
-                                       "damper FMU in its force path; road input z_road, v_road.")
-    conns = ET.SubElement(system, _q(SSD, "Connectors"))
-    _connector(conns, "z_road", "input", "m")
-    _connector(conns, "v_road", "input", "m/s")
+                                       f"damper FMU in its force path; {road}.")
+    if fed:
+        conns = ET.SubElement(system, _q(SSD, "Connectors"))
+        _connector(conns, "z_road", "input", "m")
+        _connector(conns, "v_road", "input", "m/s")
+    links = [c for c in CONNECTIONS if fed or c[0] is not None]
     elements = ET.SubElement(system, _q(SSD, "Elements"))
     for name, unit, params in ((TRUCK, truck_unit, truck_parameters), (DAMPER, damper_unit, damper_parameters)):
         comp = ET.SubElement(elements, _q(SSD, "Component"), name=name, type="application/x-fmu-sharedlibrary",
                              source=f"resources/{unit.md.coSimulation.modelIdentifier}.fmu")
         cc = ET.SubElement(comp, _q(SSD, "Connectors"))
-        for _, _, e_el, e_c in CONNECTIONS:
+        for _, _, e_el, e_c in links:
             if e_el == name:
                 _connector(cc, e_c, "input", unit.variables[e_c].unit)
-        for s_el, s_c, _, _ in CONNECTIONS:
+        for s_el, s_c, _, _ in links:
             if s_el == name:
                 _connector(cc, s_c, "output", unit.variables[s_c].unit)
         if params:
             _parameter_binding(comp, name, params, unit.variables)
     connections = ET.SubElement(system, _q(SSD, "Connections"))
-    for s_el, s_c, e_el, e_c in CONNECTIONS:
+    for s_el, s_c, e_el, e_c in links:
         attrs = {"startConnector": s_c, "endElement": e_el, "endConnector": e_c}
         if s_el is not None:
             attrs = {"startElement": s_el, **attrs}
@@ -264,14 +274,15 @@ def strip_system_connections(ssd_text: str) -> str:
     return '<?xml version="1.0" encoding="UTF-8"?>\n' + ET.tostring(root, encoding="unicode") + "\n"
 
 
-def run_libcosim(ssp_path: str | Path, z_road: FloatArray, v_road: FloatArray, step: float, n_steps: int,
+def run_libcosim(ssp_path: str | Path, z_road: FloatArray | None, v_road: FloatArray | None, step: float, n_steps: int,
                  from_ssp: bool = True, truck_fmu: str | Path | None = None, damper_fmu: str | Path | None = None,
                  truck_parameters: dict[str, Value] | None = None, damper_parameters: dict[str, Value] | None = None,
                  record: Sequence[tuple[str, Sequence[str]]] = (("truck", cosim.TRUCK_OUTPUTS),
                                                                 ("damper", ("F_damper",)))) -> dict[str, FloatArray]:
     """Runs the system in libcosim with a fixed step (ns) for n_steps steps. from_ssp: load the .ssp
     (CosimExecution.from_ssp_file); else add the two FMUs as local slaves, connect them and set the
-    parameters as initial values. The road is set with an override manipulator before every step.
+    parameters as initial values. The road is set with an override manipulator before every step
+    (z_road and v_road None: the truck makes its own, and nothing is set).
     Returns a dict: time and 'element.variable' for the recorded variables, at the n_steps + 1
     communication points; the first row is NaN (libcosim initialises the slaves in its first step, and
     its last-value observer has nothing before that)."""
@@ -349,7 +360,7 @@ def run_libcosim(ssp_path: str | Path, z_road: FloatArray, v_road: FloatArray, s
             # libcosim initialises the slaves in its first step: nothing to observe before it
             for j in range(len(series)):
                 series[j][0] = np.nan
-        if k < n_steps:
+        if k < n_steps and z_road is not None and v_road is not None:
             assert manipulator.slave_real_values(truck_index, road_vrs, [float(z_road[k]), float(v_road[k])])
     execution.stop()
     for j, (el, names) in enumerate(record):
@@ -358,6 +369,21 @@ def run_libcosim(ssp_path: str | Path, z_road: FloatArray, v_road: FloatArray, s
     if tmpdir is not None:
         tmpdir.cleanup()
     return out
+
+
+def compare_own_road(path: Path, truck_parameters: dict[str, Value], args: argparse.Namespace) -> None:
+    """The self-contained SSP in libcosim and ecos (nothing fed) against the compiled runner."""
+    from damper_tools import ecos, runner
+
+    n = int(round(args.duration / args.step))
+    ref = runner.run_quarter_truck(truck_parameters, args.step, n, truck_fmu=args.truck_fmu,
+                                   damper_fmu=args.damper_fmu)["damper.F_damper"]
+    for name, res in (("libcosim (SSP)", run_libcosim(path, None, None, args.step, n)),
+                      ("ecos (SSP)", ecos.run_ssp(path, None, None, args.step, n))):
+        d = res["damper.F_damper"][1:] - ref[1:]
+        same = np.array_equal(res["damper.F_damper"][1:], ref[1:])
+        print(f"{name:15s}: max |F_damper - runner| = {np.max(np.abs(d)):.3g} N (RMS F_damper "
+              f"{np.sqrt(np.mean(ref ** 2)):.0f} N), bit-identical: {same}")
 
 
 def main(argv: list[str] | None = None) -> None:
@@ -372,7 +398,20 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--seed", type=int, default=3)
     parser.add_argument("--duration", type=float, default=3.0)
     parser.add_argument("--step", type=float, default=1e-3)
+    parser.add_argument("--own-road", action="store_true",
+                        help="a self-contained SSP: the truck makes the road of --road, --speed, --duration, --seed "
+                             "and --step itself (road_source 1), the system has no inputs")
     args = parser.parse_args(argv)
+    if args.own_road:
+        from damper_tools import runner
+
+        tp = {**DEFAULT_TRUCK_PARAMETERS, **runner.own_road(args.road, args.speed, args.duration, args.seed, args.step)}
+        path = write_ssp(args.output, args.truck_fmu, args.damper_fmu, truck_parameters=tp,
+                         stop_time=args.duration)
+        print(f"ssp: wrote {path} (self-contained: the truck makes its own road)")
+        if args.compare:
+            compare_own_road(path, tp, args)
+        return
     path = write_ssp(args.output, args.truck_fmu, args.damper_fmu)
     print(f"ssp: wrote {path}")
     if not args.compare:

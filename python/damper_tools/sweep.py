@@ -79,7 +79,7 @@ SCENARIO_KEYS: dict[str, dict[str, Any]] = {
             "fade_in": hil_scenarios.FADE_IN, "replicate": 0, "master": "runner",
             "tracking_delay": 0.0, "tracking_bandwidth": math.inf, "tracking_direction": "both"},
     "full_truck": {"road": "minor", "speed": 14.0, "mode": "fmu", "duration": 15.0, "settle": 3.0, "step": 1e-3,
-                   "correlation": full_truck.TRACK_CORRELATION, "replicate": 0,
+                   "correlation": full_truck.TRACK_CORRELATION, "replicate": 0, "master": "runner",
                    "tracking_delay": 0.0, "tracking_bandwidth": math.inf, "tracking_direction": "both"},
     "rig": {"output_interval": rig_tests.OUTPUT_INTERVAL, "replicate": 0},
 }
@@ -88,8 +88,9 @@ TRUCK_FMUS = {"hil": TRUCK_FMU, "full_truck": FULL_TRUCK_FMU, "rig": TRUCK_FMU}
 MODES = {"fmu": cosim.MODE_EXTERNAL, "ideal": cosim.MODE_IDEAL, "passive": cosim.MODE_PASSIVE,
          "tracking": cosim.MODE_TRACKING}
 TRACKING_DIRECTIONS = ("both", "extension", "compression")
-# Who steps a HiL run: the compiled loop (damper_tools.runner, the truck making its own road), or
-# the fmpy loop (damper_tools.cosim, the road fed from roads.road_case), the reference.
+# Who steps a run of the hil and full_truck scenarios: the compiled loop (damper_tools.runner; the
+# quarter truck makes its own random road, the rest is fed as series), or the fmpy loop
+# (damper_tools.cosim, full_truck.simulate; every road fed from Python), the reference.
 MASTERS = ("runner", "fmpy")
 # the `road` of the measured Belgian block (data/roads/belgian_block.crg, docs/hil.md); `duration`,
 # `settle` and `fade_in` do not apply to it
@@ -403,9 +404,11 @@ def run_full_truck(point: dict[str, Any], seed: int, truck_fmu: Path, damper_fmu
                                               float(s["correlation"]))
     if s["mode"] == "tracking":
         truck = {**tracking_parameters(s), **truck}
-    res = full_truck.simulate(wheels, step, n, {"damper_mode": MODES[s["mode"]], **truck},
-                              {**cosim.HIL_DAMPER_PARAMETERS, **damper}, full_truck_fmu=truck_fmu,
-                              damper_fmu=damper_fmu)
+    if s["master"] not in MASTERS:
+        raise SweepError(f"master must be one of {MASTERS}, not {s['master']!r}")
+    simulate = runner.run_full_truck if s["master"] == "runner" else full_truck.simulate
+    res = simulate(wheels, step, n, {"damper_mode": MODES[s["mode"]], **truck},
+                   {**cosim.HIL_DAMPER_PARAMETERS, **damper}, full_truck_fmu=truck_fmu, damper_fmu=damper_fmu)
     out = full_truck.metrics(res, window, full_truck.static_tyre_loads(p))
     if s["mode"] == "fmu":
         tr = [hil_scenarios.tracking_metrics(res[f"{c}.damper.F_damper"][window], res[f"{c}.F_demand"][window],

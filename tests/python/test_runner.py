@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 
 from damper_tools import cosim, roads, runner, sweep
+from damper_tools.fmu import FmuUnit
 
 STEP = 1e-3
 DURATION = 3.0
@@ -128,3 +129,36 @@ def test_a_fed_road_gives_the_fmpy_loops_metrics_bit_for_bit(library, fmus):
     ours = sweep.run_hil(sweep_point(road=sweep.CRG_ROAD, mode="ideal"), 1, *fmu_paths)
     ref = sweep.run_hil(sweep_point(road=sweep.CRG_ROAD, mode="ideal", master="fmpy"), 1, *fmu_paths)
     assert ours == pytest.approx(ref, rel=0, abs=0, nan_ok=True)
+
+
+def test_the_self_contained_ssp_runs_in_libcosim_and_ecos_with_nothing_fed(library, fmus, tmp_path):
+    """The SSP whose truck makes its own road has no inputs: libcosim and ecos run it to stop time
+    with no Python feeding them, and give the runner's forces bit for bit (at 2^-9 s every master's
+    communication points are exact)."""
+    from xml.etree import ElementTree as ET
+
+    from damper_tools import ecos, ssp
+
+    step, n = 2.0 ** -9, 1024
+    tp = {**ssp.DEFAULT_TRUCK_PARAMETERS, **runner.own_road("minor", 14.0, n * step, 3, step=step)}
+    path = ssp.write_ssp(tmp_path / "own_road.ssp", fmus["truck_fmu"], fmus["damper_fmu"], truck_parameters=tp)
+    system = ET.fromstring(ssp.zipfile.ZipFile(path).read("SystemStructure.ssd")).find(f"{{{ssp.SSD}}}System")
+    assert system is not None and system.find(f"{{{ssp.SSD}}}Connectors") is None, "no system inputs"
+    ref = runner.run_quarter_truck(tp, step, n, **fmus)["damper.F_damper"]
+    assert np.std(ref) > 1e3
+    assert np.array_equal(ssp.run_libcosim(path, None, None, step, n)["damper.F_damper"][1:], ref[1:])
+    assert np.array_equal(ecos.run_ssp(path, None, None, step, n)["damper.F_damper"], ref)
+
+
+def test_the_full_truck_gives_the_fmpy_loops_numbers_bit_for_bit(library, fmu, full_truck_fmu):
+    from damper_tools import full_truck
+
+    p = full_truck.parameters(FmuUnit.load(full_truck_fmu))
+    wheels, n, _ = full_truck.case_roads(full_truck.Case("minor", 14.0), p, 0.6, 0.2, STEP, 4, 0.6)
+    args = (wheels, STEP, n, {}, None)
+    ref = full_truck.simulate(*args, full_truck_fmu=full_truck_fmu, damper_fmu=fmu)
+    ours = runner.run_full_truck(*args, full_truck_fmu=full_truck_fmu, damper_fmu=fmu)
+    assert set(ours) == set(ref)
+    for name in ref:
+        assert np.array_equal(ours[name], ref[name]), name
+    assert np.std(ref["front_left.damper.F_damper"]) > 100

@@ -1,0 +1,203 @@
+"""What a coupled HiL run costs against the damper FMU's own time, in one run (issue: campaigns at
+the FMUs' own speed). Prints, and writes to out/benchmark/coupled.json (with --docs to
+docs/coupled_benchmark.json, the figures docs/campaigns.md quotes):
+
+1. the damper FMU's own time on the 15 s HiL record (minor road, 14 m/s, 1 ms): the packaged FMU
+   loaded by rust-fmi and fed the velocity and demand the coupled run gave it, nothing else in the
+   loop (`cargo bench --bench fmu_replay`), the fastest of 10;
+2. the coupled run of the same 15 s: the compiled runner (damper_tools.runner) with the truck's own
+   road and with the road fed as a series, the fmpy loop (damper_tools.cosim), and, for the choice
+   of master, ecos's execution (step_until, nothing recorded) and libcosim's (simulate_until, seven
+   variables observed); each the fastest of its repetitions;
+3. the sweep's throughput: the HiL points of sweeps/hil_200.toml (18 s records and every metric),
+   run one after another in this process, through the runner and through the fmpy loop, in runs per
+   second per worker; and the whole 200-point sweep through each on a LocalCluster of --workers
+   workers.
+
+    .venv/bin/python -m damper_tools.coupled_benchmark            # about 4 minutes on 2 cores
+    .venv/bin/python -m damper_tools.coupled_benchmark --quick    # no whole sweep, fewer repeats
+
+Timed here, never asserted in a test: a loaded machine gives other numbers (the output names the
+load average before and after).
+"""
+
+import argparse
+import json
+import os
+import subprocess
+import tempfile
+import time
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from damper_tools import DAMPER_FMU, REPO, TRUCK_FMU, cosim, doc_figures, hil_scenarios, roads, runner, ssp, sweep
+
+STEP = 1e-3
+DURATION = 15.0
+SPEED = 14.0
+ROAD = "minor"
+SEED = 1
+RECORDED = ("a_body", "F_suspension", "v_damper", "F_demand", "x_damper", "F_tyre")
+COMMAND = ".venv/bin/python -m damper_tools.coupled_benchmark --docs"
+
+
+def fastest(f: Callable[[], object], repeat: int) -> float:
+    """The least wall time (s) of `repeat` calls."""
+    best = float("inf")
+    for _ in range(repeat):
+        start = time.perf_counter()
+        f()
+        best = min(best, time.perf_counter() - start)
+    return best
+
+
+def damper_own_time(record: dict[str, np.ndarray], damper_fmu: Path, repeat: int) -> float:
+    """The damper FMU alone on the inputs the coupled run gave it (fmu_replay), the fastest run (s)."""
+    n = int(round(DURATION / STEP))
+    with tempfile.TemporaryDirectory() as tmp:
+        inputs = Path(tmp) / "damper_inputs.csv"
+        np.savetxt(inputs, np.column_stack([record["v_damper"][:n], record["F_demand"][:n]]), delimiter=",",
+                   header="v_damper,F_demand", comments="", fmt="%.17g")
+        out = subprocess.run(["cargo", "bench", "-q", "--bench", "fmu_replay", "--", str(damper_fmu), str(inputs),
+                              "--set", "tare_load_cell=true", "--repeat", str(repeat)],
+                             cwd=REPO, check=True, capture_output=True, text=True).stdout
+    return float(json.loads(out.strip().splitlines()[-1])["fastest_s"])
+
+
+def ecos_time(truck_fmu: Path, damper_fmu: Path, params: dict[str, Any], n: int) -> float:
+    """ecos's execution of the coupled system to n steps (step_until; nothing recorded)."""
+    from damper_tools import ecos
+
+    models = {ssp.TRUCK: truck_fmu, ssp.DAMPER: damper_fmu}
+    variables = ecos._variables(models)
+    typed = {**ecos._typed(variables, ssp.TRUCK, params), **ecos._typed(variables, ssp.DAMPER,
+                                                                        cosim.HIL_DAMPER_PARAMETERS)}
+    with ecos._structure_simulation(models, typed, STEP, False) as sim:
+        start = time.perf_counter()
+        sim.init(0.0, ecos.PARAMETER_SET)
+        sim.step_until(n * STEP)
+        sim.terminate()
+        return time.perf_counter() - start
+
+
+def libcosim_time(truck_fmu: Path, damper_fmu: Path, params: dict[str, Any], n: int) -> float:
+    """libcosim's execution to n steps with a time-series observer on seven variables."""
+    from libcosimpy.CosimEnums import CosimVariableType
+    from libcosimpy.CosimExecution import CosimExecution
+    from libcosimpy.CosimLogging import CosimLogLevel, log_output_level
+    from libcosimpy.CosimObserver import CosimObserver
+    from libcosimpy.CosimSlave import CosimLocalSlave
+
+    log_output_level(CosimLogLevel.ERROR)
+    ex = CosimExecution.from_step_size(step_size=int(round(STEP * 1e9)))
+    index = {name: ex.add_local_slave(CosimLocalSlave(fmu_path=str(fmu), instance_name=name))
+             for name, fmu in ((ssp.TRUCK, truck_fmu), (ssp.DAMPER, damper_fmu))}
+    vr = {name: {v.name.decode(): v.reference for v in ex.slave_variables(i)} for name, i in index.items()}
+    for s_el, s_c, e_el, e_c in runner.COUPLING:
+        ex.connect_real_variables(index[s_el], vr[s_el][s_c], index[e_el], vr[e_el][e_c])
+    for name, value in params.items():
+        kind = type(value)
+        set_initial = ex.integer_initial_value if kind is int else ex.real_initial_value
+        set_initial(index[ssp.TRUCK], vr[ssp.TRUCK][name], value)
+    ex.boolean_initial_value(index[ssp.DAMPER], vr[ssp.DAMPER]["tare_load_cell"], True)
+    observer = CosimObserver.create_time_series(buffer_size=n + 10)
+    ex.add_observer(observer)
+    for name in RECORDED:
+        observer.start_time_series(index[ssp.TRUCK], vr[ssp.TRUCK][name], CosimVariableType.REAL)
+    observer.start_time_series(index[ssp.DAMPER], vr[ssp.DAMPER]["F_damper"], CosimVariableType.REAL)
+    start = time.perf_counter()
+    ex.simulate_until(int(round(n * STEP * 1e9)))
+    return time.perf_counter() - start
+
+
+def coupled_times(truck_fmu: Path, damper_fmu: Path, repeat: int) -> tuple[dict[str, float], dict[str, np.ndarray]]:
+    """The 15 s run through every master (s), and the fed run's record (the damper's inputs)."""
+    n = int(round(DURATION / STEP))
+    case = roads.road_case(ROAD, SPEED, DURATION, SEED, step=STEP, fade_in=hil_scenarios.FADE_IN)
+    own = runner.own_road(ROAD, SPEED, DURATION, SEED, step=STEP, fade_in=hil_scenarios.FADE_IN)
+    road = (case.z_road, case.v_road)
+
+    def through_runner(truck: dict[str, Any], fed: tuple[np.ndarray, np.ndarray] | None) -> dict[str, np.ndarray]:
+        return runner.run_quarter_truck(truck, STEP, n, road=fed, truck_fmu=truck_fmu, damper_fmu=damper_fmu)
+
+    def through_fmpy() -> dict[str, np.ndarray]:
+        return cosim.simulate_one(case.z_road, case.v_road, STEP, n, cosim.MODE_EXTERNAL, {},
+                                  cosim.HIL_DAMPER_PARAMETERS, truck_fmu=truck_fmu, damper_fmu=damper_fmu)
+
+    record = through_runner({}, road)
+    times = {"runner_own_road_s": fastest(lambda: through_runner(own, None), repeat),
+             "runner_fed_road_s": fastest(lambda: through_runner({}, road), repeat),
+             "fmpy_loop_s": fastest(through_fmpy, max(1, repeat // 5))}
+    params = dict(own)
+    times["ecos_s"] = min(ecos_time(truck_fmu, damper_fmu, params, n) for _ in range(max(1, repeat // 5)))
+    times["libcosim_s"] = min(libcosim_time(truck_fmu, damper_fmu, params, n) for _ in range(max(1, repeat // 5)))
+    return times, record
+
+
+def sweep_throughput(truck_fmu: Path, damper_fmu: Path, points: int) -> dict[str, float]:
+    """Runs per second per worker over the first `points` of hil_200 (every metric), in this process."""
+    s = sweep.load(REPO / "sweeps" / "hil_200.toml")
+    fmus = {"truck": truck_fmu, "damper": damper_fmu}
+    out = {}
+    for master in sweep.MASTERS:
+        tasks = sweep.tasks(s, fmus)[:points]
+        start = time.perf_counter()
+        for t in tasks:
+            row = sweep.run_point(s.scenario, t.index, t.point_id, t.run_seed, {**t.point, "master": master}, fmus)
+            if row["error"]:
+                raise RuntimeError(f"hil_200 point {t.index} through {master}: {row['error']}")
+        out[f"{master}_runs_per_s"] = len(tasks) / (time.perf_counter() - start)
+    return out
+
+
+def whole_sweep(truck_fmu: Path, damper_fmu: Path, workers: int, master: str) -> dict[str, float]:
+    """The 200-point sweep through `master` on a LocalCluster of `workers` single-threaded workers, in
+    a fresh folder; the cluster's start is not counted (run_sweep's own wall time)."""
+    s = sweep.load(REPO / "sweeps" / "hil_200.toml")
+    s.fixed["master"] = master
+    with tempfile.TemporaryDirectory() as work, sweep.dask_client(workers=workers) as client:
+        outcome = sweep.run_sweep(s, work, {"truck": truck_fmu, "damper": damper_fmu}, client=client)
+    if outcome.failed:
+        raise RuntimeError(f"{outcome.failed} points of hil_200 failed through {master}")
+    return {f"hil_200_{master}_workers_{workers}_s": outcome.wall_s}
+
+
+def main(argv: list[str] | None = None) -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--truck-fmu", type=Path, default=TRUCK_FMU)
+    parser.add_argument("--damper-fmu", type=Path, default=DAMPER_FMU)
+    parser.add_argument("--workers", type=int, default=os.cpu_count() or 1)
+    parser.add_argument("--quick", action="store_true", help="fewer repetitions and points, no whole sweep")
+    parser.add_argument("--docs", action="store_true", help="write the figures to docs/coupled_benchmark.json")
+    args = parser.parse_args(argv)
+    repeat = 3 if args.quick else 10
+    load_before = os.getloadavg()[0]
+    times, record = coupled_times(args.truck_fmu, args.damper_fmu, repeat)
+    own = damper_own_time(record, args.damper_fmu, repeat)
+    figures: dict[str, float] = {"damper_own_s": own, **times}
+    figures.update({k.removesuffix("_s") + "_over_damper": v / own for k, v in times.items()})
+    figures.update(sweep_throughput(args.truck_fmu, args.damper_fmu, 6 if args.quick else 20))
+    figures["sweep_speedup"] = figures["runner_runs_per_s"] / figures["fmpy_runs_per_s"]
+    if not args.quick:
+        for master in sweep.MASTERS:
+            figures.update(whole_sweep(args.truck_fmu, args.damper_fmu, args.workers, master))
+        w = args.workers
+        figures["hil_200_speedup"] = figures[f"hil_200_fmpy_workers_{w}_s"] / figures[f"hil_200_runner_workers_{w}_s"]
+    figures["load_before"], figures["load_after"] = load_before, os.getloadavg()[0]
+    out = REPO / "out" / "benchmark" / "coupled.json"
+    out.parent.mkdir(parents=True, exist_ok=True)
+    out.write_text(json.dumps(figures, indent=2) + "\n", encoding="utf-8")
+    width = max(map(len, figures))
+    for k, v in figures.items():
+        print(f"{k:<{width}}  {v:.4g}")
+    print(f"coupled_benchmark: wrote {out}")
+    if args.docs:
+        print(f"coupled_benchmark: wrote {doc_figures.write('coupled_benchmark', figures, COMMAND)}")
+
+
+if __name__ == "__main__":
+    main()
