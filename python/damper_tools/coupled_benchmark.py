@@ -4,11 +4,11 @@ docs/coupled_benchmark.json, the figures docs/campaigns.md quotes):
 
 1. the damper FMU's own time on the 15 s HiL record (minor road, 14 m/s, 1 ms): the packaged FMU
    loaded by rust-fmi and fed the velocity and demand the coupled run gave it, nothing else in the
-   loop (`cargo bench --bench fmu_replay`), the fastest of 10;
+   loop (`cargo bench --bench fmu_replay`);
 2. the coupled run of the same 15 s: the compiled runner (damper_tools.runner) with the truck's own
    road and with the road fed as a series, the fmpy loop (damper_tools.cosim), and, for the choice
    of master, ecos's execution (step_until, nothing recorded) and libcosim's (simulate_until, seven
-   variables observed); each the fastest of its repetitions;
+   variables observed). 1 and 2 take turns in 6 rounds, each figure the fastest of its rounds;
 3. the sweep's throughput: the HiL points of sweeps/hil_200.toml (18 s records and every metric),
    run one after another in this process, through the runner and through the fmpy loop, in runs per
    second per worker; and the whole 200-point sweep through each on a LocalCluster of --workers
@@ -25,6 +25,7 @@ import argparse
 import json
 import os
 import subprocess
+import sys
 import tempfile
 import time
 from collections.abc import Callable
@@ -54,16 +55,20 @@ def fastest(f: Callable[[], object], repeat: int) -> float:
     return best
 
 
-def damper_own_time(record: dict[str, np.ndarray], damper_fmu: Path, repeat: int) -> float:
-    """The damper FMU alone on the inputs the coupled run gave it (fmu_replay), the fastest run (s)."""
+def damper_inputs(record: dict[str, np.ndarray], folder: Path) -> Path:
+    """The velocity and demand the coupled run gave the damper, as fmu_replay reads them."""
     n = int(round(DURATION / STEP))
-    with tempfile.TemporaryDirectory() as tmp:
-        inputs = Path(tmp) / "damper_inputs.csv"
-        np.savetxt(inputs, np.column_stack([record["v_damper"][:n], record["F_demand"][:n]]), delimiter=",",
-                   header="v_damper,F_demand", comments="", fmt="%.17g")
-        out = subprocess.run(["cargo", "bench", "-q", "--bench", "fmu_replay", "--", str(damper_fmu), str(inputs),
-                              "--set", "tare_load_cell=true", "--repeat", str(repeat)],
-                             cwd=REPO, check=True, capture_output=True, text=True).stdout
+    path = folder / "damper_inputs.csv"
+    np.savetxt(path, np.column_stack([record["v_damper"][:n], record["F_demand"][:n]]), delimiter=",",
+               header="v_damper,F_demand", comments="", fmt="%.17g")
+    return path
+
+
+def damper_own_time(inputs: Path, damper_fmu: Path, repeat: int) -> float:
+    """The damper FMU alone on `inputs` (fmu_replay: a process of its own), the fastest of `repeat` (s)."""
+    out = subprocess.run(["cargo", "bench", "-q", "--bench", "fmu_replay", "--", str(damper_fmu), str(inputs),
+                          "--set", "tare_load_cell=true", "--repeat", str(repeat)],
+                         cwd=REPO, check=True, capture_output=True, text=True).stdout
     return float(json.loads(out.strip().splitlines()[-1])["fastest_s"])
 
 
@@ -113,8 +118,10 @@ def libcosim_time(truck_fmu: Path, damper_fmu: Path, params: dict[str, Any], n: 
     return time.perf_counter() - start
 
 
-def coupled_times(truck_fmu: Path, damper_fmu: Path, repeat: int) -> tuple[dict[str, float], dict[str, np.ndarray]]:
-    """The 15 s run through every master (s), and the fed run's record (the damper's inputs)."""
+def coupled_times(truck_fmu: Path, damper_fmu: Path, rounds: int) -> dict[str, float]:
+    """The 15 s run through every master and the damper's own time on it (s): each the fastest over
+    `rounds` rounds, the measures taking turns in every round so that a spell of load on the shared
+    machine falls on all of them alike."""
     n = int(round(DURATION / STEP))
     case = roads.road_case(ROAD, SPEED, DURATION, SEED, step=STEP, fade_in=hil_scenarios.FADE_IN)
     own = runner.own_road(ROAD, SPEED, DURATION, SEED, step=STEP, fade_in=hil_scenarios.FADE_IN)
@@ -127,14 +134,21 @@ def coupled_times(truck_fmu: Path, damper_fmu: Path, repeat: int) -> tuple[dict[
         return cosim.simulate_one(case.z_road, case.v_road, STEP, n, cosim.MODE_EXTERNAL, {},
                                   cosim.HIL_DAMPER_PARAMETERS, truck_fmu=truck_fmu, damper_fmu=damper_fmu)
 
-    record = through_runner({}, road)
-    times = {"runner_own_road_s": fastest(lambda: through_runner(own, None), repeat),
-             "runner_fed_road_s": fastest(lambda: through_runner({}, road), repeat),
-             "fmpy_loop_s": fastest(through_fmpy, max(1, repeat // 5))}
-    params = dict(own)
-    times["ecos_s"] = min(ecos_time(truck_fmu, damper_fmu, params, n) for _ in range(max(1, repeat // 5)))
-    times["libcosim_s"] = min(libcosim_time(truck_fmu, damper_fmu, params, n) for _ in range(max(1, repeat // 5)))
-    return times, record
+    with tempfile.TemporaryDirectory() as tmp:
+        inputs = damper_inputs(through_runner({}, road), Path(tmp))
+        measures: dict[str, Callable[[], float]] = {
+            "damper_own_s": lambda: damper_own_time(inputs, damper_fmu, 3),
+            "runner_own_road_s": lambda: fastest(lambda: through_runner(own, None), 3),
+            "runner_fed_road_s": lambda: fastest(lambda: through_runner({}, road), 3),
+            "fmpy_loop_s": lambda: fastest(through_fmpy, 1),
+            "ecos_s": lambda: ecos_time(truck_fmu, damper_fmu, dict(own), n),
+            "libcosim_s": lambda: libcosim_time(truck_fmu, damper_fmu, dict(own), n),
+        }
+        best = dict.fromkeys(measures, float("inf"))
+        for _ in range(rounds):
+            for name, measure in measures.items():
+                best[name] = min(best[name], measure())
+    return best
 
 
 def sweep_throughput(truck_fmu: Path, damper_fmu: Path, points: int) -> dict[str, float]:
@@ -166,6 +180,12 @@ def whole_sweep(truck_fmu: Path, damper_fmu: Path, workers: int, master: str) ->
 
 
 def main(argv: list[str] | None = None) -> None:
+    if os.environ.get("OPENBLAS_NUM_THREADS") != "1":
+        # one BLAS thread, as dask's workers run (their nanny sets it): OpenBLAS's idle threads spin
+        # on the other core and slow the runs being timed
+        given = sys.argv[1:] if argv is None else argv
+        os.execve(sys.executable, [sys.executable, "-m", "damper_tools.coupled_benchmark", *given],
+                  {**os.environ, "OPENBLAS_NUM_THREADS": "1"})
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--truck-fmu", type=Path, default=TRUCK_FMU)
@@ -174,10 +194,9 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--quick", action="store_true", help="fewer repetitions and points, no whole sweep")
     parser.add_argument("--docs", action="store_true", help="write the figures to docs/coupled_benchmark.json")
     args = parser.parse_args(argv)
-    repeat = 3 if args.quick else 10
     load_before = os.getloadavg()[0]
-    times, record = coupled_times(args.truck_fmu, args.damper_fmu, repeat)
-    own = damper_own_time(record, args.damper_fmu, repeat)
+    times = coupled_times(args.truck_fmu, args.damper_fmu, 2 if args.quick else 6)
+    own = times.pop("damper_own_s")
     figures: dict[str, float] = {"damper_own_s": own, **times}
     figures.update({k.removesuffix("_s") + "_over_damper": v / own for k, v in times.items()})
     figures.update(sweep_throughput(args.truck_fmu, args.damper_fmu, 6 if args.quick else 20))

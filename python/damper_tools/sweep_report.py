@@ -322,7 +322,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--no-plots", action="store_true")
     parser.add_argument("--quiet", action="store_true", help="no progress bar")
     parser.add_argument("--docs", action="store_true", help="write this run's wall time to docs/sweep.json, as the "
-                        "section <sweep>_workers_<N>")
+                        "section <sweep>_workers_<N> (<sweep>_workers_<N>_scheduler with --scheduler)")
     args = parser.parse_args(argv)
 
     try:
@@ -370,9 +370,11 @@ def main(argv: list[str] | None = None) -> int:
         from damper_tools import doc_figures
 
         figures = {"points": float(n), "wall_s": wall_s, "cpu_s_of_runs": cpu_s}
-        command = (f"damper-sweep {args.sweep_file} --workers {workers or 'serial'} --docs "
-                   "(a fresh out/ folder: no point resumed)")
-        doc_figures.write("sweep", figures, command, section=f"{spec.name}_workers_{workers or 0}")
+        where_run = f"--scheduler {args.scheduler} ({workers} workers started by hand)" if args.scheduler else \
+            f"--workers {workers or 'serial'}"
+        command = f"damper-sweep {args.sweep_file} {where_run} --docs (a fresh out/ folder: no point resumed)"
+        section = f"{spec.name}_workers_{workers or 0}" + ("_scheduler" if args.scheduler else "")
+        doc_figures.write("sweep", figures, command, section=section)
     if not args.no_plots:
         drawn = draw(spec, df, out)
         write_html(out / "index.html", spec, df, drawn["images"], drawn["sensitivity"], run)

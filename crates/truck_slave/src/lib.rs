@@ -124,13 +124,13 @@ macro_rules! truck_slave {
                     if skip(i) {
                         continue;
                     }
-                    let v = RealVar::from_vr(vr).ok_or((vr, Refusal::UnknownReference(vr)))?;
+                    let v = RealVar::from_vr(vr).ok_or_else(|| (vr, Refusal::UnknownReference(vr)))?;
                     if let Some(known) = self.params.real(v).or_else(|| self.input(v)) {
                         *x = known;
                         continue;
                     }
                     let (y, e) = evaluated.get_or_insert_with(|| self.evaluation());
-                    let value = self.output_at(y, e, v).ok_or((vr, Refusal::UnknownReference(vr)))?;
+                    let value = self.output_at(y, e, v).ok_or_else(|| (vr, Refusal::UnknownReference(vr)))?;
                     if !value.is_finite() {
                         return Err((vr, Refusal::OutputNotFinite { name: v.name(), value }));
                     }
