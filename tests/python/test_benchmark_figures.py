@@ -450,14 +450,38 @@ QUOTES: dict[str, dict[str | tuple[str, ...], list[str]]] = {
     },
     "sweep": {
         ("hil_200_workers_1.wall_s", "hil_200_workers_2.wall_s"): [
-            rf"The 200-point sweep takes about {N} s on 1 worker and {N} s on 2 in a quiet hour"],
+            rf"The 200-point sweep takes about {N} s on 1 worker and {N} s on 2;"],
+        ("hil_200_workers_2.cpu_s_of_runs", "hil_200_workers_1.cpu_s_of_runs"): [
+            rf"the runs' own times add up to {N} s on two workers against {N} s on one"],
         **{(f"hil_200_workers_{w}.wall_s", f"hil_200_workers_{w}.cpu_s_of_runs"): [rf"\| {w} \| {N} s \| {N} s \|"]
            for w in (1, 2)},
         ("hil_200_workers_1.points|hil_200_workers_2.points",): [
             rf"`damper-sweep sweeps/hil_200\.toml --workers N --docs` \({N} points, cluster start"],
+        ("montecarlo_10k_workers_2.wall_s", "montecarlo_10k_workers_2.cpu_s_of_runs"): [
+            rf"\| `--workers 2` \(a LocalCluster\) \| {N} s \| {N} s \|"],
+        ("montecarlo_10k_workers_2_scheduler.wall_s", "montecarlo_10k_workers_2_scheduler.cpu_s_of_runs"): [
+            rf"started by hand \| {N} s \| {N} s \|"],
+        ("montecarlo_10k_workers_2.points|montecarlo_10k_workers_2_scheduler.points",): [
+            rf"the Monte-Carlo of the assumed damper parameters with {N} draws"],
         ("hil_200_interrupted.points_kept", "hil_200_interrupted.points_run_on_resume"): [
             rf"stopped it with exit status 130 and {N} points kept \(dask logs the cancelled tasks\); the same command "
             rf"then ran the other {N},"],
+    },
+    "coupled_benchmark": {
+        **{(f"{name}_ms", f"{name}_over_damper"): [rf"\| {row} \| {N} ms \| {N} \|"]
+           for name, row in (("runner_own_road", "compiled runner, the truck's own road"),
+                             ("runner_fed_road", "compiled runner, the road fed as a series"),
+                             ("ecos", r"ecos 0\.7\.2, `step_until` \(nothing recorded\)"),
+                             ("libcosim", r"libcosim 0\.0\.6, `simulate_until`, seven variables observed"),
+                             ("fmpy_loop", r"the fmpy loop \(`cosim\.py`\)"))},
+        "damper_own_ms": [rf"\| the damper FMU alone, its own time \| {N} ms \| 1 \|"],
+        ("load_before", "load_after"): [rf"load average {N} before, {N} after"],
+        ("runner_runs_per_s", "fmpy_runs_per_s", "sweep_speedup"): [
+            rf"runs at {N} points per second per worker in one process, against {N} through the fmpy loop with "
+            rf"the same metrics \({N}×\)"],
+        ("hil_200_runner_workers_2_s", "hil_200_fmpy_workers_2_s", "hil_200_speedup"): [
+            rf"the whole 200-point sweep on 2 workers took {N} s against {N} s through the fmpy loop in the same "
+            rf"benchmark run \({N}×"],
     },
     "campaign": {
         ("effect_right", "effect_records"): [
@@ -465,7 +489,7 @@ QUOTES: dict[str, dict[str | tuple[str, ...], list[str]]] = {
         ("clean_right", "clean_records"): [rf"\| 6 clean \| {N} of {N} `none` \|"],
         ("right", "judged", "wall_s", "record_s_min", "record_s_max"): [
             rf"\| all 22 \| \*\*{N} of {N}\*\* \| {N} s \({R} s per record\) \|"],
-        ("judged", "right"): [rf"a campaign of {N} generated records gets {N} verdicts right"],
+        ("judged", "right"): [rf"{N} generated records get {N} verdicts right"],
     },
     "instances": {
         ("per_pair_s_min", "per_pair_s_max", "per_pair_step_us_min", "per_pair_step_us_max", "realtime_per_pair_min",
