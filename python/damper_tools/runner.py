@@ -26,6 +26,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+import numpy.typing as npt
 
 from damper_tools import DAMPER_FMU, REPO, TRUCK_FMU, FloatArray, cosim, roads, ssp
 from damper_tools.fmu import Value
@@ -44,6 +45,15 @@ def library_path() -> Path:
     return Path(named) if named else LIBRARY
 
 
+def _resolved_path() -> Path:
+    return _resolve(library_path())
+
+
+@functools.cache
+def _resolve(path: Path) -> Path:
+    return path.resolve()
+
+
 @functools.cache
 def _library(path: Path) -> ctypes.CDLL:
     if not path.is_file():
@@ -55,6 +65,15 @@ def _library(path: Path) -> ctypes.CDLL:
                   ctypes.c_size_t, ctypes.POINTER(ctypes.c_double), ctypes.c_size_t, ctypes.c_char_p,
                   ctypes.c_size_t]
     f.restype = ctypes.c_int32
+    g = lib.cosim_runner_tracking_sse
+    g.argtypes = [ctypes.POINTER(ctypes.c_double), ctypes.c_size_t, ctypes.c_size_t, ctypes.POINTER(ctypes.c_double),
+                  ctypes.POINTER(ctypes.c_size_t), ctypes.c_size_t, ctypes.c_size_t, ctypes.c_int32,
+                  ctypes.POINTER(ctypes.c_double), ctypes.c_char_p, ctypes.c_size_t]
+    g.restype = ctypes.c_int32
+    h = lib.cosim_runner_first_order_lags
+    h.argtypes = [ctypes.POINTER(ctypes.c_double), ctypes.c_size_t, ctypes.POINTER(ctypes.c_double), ctypes.c_size_t,
+                  ctypes.POINTER(ctypes.c_double), ctypes.c_char_p, ctypes.c_size_t]
+    h.restype = ctypes.c_int32
     return lib
 
 
@@ -69,7 +88,7 @@ def run(models: Sequence[tuple[str, str | Path, Mapping[str, Value]]], step: flo
     series = {k: np.ascontiguousarray(v, dtype=np.float64) for k, v in (inputs or {}).items()}
     length = min((s.size for s in series.values()), default=0)
     job = {"step": float(step), "n_steps": int(n_steps), "start_time": float(start_time),
-           "models": [{"name": name, "fmu": str(Path(fmu).resolve()), "parameters": _jsonable(params)}
+           "models": [{"name": name, "fmu": str(_resolve(Path(fmu))), "parameters": _jsonable(params)}
                       for name, fmu, params in models],
            "connections": [list(c) for c in connections], "inputs": [list(k) for k in series],
            "record": [list(r) for r in record]}
@@ -77,7 +96,7 @@ def run(models: Sequence[tuple[str, str | Path, Mapping[str, Value]]], step: flo
     pointers = (ctypes.POINTER(ctypes.c_double) * max(len(series), 1))(
         *(s.ctypes.data_as(ctypes.POINTER(ctypes.c_double)) for s in series.values()))
     message = ctypes.create_string_buffer(MESSAGE_BYTES)
-    status = _library(library_path().resolve()).cosim_runner_run(
+    status = _library(_resolved_path()).cosim_runner_run(
         json.dumps(job).encode(), pointers, len(series), length,
         out.ctypes.data_as(ctypes.POINTER(ctypes.c_double)), out.size, message, MESSAGE_BYTES)
     text = message.value.decode(errors="replace")
@@ -89,6 +108,45 @@ def run(models: Sequence[tuple[str, str | Path, Mapping[str, Value]]], step: flo
         raise ValueError(text)
     if status != OK:
         raise RuntimeError(text)
+    return out
+
+
+def _check(status: int, message: Any) -> None:
+    if status != OK:
+        raise (ValueError if status == BAD_JOB else RuntimeError)(message.value.decode(errors="replace"))
+
+
+def first_order_lags(demand: FloatArray, poles: Sequence[float]) -> FloatArray:
+    """The demand through first-order lags, compiled (crates/cosim_runner/src/tracking_fit.rs): row j
+    is scipy.signal.lfilter([1 - p], [1, -p], demand, zi=[p * demand[0]])[0] for p = poles[j], bit for
+    bit (p = 0: the demand itself)."""
+    demand = np.ascontiguousarray(demand, dtype=np.float64)
+    p = np.ascontiguousarray(poles, dtype=np.float64)
+    out = np.empty((p.size, demand.size))
+    message = ctypes.create_string_buffer(MESSAGE_BYTES)
+    double = ctypes.POINTER(ctypes.c_double)
+    _check(_library(_resolved_path()).cosim_runner_first_order_lags(
+        demand.ctypes.data_as(double), demand.size, p.ctypes.data_as(double), p.size, out.ctypes.data_as(double),
+        message, MESSAGE_BYTES), message)
+    return out
+
+
+def tracking_sse(lags: FloatArray, force: FloatArray, samples: npt.NDArray[np.intp], n_delays: int,
+                 extension: bool) -> FloatArray:
+    """The tracking fit's sums of squared errors, compiled (crates/cosim_runner/src/tracking_fit.rs):
+    for every row b of `lags` (the demand through bandwidth b's lag) and delay n < n_delays samples,
+    Σ over `samples` of (clip(lag_b[i - n]) - force[i])², the lag's first value held before the start;
+    clip is max(·, 0) for extension, min(·, 0) for compression. An array of shape (bandwidths, delays)."""
+    lags = np.ascontiguousarray(lags, dtype=np.float64)
+    force = np.ascontiguousarray(force, dtype=np.float64)
+    idx = np.ascontiguousarray(samples, dtype=np.uintp)
+    out = np.empty((lags.shape[0], n_delays))
+    message = ctypes.create_string_buffer(MESSAGE_BYTES)
+    double = ctypes.POINTER(ctypes.c_double)
+    _check(_library(_resolved_path()).cosim_runner_tracking_sse(
+        lags.ctypes.data_as(double), lags.shape[0], force.size, force.ctypes.data_as(double),
+        idx.ctypes.data_as(ctypes.POINTER(ctypes.c_size_t)), idx.size, int(n_delays), int(extension),
+        out.ctypes.data_as(double), message, MESSAGE_BYTES), message)
     return out
 
 

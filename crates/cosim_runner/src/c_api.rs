@@ -1,7 +1,9 @@
-//! The C ABI damper_tools.runner calls through ctypes: one function, a job in, the record out.
-//! Nothing here panics into the caller: a panic in the run is caught and reported as status 3.
+//! The C ABI damper_tools.runner calls through ctypes: a job in, the record out; and the tracking
+//! fit's grid of squared errors. Nothing here panics into the caller: a panic is caught and reported
+//! as status 3.
 #![allow(unsafe_code, reason = "the caller's pointers are read here, and only here")]
 
+use crate::tracking_fit::{first_order_lags, squared_errors, Direction};
 use crate::{job::Job, run, RunError};
 use std::ffi::{c_char, CStr};
 use std::panic::{catch_unwind, AssertUnwindSafe};
@@ -81,6 +83,11 @@ pub unsafe extern "C" fn cosim_runner_run(
         };
         run(&job, &series, out)
     }));
+    report(outcome, message, message_capacity)
+}
+
+/// The status of a call and its reason, written to the caller's `message` buffer.
+fn report(outcome: std::thread::Result<Result<(), RunError>>, message: *mut c_char, message_capacity: usize) -> i32 {
     let (status, text) = match outcome {
         Ok(Ok(())) => return OK,
         Ok(Err(RunError::Refused { instance, call, time, message })) => {
@@ -96,4 +103,97 @@ pub unsafe extern "C" fn cosim_runner_run(
     };
     write_message(&text, message, message_capacity);
     status
+}
+
+/// The tracking fit's grid ([`squared_errors`]): `lags` holds `n_bandwidths` rows of `n_samples`
+/// doubles, `force` `n_samples` doubles, `samples` `n_indices` sample indices; `extension` is 1 for
+/// the extension samples (the model max(lag, 0)) and 0 for compression (min(lag, 0)); the sums are
+/// written to `out`, `n_bandwidths` × `n_delays` doubles row by row. Returns [`OK`], [`BAD_JOB`]
+/// (shapes or indices wrong, the reason in `message`) or [`INTERNAL`].
+///
+/// # Safety
+///
+/// Each pointer points to as many readable (for `out`, writable) values as its count says, and
+/// `message` to `message_capacity` writable bytes or is null; none is touched after the call returns.
+#[no_mangle]
+pub unsafe extern "C" fn cosim_runner_tracking_sse(
+    lags: *const f64,
+    n_bandwidths: usize,
+    n_samples: usize,
+    force: *const f64,
+    samples: *const usize,
+    n_indices: usize,
+    n_delays: usize,
+    extension: i32,
+    out: *mut f64,
+    message: *mut c_char,
+    message_capacity: usize,
+) -> i32 {
+    let outcome = catch_unwind(AssertUnwindSafe(|| {
+        if lags.is_null() || force.is_null() || out.is_null() || (n_indices > 0 && samples.is_null()) {
+            return Err(RunError::Inputs("tracking fit: a null pointer".into()));
+        }
+        let n_lags = n_bandwidths.checked_mul(n_samples);
+        let n_out = n_bandwidths.checked_mul(n_delays);
+        let (Some(n_lags), Some(n_out)) = (n_lags, n_out) else {
+            return Err(RunError::Inputs("tracking fit: sizes overflow".into()));
+        };
+        // SAFETY: each pointer is non-null (checked above) and points to as many values as its count
+        // says (the contract); the slices live no longer than this call and `out` is not aliased.
+        let (lags, force, out) = unsafe {
+            (
+                std::slice::from_raw_parts(lags, n_lags),
+                std::slice::from_raw_parts(force, n_samples),
+                std::slice::from_raw_parts_mut(out, n_out),
+            )
+        };
+        let samples: &[usize] = if n_indices == 0 {
+            &[]
+        } else {
+            // SAFETY: as above, `samples` points to n_indices readable indices.
+            unsafe { std::slice::from_raw_parts(samples, n_indices) }
+        };
+        let direction = if extension != 0 { Direction::Extension } else { Direction::Compression };
+        squared_errors(lags, force, samples, n_delays, direction, out)
+    }));
+    report(outcome, message, message_capacity)
+}
+
+/// The tracking fit's lags ([`first_order_lags`]): `demand` holds `n_samples` doubles, `poles`
+/// `n_poles`; `out` receives `n_poles` rows of `n_samples` doubles. Returns [`OK`], [`BAD_JOB`] (the
+/// reason in `message`) or [`INTERNAL`].
+///
+/// # Safety
+///
+/// Each pointer points to as many readable (for `out`, writable) values as its count says, and
+/// `message` to `message_capacity` writable bytes or is null; none is touched after the call returns.
+#[no_mangle]
+pub unsafe extern "C" fn cosim_runner_first_order_lags(
+    demand: *const f64,
+    n_samples: usize,
+    poles: *const f64,
+    n_poles: usize,
+    out: *mut f64,
+    message: *mut c_char,
+    message_capacity: usize,
+) -> i32 {
+    let outcome = catch_unwind(AssertUnwindSafe(|| {
+        if demand.is_null() || poles.is_null() || out.is_null() {
+            return Err(RunError::Inputs("tracking fit: a null pointer".into()));
+        }
+        let Some(n_out) = n_poles.checked_mul(n_samples) else {
+            return Err(RunError::Inputs("tracking fit: sizes overflow".into()));
+        };
+        // SAFETY: each pointer is non-null (checked above) and points to as many values as its count
+        // says (the contract); the slices live no longer than this call and `out` is not aliased.
+        let (demand, poles, out) = unsafe {
+            (
+                std::slice::from_raw_parts(demand, n_samples),
+                std::slice::from_raw_parts(poles, n_poles),
+                std::slice::from_raw_parts_mut(out, n_out),
+            )
+        };
+        first_order_lags(demand, poles, out)
+    }));
+    report(outcome, message, message_capacity)
 }

@@ -13,7 +13,8 @@
 //! - [`job`]: the run as JSON (models, parameters, connections, fed inputs, record, step);
 //! - [`system`]: import (cached per file), initialisation, the stepping loop;
 //! - [`capture`]: the FMUs' log messages, for the errors;
-//! - [`error`]: why a run stopped ([`RunError`]).
+//! - [`error`]: why a run stopped ([`RunError`]);
+//! - [`tracking_fit`]: the grid of the sweeps' tracking fit (damper_tools.tracking_quality).
 //!
 //! ```no_run
 //! // the quarter truck on its own ISO 8608 road, coupled to the damper, 2 s at 1 ms
@@ -36,6 +37,7 @@ pub mod capture;
 pub mod error;
 pub mod job;
 pub mod system;
+pub mod tracking_fit;
 
 pub use error::RunError;
 pub use job::Job;
