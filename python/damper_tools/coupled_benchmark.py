@@ -11,8 +11,8 @@ docs/coupled_benchmark.json, the figures docs/campaigns.md quotes):
    variables observed). 1 and 2 take turns in 6 rounds, each figure the fastest of its rounds;
 3. the sweep's throughput: the HiL points of sweeps/hil_200.toml (18 s records and every metric),
    run one after another in this process, through the runner and through the fmpy loop, in runs per
-   second per worker; and the whole 200-point sweep through each on a LocalCluster of --workers
-   workers.
+   second per worker; where a point's time goes (its coupled run, its tracking fit, the rest); and
+   the whole 200-point sweep through each on a LocalCluster of --workers workers.
 
     .venv/bin/python -m damper_tools.coupled_benchmark            # about 4 minutes on 2 cores
     .venv/bin/python -m damper_tools.coupled_benchmark --quick    # no whole sweep, fewer repeats
@@ -34,7 +34,20 @@ from typing import Any
 
 import numpy as np
 
-from damper_tools import DAMPER_FMU, REPO, TRUCK_FMU, cosim, doc_figures, hil_scenarios, roads, runner, ssp, sweep
+from damper_tools import (
+    DAMPER_FMU,
+    REPO,
+    TRUCK_FMU,
+    cosim,
+    doc_figures,
+    hil_scenarios,
+    roads,
+    runner,
+    ssp,
+    sweep,
+    tracking_quality,
+)
+from damper_tools.fmu import FmuUnit
 
 STEP = 1e-3
 DURATION = 15.0
@@ -167,6 +180,32 @@ def sweep_throughput(truck_fmu: Path, damper_fmu: Path, points: int) -> dict[str
     return out
 
 
+def point_costs(truck_fmu: Path, damper_fmu: Path, points: int) -> dict[str, float]:
+    """Where a hil_200 point's time goes through the runner (ms, the mean over the first `points`): the
+    whole point (sweep.run_point), its coupled run alone (sweep.hil_run) and its tracking fit alone
+    (tracking_quality.fit on that run's record); the rest is the other metrics and the bookkeeping."""
+    s = sweep.load(REPO / "sweeps" / "hil_200.toml")
+    fmus = {"truck": truck_fmu, "damper": damper_fmu}
+    spent = {"total": 0.0, "run": 0.0, "fit": 0.0}
+    tasks = sweep.tasks(s, fmus)[:points]
+    for t in tasks:
+        start = time.perf_counter()
+        sweep.run_point(s.scenario, t.index, t.point_id, t.run_seed, t.point, fmus)
+        spent["total"] += time.perf_counter() - start
+        settings, truck, damper = sweep.split_parameters(s.scenario, t.point, FmuUnit.load(truck_fmu).variables,
+                                                         FmuUnit.load(damper_fmu).variables)
+        start = time.perf_counter()
+        res, window = sweep.hil_run(settings, t.run_seed, truck, {**cosim.HIL_DAMPER_PARAMETERS, **damper},
+                                    truck_fmu, damper_fmu)
+        spent["run"] += time.perf_counter() - start
+        start = time.perf_counter()
+        tracking_quality.fit(res["F_demand"][window], res["F_suspension"][window], res["v_damper"][window], STEP)
+        spent["fit"] += time.perf_counter() - start
+    ms = {f"point_{k}_ms": 1e3 * v / len(tasks) for k, v in spent.items()}
+    ms["point_rest_ms"] = ms["point_total_ms"] - ms["point_run_ms"] - ms["point_fit_ms"]
+    return ms
+
+
 def whole_sweep(truck_fmu: Path, damper_fmu: Path, workers: int, master: str) -> dict[str, float]:
     """The 200-point sweep through `master` on a LocalCluster of `workers` single-threaded workers, in
     a fresh folder; the cluster's start is not counted (run_sweep's own wall time)."""
@@ -200,8 +239,11 @@ def main(argv: list[str] | None = None) -> None:
     figures: dict[str, float] = {"damper_own_ms": own * 1e3}
     figures.update({k.removesuffix("_s") + "_ms": v * 1e3 for k, v in times.items()})
     figures.update({k.removesuffix("_s") + "_over_damper": v / own for k, v in times.items()})
+    # what the truck FMU and the loop add to the damper's own time, per communication step
+    figures["runner_extra_us_per_step"] = (times["runner_own_road_s"] - own) / round(DURATION / STEP) * 1e6
     figures.update(sweep_throughput(args.truck_fmu, args.damper_fmu, 6 if args.quick else 20))
     figures["sweep_speedup"] = figures["runner_runs_per_s"] / figures["fmpy_runs_per_s"]
+    figures.update(point_costs(args.truck_fmu, args.damper_fmu, 6 if args.quick else 20))
     if not args.quick:
         for master in sweep.MASTERS:
             figures.update(whole_sweep(args.truck_fmu, args.damper_fmu, args.workers, master))

@@ -312,7 +312,7 @@ def run_hil(point: dict[str, Any], seed: int, truck_fmu: Path, damper_fmu: Path)
     dp = {**cosim.HIL_DAMPER_PARAMETERS, **damper}
     if s["mode"] == "tracking":
         truck = {**tracking_parameters(s), **truck}
-    res, window = _hil_run(s, seed, truck, dp, truck_fmu, damper_fmu)
+    res, window = hil_run(s, seed, truck, dp, truck_fmu, damper_fmu)
     out = hil_scenarios.vehicle_metrics(res, window, _static_load(truck_unit, truck))
     if s["mode"] == "fmu":
         force = res["damper.F_damper"][window]
@@ -335,7 +335,7 @@ def run_hil(point: dict[str, Any], seed: int, truck_fmu: Path, damper_fmu: Path)
     return {m: float(out.get(m, math.nan)) for m in HIL_METRICS}
 
 
-def _hil_run(s: dict[str, Any], seed: int, truck: dict[str, Any], dp: dict[str, Any], truck_fmu: Path,
+def hil_run(s: dict[str, Any], seed: int, truck: dict[str, Any], dp: dict[str, Any], truck_fmu: Path,
              damper_fmu: Path) -> tuple[dict[str, FloatArray], slice]:
     """The coupled HiL run of a point and the window of its metrics. The generated road: the truck's
     own (road_source 1) under the runner, roads.road_case's fed by the fmpy loop. The Belgian block:

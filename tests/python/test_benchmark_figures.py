@@ -482,6 +482,13 @@ QUOTES: dict[str, dict[str | tuple[str, ...], list[str]]] = {
         ("hil_200_runner_workers_2_s", "hil_200_fmpy_workers_2_s", "hil_200_speedup"): [
             rf"the whole 200-point sweep on 2 workers took {N} s against {N} s through the fmpy loop in the same "
             rf"benchmark run \({N}×"],
+        ("point_total_ms", "point_run_ms", "point_fit_ms"): [
+            rf"every metric\) costs {N} ms of a worker: {N} ms the coupled run, {N} ms the tracking fit"],
+        ("point_total_ms", "point_run_ms", "point_fit_ms", "point_rest_ms"): [
+            rf"A point costs {N} ms: {N} ms the coupled run, {N} ms the tracking fit, {N} ms the rest"],
+        "point_rest_ms": [rf"sums of squared errors in `crates/cosim_runner/src/tracking_fit\.rs`\), {N} ms the other"],
+        "runner_extra_us_per_step": [rf"costs about as much as the damper: {N} µs a step over the damper's",
+                                     rf"the truck FMU itself \({N} µs a step: four RK4 substeps"],
     },
     "campaign": {
         ("effect_right", "effect_records"): [
