@@ -144,6 +144,9 @@ def test_the_catalog_wide_checks_pass_unedited(extended: Path) -> None:
     """Every check of the catalog (the XML, the switches, the hooks, the Jacobian of every effect)
     holds for the new effect; the docs' tables get its row from the how-to's last step."""
     tests = ["test", "--release", "-p", "semi_active_damper", "--test", "integration", "effects::"]
+    # both test programs compiled at once (side by side on two cores), run below
+    built = cargo(["test", "--release", "-p", "semi_active_damper", "--lib", "--test", "integration", "--no-run"], extended)
+    assert built.returncode == 0, built.stderr[-3000:]
     stale = cargo(tests, extended)
     assert stale.returncode != 0 and "bypass_groove" in stale.stdout + stale.stderr, "docs tables without the new row"
     docs = cargo(tests, extended, UPDATE_DOCS="1")
