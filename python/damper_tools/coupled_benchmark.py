@@ -11,8 +11,9 @@ docs/coupled_benchmark.json, the figures docs/campaigns.md quotes):
    variables observed). 1 and 2 take turns in 6 rounds, each figure the fastest of its rounds;
 3. the sweep's throughput: the HiL points of sweeps/hil_200.toml (18 s records and every metric),
    run one after another in this process, through the runner and through the fmpy loop, in runs per
-   second per worker; where a point's time goes (its coupled run, its tracking fit, the rest); and
-   the whole 200-point sweep through each on a LocalCluster of --workers workers.
+   second per worker; where a point's time goes (its coupled run, its tracking fit, the rest); the
+   same points with the truck's RK4 in 1 ms steps (truck.h_max, what it saves and changes); and the
+   whole 200-point sweep through each on a LocalCluster of --workers workers.
 
     .venv/bin/python -m damper_tools.coupled_benchmark            # about 4 minutes on 2 cores
     .venv/bin/python -m damper_tools.coupled_benchmark --quick    # no whole sweep, fewer repeats
@@ -56,6 +57,7 @@ ROAD = "minor"
 SEED = 1
 RECORDED = ("a_body", "F_suspension", "v_damper", "F_demand", "x_damper", "F_tyre")
 COMMAND = ".venv/bin/python -m damper_tools.coupled_benchmark --docs"
+COARSE_H_MAX = 1e-3  # s: the truck's RK4 step for the coarse variant, one per 1 ms communication step
 
 
 def fastest(f: Callable[[], object], repeat: int) -> float:
@@ -206,6 +208,28 @@ def point_costs(truck_fmu: Path, damper_fmu: Path, points: int) -> dict[str, flo
     return ms
 
 
+def coarse_truck_steps(truck_fmu: Path, damper_fmu: Path, points: int, h_max: float = COARSE_H_MAX) -> dict[str, float]:
+    """The first `points` of hil_200 with the truck's RK4 in steps of `h_max` (one per communication
+    step) instead of its default 0.25 ms: the mean cost of a point (ms) and the largest relative
+    change of a metric against the default's, and on how many points a fitted delay or bandwidth changed."""
+    s = sweep.load(REPO / "sweeps" / "hil_200.toml")
+    fmus = {"truck": truck_fmu, "damper": damper_fmu}
+    spent, change, fits_changed = 0.0, 0.0, 0
+    tasks = sweep.tasks(s, fmus)[:points]
+    for t in tasks:
+        fine = sweep.run_point(s.scenario, t.index, t.point_id, t.run_seed, t.point, fmus)
+        start = time.perf_counter()
+        coarse = sweep.run_point(s.scenario, t.index, t.point_id, t.run_seed, {**t.point, "truck.h_max": h_max}, fmus)
+        spent += time.perf_counter() - start
+        fitted = [m for m in sweep.HIL_METRICS if m.startswith(("tracking_delay", "tracking_bandwidth"))]
+        fits_changed += any(coarse[m] != fine[m] for m in fitted)
+        for m in set(sweep.HIL_METRICS) - set(fitted):
+            if fine[m] != 0 and np.isfinite(fine[m]):
+                change = max(change, abs(coarse[m] - fine[m]) / abs(fine[m]))
+    return {"coarse_point_total_ms": 1e3 * spent / len(tasks), "coarse_metric_rel_change_max": change,
+            "coarse_points_fit_changed": float(fits_changed), "coarse_points": float(len(tasks))}
+
+
 def whole_sweep(truck_fmu: Path, damper_fmu: Path, workers: int, master: str) -> dict[str, float]:
     """The 200-point sweep through `master` on a LocalCluster of `workers` single-threaded workers, in
     a fresh folder; the cluster's start is not counted (run_sweep's own wall time)."""
@@ -244,6 +268,7 @@ def main(argv: list[str] | None = None) -> None:
     figures.update(sweep_throughput(args.truck_fmu, args.damper_fmu, 6 if args.quick else 20))
     figures["sweep_speedup"] = figures["runner_runs_per_s"] / figures["fmpy_runs_per_s"]
     figures.update(point_costs(args.truck_fmu, args.damper_fmu, 6 if args.quick else 20))
+    figures.update(coarse_truck_steps(args.truck_fmu, args.damper_fmu, 6 if args.quick else 20))
     if not args.quick:
         for master in sweep.MASTERS:
             figures.update(whole_sweep(args.truck_fmu, args.damper_fmu, args.workers, master))

@@ -487,7 +487,12 @@ QUOTES: dict[str, dict[str | tuple[str, ...], list[str]]] = {
         ("point_total_ms", "point_run_ms", "point_fit_ms", "point_rest_ms"): [
             rf"A point costs {N} ms: {N} ms the coupled run, {N} ms the tracking fit, {N} ms the rest"],
         "point_rest_ms": [rf"sums of squared errors in `crates/cosim_runner/src/tracking_fit\.rs`\), {N} ms the other"],
-        "runner_extra_us_per_step": [rf"costs about as much as the damper: {N} µs a step over the damper's",
+        ("coarse_point_total_ms", "coarse_metric_rel_change_max"): [
+            rf"a point costs {N} ms and no metric moves by more than {N} of itself"],
+        ("coarse_points_fit_changed", "coarse_points"): [
+            rf"the fitted delays and bandwidths of {N} of {N} points changed"],
+        "runner_own_road_over_damper": [rf"\*\*Against the damper's own time\.\*\* The coupled run costs {N}× the"],
+        "runner_extra_us_per_step": [rf"about as much as the damper \({N} µs a step over the damper's",
                                      rf"the truck FMU itself \({N} µs a step: four RK4 substeps"],
     },
     "campaign": {
