@@ -7,6 +7,10 @@ The delay is searched in whole samples, the bandwidth on a log grid (and infinit
 takes the pair that leaves the least RMS error over its samples (|v| > EXT_V). A damper that
 overshoots (the FMU's force loop in extension) has no exact match in this family: the fit's RMS error
 is reported beside the raw error, so that a reader sees how much of the tracking the family explains.
+
+The grid is scored in compiled code (crates/cosim_runner's tracking_fit.rs through damper_tools.runner,
+whose library `cargo build --release -p cosim_runner` builds); `sse_reference` and `lagged` are the
+numpy reference it is tested against.
 """
 
 import math
