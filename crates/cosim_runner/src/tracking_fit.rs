@@ -30,7 +30,7 @@ impl Direction {
 
 /// The demand through first-order lags of the given `poles` (exp(−2π·bandwidth·step), 0 for no lag),
 /// each row of `out` one pole: y_k = (1 − p)·x_k + p·y_{k−1}, started at rest on x_0 — the arithmetic
-/// of scipy.signal.lfilter([1 − p], [1, −p], x, zi=[p·x_0]) (y = z + b₀x, then z = p·y), bit for bit.
+/// of `scipy.signal.lfilter([1 − p], [1, −p], x, zi=[p·x_0])` (y = z + b₀x, then z = p·y), bit for bit.
 pub fn first_order_lags(demand: &[f64], poles: &[f64], out: &mut [f64]) -> Result<(), RunError> {
     if demand.is_empty() || out.len() != demand.len() * poles.len() {
         return Err(RunError::Inputs(format!(
@@ -53,7 +53,7 @@ pub fn first_order_lags(demand: &[f64], poles: &[f64], out: &mut [f64]) -> Resul
 
 /// For each bandwidth b (row b of `lags`: the demand through that bandwidth's lag, N, one value per
 /// sample) and each delay n = 0 .. n_delays − 1 (samples), the sum over `samples` (indices into
-/// `force`) of (clip(lag_b[i − n]) − force[i])², the lag's first value held before the start; written
+/// `force`) of `(clip(lag_b[i − n]) − force[i])²`, the lag's first value held before the start; written
 /// to `out[b · n_delays + n]`.
 pub fn squared_errors(
     lags: &[f64],
