@@ -1,6 +1,6 @@
 """What a coupled HiL run costs against the damper FMU's own time, in one run (issue: campaigns at
 the FMUs' own speed). Prints, and writes to out/benchmark/coupled.json (with --docs to
-docs/coupled_benchmark.json, the figures docs/campaigns.md quotes):
+docs/coupled_benchmark.json, the figures docs/sweeps.md quotes):
 
 1. the damper FMU's own time on the 15 s HiL record (minor road, 14 m/s, 1 ms): the packaged FMU
    loaded by rust-fmi and fed the velocity and demand the coupled run gave it, nothing else in the
@@ -166,13 +166,19 @@ def coupled_times(truck_fmu: Path, damper_fmu: Path, rounds: int) -> dict[str, f
     return best
 
 
-def sweep_throughput(truck_fmu: Path, damper_fmu: Path, points: int) -> dict[str, float]:
-    """Runs per second per worker over the first `points` of hil_200 (every metric), in this process."""
+def hil_200_points(truck_fmu: Path, damper_fmu: Path, points: int) -> tuple[sweep.Sweep, dict[str, Path],
+                                                                             list[sweep.Task]]:
+    """sweeps/hil_200.toml, the FMUs as run_point takes them, and its first `points` tasks."""
     s = sweep.load(REPO / "sweeps" / "hil_200.toml")
     fmus = {"truck": truck_fmu, "damper": damper_fmu}
+    return s, fmus, sweep.tasks(s, fmus)[:points]
+
+
+def sweep_throughput(truck_fmu: Path, damper_fmu: Path, points: int) -> dict[str, float]:
+    """Runs per second per worker over the first `points` of hil_200 (every metric), in this process."""
+    s, fmus, tasks = hil_200_points(truck_fmu, damper_fmu, points)
     out = {}
     for master in sweep.MASTERS:
-        tasks = sweep.tasks(s, fmus)[:points]
         start = time.perf_counter()
         for t in tasks:
             row = sweep.run_point(s.scenario, t.index, t.point_id, t.run_seed, {**t.point, "master": master}, fmus)
@@ -182,17 +188,17 @@ def sweep_throughput(truck_fmu: Path, damper_fmu: Path, points: int) -> dict[str
     return out
 
 
-def point_costs(truck_fmu: Path, damper_fmu: Path, points: int) -> dict[str, float]:
+def point_costs(truck_fmu: Path, damper_fmu: Path, points: int) -> tuple[dict[str, float], list[dict[str, Any]]]:
     """Where a hil_200 point's time goes through the runner (ms, the mean over the first `points`): the
     whole point (sweep.run_point), its coupled run alone (sweep.hil_run) and its tracking fit alone
-    (tracking_quality.fit on that run's record); the rest is the other metrics and the bookkeeping."""
-    s = sweep.load(REPO / "sweeps" / "hil_200.toml")
-    fmus = {"truck": truck_fmu, "damper": damper_fmu}
+    (tracking_quality.fit on that run's record); the rest is the other metrics and the bookkeeping.
+    Also the points' rows."""
+    s, fmus, tasks = hil_200_points(truck_fmu, damper_fmu, points)
     spent = {"total": 0.0, "run": 0.0, "fit": 0.0}
-    tasks = sweep.tasks(s, fmus)[:points]
+    rows = []
     for t in tasks:
         start = time.perf_counter()
-        sweep.run_point(s.scenario, t.index, t.point_id, t.run_seed, t.point, fmus)
+        rows.append(sweep.run_point(s.scenario, t.index, t.point_id, t.run_seed, t.point, fmus))
         spent["total"] += time.perf_counter() - start
         settings, truck, damper = sweep.split_parameters(s.scenario, t.point, FmuUnit.load(truck_fmu).variables,
                                                          FmuUnit.load(damper_fmu).variables)
@@ -205,27 +211,27 @@ def point_costs(truck_fmu: Path, damper_fmu: Path, points: int) -> dict[str, flo
         spent["fit"] += time.perf_counter() - start
     ms = {f"point_{k}_ms": 1e3 * v / len(tasks) for k, v in spent.items()}
     ms["point_rest_ms"] = ms["point_total_ms"] - ms["point_run_ms"] - ms["point_fit_ms"]
-    return ms
+    return ms, rows
 
 
-def coarse_truck_steps(truck_fmu: Path, damper_fmu: Path, points: int, h_max: float = COARSE_H_MAX) -> dict[str, float]:
-    """The first `points` of hil_200 with the truck's RK4 in steps of `h_max` (one per communication
-    step) instead of its default 0.25 ms: the mean cost of a point (ms) and the largest relative
-    change of a metric against the default's, and on how many points a fitted delay or bandwidth changed."""
-    s = sweep.load(REPO / "sweeps" / "hil_200.toml")
-    fmus = {"truck": truck_fmu, "damper": damper_fmu}
+def coarse_truck_steps(truck_fmu: Path, damper_fmu: Path, fine: list[dict[str, Any]],
+                       h_max: float = COARSE_H_MAX) -> dict[str, float]:
+    """The first hil_200 points again, those whose rows `fine` holds (point_costs'), with the truck's
+    RK4 in steps of `h_max` (one per communication step) instead of its default 0.25 ms: the mean cost
+    of a point (ms), the largest relative change of a metric against `fine`, and on how many points a
+    fitted delay or bandwidth changed."""
+    s, fmus, tasks = hil_200_points(truck_fmu, damper_fmu, len(fine))
+    fitted = [m for m in sweep.HIL_METRICS if m.startswith(("tracking_delay", "tracking_bandwidth"))]
+    others = [m for m in sweep.HIL_METRICS if m not in fitted]
     spent, change, fits_changed = 0.0, 0.0, 0
-    tasks = sweep.tasks(s, fmus)[:points]
-    for t in tasks:
-        fine = sweep.run_point(s.scenario, t.index, t.point_id, t.run_seed, t.point, fmus)
+    for t, before in zip(tasks, fine, strict=True):
         start = time.perf_counter()
         coarse = sweep.run_point(s.scenario, t.index, t.point_id, t.run_seed, {**t.point, "truck.h_max": h_max}, fmus)
         spent += time.perf_counter() - start
-        fitted = [m for m in sweep.HIL_METRICS if m.startswith(("tracking_delay", "tracking_bandwidth"))]
-        fits_changed += any(coarse[m] != fine[m] for m in fitted)
-        for m in set(sweep.HIL_METRICS) - set(fitted):
-            if fine[m] != 0 and np.isfinite(fine[m]):
-                change = max(change, abs(coarse[m] - fine[m]) / abs(fine[m]))
+        fits_changed += any(coarse[m] != before[m] for m in fitted)
+        for m in others:
+            if before[m] != 0 and np.isfinite(before[m]):
+                change = max(change, abs(coarse[m] - before[m]) / abs(before[m]))
     return {"coarse_point_total_ms": 1e3 * spent / len(tasks), "coarse_metric_rel_change_max": change,
             "coarse_points_fit_changed": float(fits_changed), "coarse_points": float(len(tasks))}
 
@@ -267,8 +273,9 @@ def main(argv: list[str] | None = None) -> None:
     figures["runner_extra_us_per_step"] = (times["runner_own_road_s"] - own) / round(DURATION / STEP) * 1e6
     figures.update(sweep_throughput(args.truck_fmu, args.damper_fmu, 6 if args.quick else 20))
     figures["sweep_speedup"] = figures["runner_runs_per_s"] / figures["fmpy_runs_per_s"]
-    figures.update(point_costs(args.truck_fmu, args.damper_fmu, 6 if args.quick else 20))
-    figures.update(coarse_truck_steps(args.truck_fmu, args.damper_fmu, 6 if args.quick else 20))
+    costs, rows = point_costs(args.truck_fmu, args.damper_fmu, 6 if args.quick else 20)
+    figures.update(costs)
+    figures.update(coarse_truck_steps(args.truck_fmu, args.damper_fmu, rows))
     if not args.quick:
         for master in sweep.MASTERS:
             figures.update(whole_sweep(args.truck_fmu, args.damper_fmu, args.workers, master))

@@ -9,7 +9,7 @@ truck's own (road_source = 1) or a series handed over once.
 The calls, their order and the time points are damper_tools.cosim's, so the same road fed as a
 series gives cosim.simulate_one's numbers bit for bit (tests/python/test_runner.py); with the truck's
 own road the road differs from roads.road_case's by the inverse FFT's rounding (about 1e-15 of its
-RMS), and the results by what that rounding grows into (docs/campaigns.md).
+RMS), and the results by what that rounding grows into (docs/sweeps.md).
 
 The library is target/release/libcosim_runner.so (`cargo build --release -p cosim_runner`;
 scripts/main.sh and scripts/test.sh build it), or the file DAMPER_COSIM_RUNNER names (the sweeps'
@@ -35,6 +35,7 @@ LIBRARY = REPO / "target" / "release" / "libcosim_runner.so"
 ENVIRONMENT = "DAMPER_COSIM_RUNNER"
 OK, REFUSED, BAD_JOB, INTERNAL = 0, 1, 2, 3
 MESSAGE_BYTES = 4096
+_DOUBLES = ctypes.POINTER(ctypes.c_double)
 # ssp.CONNECTIONS between the two FMUs (the road ones are the system's inputs)
 COUPLING = [(s_el, s_c, e_el, e_c) for s_el, s_c, e_el, e_c in ssp.CONNECTIONS if s_el is not None]
 
@@ -43,10 +44,6 @@ def library_path() -> Path:
     """The runner's shared library: $DAMPER_COSIM_RUNNER, else the build in target/release/."""
     named = os.environ.get(ENVIRONMENT)
     return Path(named) if named else LIBRARY
-
-
-def _resolved_path() -> Path:
-    return _resolve(library_path())
 
 
 @functools.cache
@@ -60,21 +57,33 @@ def _library(path: Path) -> ctypes.CDLL:
         raise FileNotFoundError(f"{path}: the coupled-run library is not built; run "
                                 f"`cargo build --release -p cosim_runner` (or set {ENVIRONMENT})")
     lib = ctypes.CDLL(str(path))
-    f = lib.cosim_runner_run
-    f.argtypes = [ctypes.c_char_p, ctypes.POINTER(ctypes.POINTER(ctypes.c_double)), ctypes.c_size_t,
-                  ctypes.c_size_t, ctypes.POINTER(ctypes.c_double), ctypes.c_size_t, ctypes.c_char_p,
-                  ctypes.c_size_t]
-    f.restype = ctypes.c_int32
-    g = lib.cosim_runner_tracking_sse
-    g.argtypes = [ctypes.POINTER(ctypes.c_double), ctypes.c_size_t, ctypes.c_size_t, ctypes.POINTER(ctypes.c_double),
-                  ctypes.POINTER(ctypes.c_size_t), ctypes.c_size_t, ctypes.c_size_t, ctypes.c_int32,
-                  ctypes.POINTER(ctypes.c_double), ctypes.c_char_p, ctypes.c_size_t]
-    g.restype = ctypes.c_int32
-    h = lib.cosim_runner_first_order_lags
-    h.argtypes = [ctypes.POINTER(ctypes.c_double), ctypes.c_size_t, ctypes.POINTER(ctypes.c_double), ctypes.c_size_t,
-                  ctypes.POINTER(ctypes.c_double), ctypes.c_char_p, ctypes.c_size_t]
-    h.restype = ctypes.c_int32
+    size, int32, text = ctypes.c_size_t, ctypes.c_int32, ctypes.c_char_p
+    signatures = {  # the C functions of crates/cosim_runner/src/c_api.rs, each ending in (message, its capacity)
+        "cosim_runner_run": [text, ctypes.POINTER(_DOUBLES), size, size, _DOUBLES, size],
+        "cosim_runner_tracking_sse": [_DOUBLES, size, size, _DOUBLES, ctypes.POINTER(size), size, size, int32,
+                                      _DOUBLES],
+        "cosim_runner_first_order_lags": [_DOUBLES, size, _DOUBLES, size, _DOUBLES],
+    }
+    for name, arguments in signatures.items():
+        f = getattr(lib, name)
+        f.argtypes, f.restype = [*arguments, text, size], int32
     return lib
+
+
+def _call(name: str, *arguments: Any) -> None:
+    """Calls the library's function `name` with `arguments` and a message buffer; any status but OK
+    raises with the function's message: cosim.Refused for REFUSED (its JSON names the instance, the
+    call and the time), ValueError for BAD_JOB, RuntimeError otherwise."""
+    message = ctypes.create_string_buffer(MESSAGE_BYTES)
+    status = getattr(_library(_resolve(library_path())), name)(*arguments, message, MESSAGE_BYTES)
+    if status == OK:
+        return
+    text = message.value.decode(errors="replace")
+    if status == REFUSED:
+        why = json.loads(text)
+        time = math.nan if why["time"] is None else float(why["time"])
+        raise cosim.Refused(why["instance"], time, f"{why['call']}: {why['message']}")
+    raise (ValueError if status == BAD_JOB else RuntimeError)(text)
 
 
 def run(models: Sequence[tuple[str, str | Path, Mapping[str, Value]]], step: float, n_steps: int,
@@ -93,27 +102,10 @@ def run(models: Sequence[tuple[str, str | Path, Mapping[str, Value]]], step: flo
            "connections": [list(c) for c in connections], "inputs": [list(k) for k in series],
            "record": [list(r) for r in record]}
     out = np.empty((n_steps + 1, len(record)))
-    pointers = (ctypes.POINTER(ctypes.c_double) * max(len(series), 1))(
-        *(s.ctypes.data_as(ctypes.POINTER(ctypes.c_double)) for s in series.values()))
-    message = ctypes.create_string_buffer(MESSAGE_BYTES)
-    status = _library(_resolved_path()).cosim_runner_run(
-        json.dumps(job).encode(), pointers, len(series), length,
-        out.ctypes.data_as(ctypes.POINTER(ctypes.c_double)), out.size, message, MESSAGE_BYTES)
-    text = message.value.decode(errors="replace")
-    if status == REFUSED:
-        why = json.loads(text)
-        time = math.nan if why["time"] is None else float(why["time"])
-        raise cosim.Refused(why["instance"], time, f"{why['call']}: {why['message']}")
-    if status == BAD_JOB:
-        raise ValueError(text)
-    if status != OK:
-        raise RuntimeError(text)
+    pointers = (_DOUBLES * max(len(series), 1))(*(s.ctypes.data_as(_DOUBLES) for s in series.values()))
+    _call("cosim_runner_run", json.dumps(job).encode(), pointers, len(series), length, out.ctypes.data_as(_DOUBLES),
+          out.size)
     return out
-
-
-def _check(status: int, message: Any) -> None:
-    if status != OK:
-        raise (ValueError if status == BAD_JOB else RuntimeError)(message.value.decode(errors="replace"))
 
 
 def first_order_lags(demand: FloatArray, poles: Sequence[float]) -> FloatArray:
@@ -123,11 +115,8 @@ def first_order_lags(demand: FloatArray, poles: Sequence[float]) -> FloatArray:
     demand = np.ascontiguousarray(demand, dtype=np.float64)
     p = np.ascontiguousarray(poles, dtype=np.float64)
     out = np.empty((p.size, demand.size))
-    message = ctypes.create_string_buffer(MESSAGE_BYTES)
-    double = ctypes.POINTER(ctypes.c_double)
-    _check(_library(_resolved_path()).cosim_runner_first_order_lags(
-        demand.ctypes.data_as(double), demand.size, p.ctypes.data_as(double), p.size, out.ctypes.data_as(double),
-        message, MESSAGE_BYTES), message)
+    _call("cosim_runner_first_order_lags", demand.ctypes.data_as(_DOUBLES), demand.size, p.ctypes.data_as(_DOUBLES),
+          p.size, out.ctypes.data_as(_DOUBLES))
     return out
 
 
@@ -141,12 +130,9 @@ def tracking_sse(lags: FloatArray, force: FloatArray, samples: npt.NDArray[np.in
     force = np.ascontiguousarray(force, dtype=np.float64)
     idx = np.ascontiguousarray(samples, dtype=np.uintp)
     out = np.empty((lags.shape[0], n_delays))
-    message = ctypes.create_string_buffer(MESSAGE_BYTES)
-    double = ctypes.POINTER(ctypes.c_double)
-    _check(_library(_resolved_path()).cosim_runner_tracking_sse(
-        lags.ctypes.data_as(double), lags.shape[0], force.size, force.ctypes.data_as(double),
-        idx.ctypes.data_as(ctypes.POINTER(ctypes.c_size_t)), idx.size, int(n_delays), int(extension),
-        out.ctypes.data_as(double), message, MESSAGE_BYTES), message)
+    _call("cosim_runner_tracking_sse", lags.ctypes.data_as(_DOUBLES), lags.shape[0], force.size,
+          force.ctypes.data_as(_DOUBLES), idx.ctypes.data_as(ctypes.POINTER(ctypes.c_size_t)), idx.size, int(n_delays),
+          int(extension), out.ctypes.data_as(_DOUBLES))
     return out
 
 

@@ -35,6 +35,32 @@ fn write_message(text: &str, message: *mut c_char, capacity: usize) {
     }
 }
 
+/// The caller's `len` values at `p`, for the call: empty when `len` is 0 (whatever `p` is).
+///
+/// # Safety
+///
+/// Unless `len` is 0, `p` is non-null and points to `len` readable values, not written during the call.
+unsafe fn caller_slice<'a, T>(p: *const T, len: usize) -> &'a [T] {
+    if len == 0 {
+        return &[];
+    }
+    // SAFETY: non-null and `len` readable values (the contract above).
+    unsafe { std::slice::from_raw_parts(p, len) }
+}
+
+/// [`caller_slice`] for values the call writes.
+///
+/// # Safety
+///
+/// Unless `len` is 0, `p` is non-null and points to `len` writable values, not aliased during the call.
+unsafe fn caller_slice_mut<'a, T>(p: *mut T, len: usize) -> &'a mut [T] {
+    if len == 0 {
+        return &mut [];
+    }
+    // SAFETY: non-null and `len` writable, unaliased values (the contract above).
+    unsafe { std::slice::from_raw_parts_mut(p, len) }
+}
+
 /// Runs the job `job_json` (UTF-8, NUL-terminated; the format of [`Job`]) with `n_inputs` input
 /// series of `input_len` samples each at `inputs[0..n_inputs]`, writing (n_steps + 1) × recorded
 /// values, row by row, to `record[0..record_len]`. Returns [`OK`], [`REFUSED`], [`BAD_JOB`] or
@@ -64,23 +90,20 @@ pub unsafe extern "C" fn cosim_runner_run(
         // SAFETY: the caller passes a NUL-terminated string (checked non-null above).
         let text = unsafe { CStr::from_ptr(job_json) }.to_str().map_err(|e| RunError::Job(e.to_string()))?;
         let job = Job::from_json(text)?;
-        let series: Vec<&[f64]> = (0..n_inputs)
-            .map(|i| {
-                // SAFETY: inputs holds n_inputs pointers, each to input_len doubles (the contract).
-                let p = unsafe { *inputs.add(i) };
+        // SAFETY: the pointers are non-null where their counts are not 0 (checked above) and, by the
+        // contract, point to n_inputs pointers and record_len unaliased writable doubles.
+        let (pointers, out) = unsafe { (caller_slice(inputs, n_inputs), caller_slice_mut(record, record_len)) };
+        let series: Vec<&[f64]> = pointers
+            .iter()
+            .enumerate()
+            .map(|(i, &p)| {
                 if p.is_null() {
                     return Err(RunError::Inputs(format!("series {i} is a null pointer")));
                 }
-                // SAFETY: as above; the slice lives no longer than this call.
-                Ok(unsafe { std::slice::from_raw_parts(p, input_len) })
+                // SAFETY: non-null, and each series has input_len doubles (the contract).
+                Ok(unsafe { caller_slice(p, input_len) })
             })
             .collect::<Result<_, _>>()?;
-        let out: &mut [f64] = if record_len == 0 {
-            &mut []
-        } else {
-            // SAFETY: record points to record_len writable doubles, not aliased during the call.
-            unsafe { std::slice::from_raw_parts_mut(record, record_len) }
-        };
         run(&job, &series, out)
     }));
     report(outcome, message, message_capacity)
@@ -131,27 +154,22 @@ pub unsafe extern "C" fn cosim_runner_tracking_sse(
 ) -> i32 {
     let outcome = catch_unwind(AssertUnwindSafe(|| {
         if lags.is_null() || force.is_null() || out.is_null() || (n_indices > 0 && samples.is_null()) {
-            return Err(RunError::Inputs("tracking fit: a null pointer".into()));
+            return Err(RunError::TrackingFit("a null pointer".into()));
         }
         let n_lags = n_bandwidths.checked_mul(n_samples);
         let n_out = n_bandwidths.checked_mul(n_delays);
         let (Some(n_lags), Some(n_out)) = (n_lags, n_out) else {
-            return Err(RunError::Inputs("tracking fit: sizes overflow".into()));
+            return Err(RunError::TrackingFit("sizes overflow".into()));
         };
-        // SAFETY: each pointer is non-null (checked above) and points to as many values as its count
-        // says (the contract); the slices live no longer than this call and `out` is not aliased.
-        let (lags, force, out) = unsafe {
+        // SAFETY: each pointer is non-null where its count is not 0 (checked above) and points to as
+        // many values as its count says (the contract); `out` is not aliased.
+        let (lags, force, samples, out) = unsafe {
             (
-                std::slice::from_raw_parts(lags, n_lags),
-                std::slice::from_raw_parts(force, n_samples),
-                std::slice::from_raw_parts_mut(out, n_out),
+                caller_slice(lags, n_lags),
+                caller_slice(force, n_samples),
+                caller_slice(samples, n_indices),
+                caller_slice_mut(out, n_out),
             )
-        };
-        let samples: &[usize] = if n_indices == 0 {
-            &[]
-        } else {
-            // SAFETY: as above, `samples` points to n_indices readable indices.
-            unsafe { std::slice::from_raw_parts(samples, n_indices) }
         };
         let direction = if extension != 0 { Direction::Extension } else { Direction::Compression };
         squared_errors(lags, force, samples, n_delays, direction, out)
@@ -179,20 +197,15 @@ pub unsafe extern "C" fn cosim_runner_first_order_lags(
 ) -> i32 {
     let outcome = catch_unwind(AssertUnwindSafe(|| {
         if demand.is_null() || poles.is_null() || out.is_null() {
-            return Err(RunError::Inputs("tracking fit: a null pointer".into()));
+            return Err(RunError::TrackingFit("a null pointer".into()));
         }
         let Some(n_out) = n_poles.checked_mul(n_samples) else {
-            return Err(RunError::Inputs("tracking fit: sizes overflow".into()));
+            return Err(RunError::TrackingFit("sizes overflow".into()));
         };
         // SAFETY: each pointer is non-null (checked above) and points to as many values as its count
-        // says (the contract); the slices live no longer than this call and `out` is not aliased.
-        let (demand, poles, out) = unsafe {
-            (
-                std::slice::from_raw_parts(demand, n_samples),
-                std::slice::from_raw_parts(poles, n_poles),
-                std::slice::from_raw_parts_mut(out, n_out),
-            )
-        };
+        // says (the contract); `out` is not aliased.
+        let (demand, poles, out) =
+            unsafe { (caller_slice(demand, n_samples), caller_slice(poles, n_poles), caller_slice_mut(out, n_out)) };
         first_order_lags(demand, poles, out)
     }));
     report(outcome, message, message_capacity)

@@ -17,6 +17,9 @@ pub enum RunError {
     /// The caller's input series do not match the job's inputs.
     #[error("inputs: {0}")]
     Inputs(String),
+    /// The tracking fit's buffers do not match their shapes, or an index is out of range.
+    #[error("tracking fit: {0}")]
+    TrackingFit(String),
     /// The record buffer has another size than (n_steps + 1) × recorded variables.
     #[error("record: a buffer of {given} values for {needed}")]
     RecordSize { given: usize, needed: usize },

@@ -3,7 +3,7 @@
 //! the step loop. damper_tools.runner calls it through its C ABI ([`c_api`]) for the sweeps and
 //! campaigns; Rust callers use [`run`].
 //!
-//! Why a loop of our own and not libcosim's or ecos's execution (docs/campaigns.md has the
+//! Why a loop of our own and not libcosim's or ecos's execution (docs/sweeps.md has the
 //! figures): on the quarter truck and its damper both cost more per step than the two FMUs together,
 //! libcosim's observers and ecos's parallel stepping with per-variable property maps; ecos's result
 //! writer keeps six decimals, and ecos reads the coupled outputs after setting the next inputs. This

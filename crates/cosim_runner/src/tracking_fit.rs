@@ -33,8 +33,8 @@ impl Direction {
 /// of `scipy.signal.lfilter([1 − p], [1, −p], x, zi=[p·x_0])` (y = z + b₀x, then z = p·y), bit for bit.
 pub fn first_order_lags(demand: &[f64], poles: &[f64], out: &mut [f64]) -> Result<(), RunError> {
     if demand.is_empty() || out.len() != demand.len() * poles.len() {
-        return Err(RunError::Inputs(format!(
-            "tracking fit: an output of {} values for {} poles × {} samples",
+        return Err(RunError::TrackingFit(format!(
+            "an output of {} values for {} poles × {} samples",
             out.len(),
             poles.len(),
             demand.len()
@@ -64,7 +64,7 @@ pub fn squared_errors(
     out: &mut [f64],
 ) -> Result<(), RunError> {
     let size = force.len();
-    let fail = |what: String| Err(RunError::Inputs(format!("tracking fit: {what}")));
+    let fail = |what: String| Err(RunError::TrackingFit(what));
     if size == 0 || n_delays == 0 || !lags.len().is_multiple_of(size) {
         return fail(format!("{} lag values for {size} samples and {n_delays} delays", lags.len()));
     }
