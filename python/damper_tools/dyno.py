@@ -10,7 +10,9 @@ from the documented equations only (numpy/scipy, not a port of the Rust code):
 - states p_A, p_B (Pa, gauge) and the gas volume V_g (m3); the stroke x(t) is the dyno's CONTINUOUS
   prescribed displacement, given in closed form with its velocity and acceleration;
 - chambers A (annulus) and B (full bore) of §3.1, oil with entrained air (§3.2, the absolute pressure
-  frozen at 0.02 atm below it), the gas reservoir polytropic and scaled with T_oil/T_ref (§3.5, §3.9);
+  frozen at 0.02 atm below it) and, in the gas_release scenario, the gas that the oil, saturated at the
+  reservoir's pre-charge, lets out below it (§3.2, Henry's law at equilibrium), the gas reservoir
+  polytropic and scaled with T_oil/T_ref (§3.5, §3.9);
 - check valves CV1 (B -> A) and CV2 (reservoir -> B) with the smoothstep cracking law and the
   regularised orifice law of §3.3; no proportional valve and no relief valve;
 - the rebound valve (A -> B) and the compression valve (B -> reservoir) of §3.8: laminar bleed
@@ -40,7 +42,8 @@ Three dampers (`small`, `car`, `truck`): NOMINAL datasheet values (written as th
 crates/damper_engine/src/damper_template.toml) and, per seed, the TRUTH: the nominal values perturbed
 by manufacturing spreads for what a datasheet cannot know (SPREADS). Scenarios: calibration (three
 records at 20 degC), unchanged, gas (pre-charge changed), valve (a bleed adjuster changed), heated
-(the oil 30-50 K warmer), end_stop (the stroke beyond the bump rubbers), settings (a calibration
+(the oil 30-50 K warmer), end_stop (the stroke beyond the bump rubbers), gas_release (the oil has
+absorbed the reservoir's gas: saturated at the pre-charge, it lets gas out below it), settings (a calibration
 campaign over three settings of one bleed adjuster: a gas record and a peak-velocity record at the
 middle setting, a peak-velocity record closed, a random record open; each record's truth JSON
 names its setting and the adjuster's value). Every parameter is named as in the FMU's
@@ -79,8 +82,11 @@ MAX_STEP = 1e-3  # s: the largest step
 ATOL = (1e-3, 1e-3, 1e-15)  # Pa, Pa, m3
 P_ABS_FLOOR = 0.02 * P_ATM  # Pa: the bulk modulus's absolute pressure is frozen below it (§3.2)
 ROUNDING = 0.1  # the blow-off's rounded ramp (§3.8)
+RELEASE_BAND = 1e4  # Pa: gas starts to come out of solution over +/- this around saturation (§3.2)
+SOLUBILITY = (0.02, 0.09)  # the gas_release scenario's Bunsen coefficient, drawn log-uniformly
 SIZES = ("small", "car", "truck")
-SCENARIOS = ("calibration", "unchanged", "gas", "valve", "heated", "end_stop", "settings")
+# (new scenarios go last: a scenario's random streams are keyed by its place here)
+SCENARIOS = ("calibration", "unchanged", "gas", "valve", "heated", "end_stop", "settings", "gas_release")
 RATES = (500, 1000, 2000)  # Hz
 MARGIN = 0.005  # m: the programs stay this far inside x_end_stop (except end_stop)
 
@@ -217,12 +223,32 @@ class Circuit:
                 + self.orifice(p["Cd_passive"] * (p[f"A_bleed_{which}"] + opening), dp))
 
     def bulk_modulus(self, pressure: float) -> float:
-        """beta_e of oil with entrained air (§3.2), the absolute pressure frozen at 0.02 atm below it."""
+        """beta_e of oil with entrained air (§3.2), the absolute pressure frozen at 0.02 atm below it;
+        with gas_solubility in the parameters, the gas released below p_saturation added to the air."""
         p = self.p
         p_abs = max(pressure + P_ATM, P_ABS_FLOOR)
-        alpha_r = p["air_fraction"] * (P_ATM / p_abs) ** (1.0 / p["n_polytropic"])
-        beta: float = (1.0 + alpha_r) / (1.0 / p["beta_oil"] + alpha_r / (p["n_polytropic"] * p_abs))
+        r = (P_ATM / p_abs) ** (1.0 / p["n_polytropic"])
+        free, released_per_pa = self.released_gas(p_abs)
+        alpha = p["air_fraction"] + free
+        beta: float = (1.0 + alpha * r) / (1.0 / p["beta_oil"] + alpha * r / (p["n_polytropic"] * p_abs)
+                                           + released_per_pa * r)
         return beta
+
+    def released_gas(self, p_abs: float) -> tuple[float, float]:
+        """Gas out of solution at the absolute pressure p_abs (§3.2): its volume at p_atm per oil volume,
+        L h(u)/p_atm, and how much more comes out per pascal of pressure drop, L h'(u)/p_atm, where
+        u = p_sat,abs - p_abs and h is max(u, 0) rounded over +/-RELEASE_BAND (a quartic in the band,
+        its slope the smoothstep). Nothing without gas_solubility."""
+        solubility = self.p.get("gas_solubility", 0.0)
+        if solubility == 0.0:
+            return 0.0, 0.0
+        u = self.p["p_saturation"] + P_ATM - p_abs
+        if u <= -RELEASE_BAND:
+            return 0.0, 0.0
+        if u >= RELEASE_BAND:
+            return solubility * u / P_ATM, solubility / P_ATM
+        t = (u + RELEASE_BAND) / (2.0 * RELEASE_BAND)
+        return solubility * RELEASE_BAND * t ** 3 * (2.0 - t) / P_ATM, solubility * smoothstep(t) / P_ATM
 
     def gas_pressure(self, v_gas: float, temperature: float) -> float:
         """Reservoir pressure (gauge): polytropic from the pre-charge at V_gas0, its absolute value
@@ -736,6 +762,13 @@ def scenario_change(size: str, seed: int, scenario: str,
                    "rise_K": float(rise), "mode": mode, "drift_K": float(rng.uniform(0.5, 3.0))}
     if scenario == "end_stop":
         return p, {"what": "stroke beyond x_end_stop"}
+    if scenario == "gas_release":
+        lo, hi = SOLUBILITY
+        p["gas_solubility"] = float(math.exp(rng.uniform(math.log(lo), math.log(hi))))
+        p["p_saturation"] = base["p_reservoir0"]
+        return p, {"parameter": "gas_solubility", "before": 0.0, "after": p["gas_solubility"],
+                   "p_saturation": p["p_saturation"],
+                   "what": "oil saturated with the reservoir's gas at its pre-charge: gas out of solution below it"}
     if scenario == "settings":
         name = str(rng.choice(["A_bleed_reb", "A_bleed_comp"]))
         factors = {"middle": 1.0, "closed": float(rng.uniform(0.4, 0.7)), "open": float(rng.uniform(1.4, 2.2))}
@@ -811,10 +844,12 @@ def plans(size: str, seed: int, scenario: str, quick: bool = False) -> list[Plan
     return out
 
 
-def fmu_settings() -> dict[str, Value]:
-    """How to reproduce the truth with SemiActiveDamper.fmu (physics.md §4.6, §8): the valve held
-    shut without leakage, no relief valve (area 0), the passive valves and the load-path effects on."""
-    return {"control_mode": 2, "x_spool_start": 0.0, "A_valve_leak": 0.0, "A_relief": 0.0,
+def fmu_settings(params: dict[str, float]) -> dict[str, Value]:
+    """How to reproduce the truth `params` with SemiActiveDamper.fmu (physics.md §4.6, §8): the valve
+    held shut without leakage, no relief valve (area 0), the passive valves and the load-path effects
+    on, gas release where the truth has it."""
+    return {"control_mode": 2, "effect_gas_release": "gas_solubility" in params,
+            "x_spool_start": 0.0, "A_valve_leak": 0.0, "A_relief": 0.0,
             "effect_flow_forces": False, "effect_amplifier_delay": False, "effect_rebound_valve": True,
             "effect_compression_valve": True, "effect_seal_friction": True,
             "effect_end_stops": True, "effect_oil_temperature": True, "effect_compressibility": True,
@@ -848,7 +883,7 @@ def make_record(plan: Plan, size: str, seed: int, scenario: str, out_dir: Path, 
         "record": csv_path.name, "size": size, "seed": seed, "scenario": scenario, "quick": quick,
         "truth_parameters": plan.params, "nominal_parameters": NOMINAL[size],
         "spreads": {k: (list(v) if isinstance(v, tuple) else v) for k, v in SPREADS.items()},
-        "change": plan.change, "fmu_settings": fmu_settings(),
+        "change": plan.change, "fmu_settings": fmu_settings(plan.params),
         "motion": {"name": plan.motion.name, "description": plan.motion.description,
                    "duration_s": plan.motion.duration, "start_x_m": plan.motion.segments[0].x0,
                    "max_x_m": float(np.max(sim["x"])), "min_x_m": float(np.min(sim["x"])),

@@ -50,6 +50,10 @@ pub enum Start {
     /// where something starts to act (an end stop), which a fit can only find from where the
     /// record reaches.
     OfLargestStroke(f64),
+    /// At the value of another parameter of the model, named here, in the same unit: where the
+    /// physics ties the two (oil saturated with the reservoir's gas at its pre-charge), so that a
+    /// damper described with another pre-charge is searched from its own.
+    SameAs(&'static str),
 }
 
 /// When the diagnosis tries an effect.

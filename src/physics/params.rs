@@ -2,7 +2,7 @@
 //! value carries its unit, description and source, and its defaults are the XML's start values;
 //! here are the checks across parameters and the quantities derived from them.
 
-use super::fluid::Oil;
+use super::fluid::{GasRelease, Oil};
 use super::hydraulics::{Cylinder, GasCharge};
 use super::mount::CubicMount;
 use super::valve::{flow_force_gain, ValvePorts};
@@ -54,7 +54,8 @@ pub struct Derived {
     pub ports: ValvePorts,
     /// The series mount, `None` when `effect_mount_compliance` is off (rigid mount).
     pub mount: Option<CubicMount>,
-    /// The oil, with the entrained air fraction in effect (0 when `effect_compressibility` is off).
+    /// The oil, with the entrained air fraction in effect (0 when `effect_compressibility` is off)
+    /// and the gas it releases at low pressure (none when `effect_gas_release` is off).
     pub oil: Oil,
     /// The reservoir's gas charge.
     pub gas: GasCharge,
@@ -157,6 +158,7 @@ impl Parameters {
                 self.beta_oil,
                 if self.effect_compressibility { self.air_fraction } else { 0.0 },
                 self.n_polytropic,
+                self.effect_gas_release.then(|| GasRelease::new(self.gas_solubility, self.p_saturation)),
             ),
             gas: GasCharge::new(self.p_reservoir0, self.v_gas0, self.n_polytropic),
             p_cv_crack: if self.effect_check_valve_cracking { self.p_cv_crack } else { 0.0 },

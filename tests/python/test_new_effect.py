@@ -19,6 +19,7 @@ import os
 import re
 import shutil
 import subprocess
+import xml.etree.ElementTree as ET
 from collections.abc import Callable
 from pathlib import Path
 
@@ -87,16 +88,29 @@ impl Effect for BypassGroove {
 }
 '''
 
-VARIABLES = '''    <ScalarVariable name="effect_bypass_groove" valueReference="314" description="Effect switch: a position-sensitive bypass groove (off: none). Source: [A] a toy effect of the how-to's test." causality="parameter" variability="fixed">
+VARIABLES = '''    <ScalarVariable name="effect_bypass_groove" valueReference="{boolean}" description="Effect switch: a position-sensitive bypass groove (off: none). Source: [A] a toy effect of the how-to's test." causality="parameter" variability="fixed">
       <Boolean start="false"/>
     </ScalarVariable>
-    <ScalarVariable name="G_groove" valueReference="183" description="Laminar conductance of the bypass groove. Source: [A] of the order of a piston gap's." causality="parameter" variability="fixed">
+    <ScalarVariable name="G_groove" valueReference="{real}" description="Laminar conductance of the bypass groove. Source: [A] of the order of a piston gap's." causality="parameter" variability="fixed">
       <Real unit="m3/(s.Pa)" min="0.0" max="1e-09" start="1.5e-12"/>
     </ScalarVariable>
-    <ScalarVariable name="x_groove" valueReference="184" description="Half-length of the groove about mid-stroke. Source: [A] a comfort zone of +-10 mm." causality="parameter" variability="fixed">
+    <ScalarVariable name="x_groove" valueReference="{real_next}" description="Half-length of the groove about mid-stroke. Source: [A] a comfort zone of +-10 mm." causality="parameter" variability="fixed">
       <Real unit="m" min="0.0" max="0.1" start="0.01"/>
     </ScalarVariable>
 '''
+
+
+
+def appended_variables(xml: str) -> str:
+    """VARIABLES with the value references a user picks: the next free one of each type."""
+    variables = ET.fromstring(xml).iter("ScalarVariable")
+    used = [(int(v.get("valueReference", "0")), v[0].tag) for v in variables]
+
+    def last(kind: str) -> int:
+        return max(vr for vr, tag in used if tag == kind)
+    real = last("Real") + 1
+    return VARIABLES.format(boolean=last("Boolean") + 1, real=real, real_next=real + 1)
+
 
 SKIP = shutil.ignore_patterns("target", ".venv", "out", "work", ".git", "__pycache__", "*.fmu")
 
@@ -120,7 +134,8 @@ def extended(tmp_path_factory: pytest.TempPathFactory, seed_target_dir: Callable
     shutil.copytree(REPO, copy, ignore=SKIP)
     (copy / "src" / "effects" / "bypass_groove.rs").write_text(EFFECT)
     xml = copy / "modelDescription.xml"
-    xml.write_text(xml.read_text().replace("  </ModelVariables>", VARIABLES + "  </ModelVariables>"))
+    text = xml.read_text()
+    xml.write_text(text.replace("  </ModelVariables>", appended_variables(text) + "  </ModelVariables>"))
 
     # the build stops once, naming what to write: the GUID to set, and the new parameters' indices
     # for the dependencies of the initial unknowns

@@ -73,6 +73,7 @@ fn parameter_json(f: &FittedParameter) -> Value {
         "start": match f.start {
             Start::Model => json!("model"),
             Start::OfLargestStroke(share) => json!({ "of_largest_stroke": share }),
+            Start::SameAs(name) => json!({ "same_as": name }),
         },
     })
 }

@@ -54,7 +54,7 @@ const fn part(section: &'static str, name: &'static str, parameter: &'static str
 }
 
 /// Every key the description may hold (the template lists them, with their meaning).
-const KEYS: [Key; 36] = [
+const KEYS: [Key; 38] = [
     key("cylinder", "piston_diameter", "D_piston"),
     key("cylinder", "rod_diameter", "D_rod"),
     Key { convert: Convert::Half, ..key("cylinder", "stroke", "L_half_stroke") },
@@ -68,6 +68,8 @@ const KEYS: [Key; 36] = [
     key("oil", "air_fraction", "air_fraction"),
     key("oil", "viscosity_temperature_coefficient", "visc_temp_coeff"),
     key("oil", "reference_temperature", "T_ref"),
+    part("oil", "gas_solubility", "gas_solubility", "effect_gas_release"),
+    part("oil", "saturation_pressure", "p_saturation", "effect_gas_release"),
     part("rebound_valve", "laminar_bleed", "G_bleed_reb", "effect_rebound_valve"),
     part("rebound_valve", "bleed_area", "A_bleed_reb", "effect_rebound_valve"),
     Key {
@@ -355,6 +357,14 @@ mod tests {
         let p = applied("[rebound_valve]\nbleed_diameter = \"1 mm\"\n").unwrap();
         assert!((p.a_bleed_reb - PI / 4.0 * 1e-6).abs() < 1e-18);
         assert!(p.effect_rebound_valve);
+    }
+
+    #[test]
+    fn a_saturation_pressure_lets_gas_out_of_solution() {
+        assert!(!applied(TEMPLATE).unwrap().effect_gas_release);
+        let p = applied("[oil]\nsaturation_pressure = \"8 bar\"\n").unwrap();
+        assert!(p.effect_gas_release);
+        assert_eq!((p.p_saturation, p.gas_solubility), (8e5, Parameters::default().gas_solubility));
     }
 
     #[test]

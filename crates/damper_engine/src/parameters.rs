@@ -246,9 +246,18 @@ pub fn effect(key: &str) -> Result<&'static Effect, Error> {
         .ok_or_else(|| Error::UnknownEffect { key: key.to_string(), catalog: effects().map(|e| e.key).collect() })
 }
 
-/// Switches an effect on or off.
+/// Switches an effect on or off. An effect switched on from off takes the parameters that start
+/// at another parameter's value ([`Start::SameAs`]: oil saturated at the reservoir's pre-charge)
+/// from that parameter, so that it is added to this damper and not to the default one.
 pub fn set_effect(p: &mut Parameters, key: &str, on: bool) -> Result<(), Error> {
     let e = effect(key)?;
+    if on && !effect_on(p, e.key)? {
+        for f in e.fitted.iter().chain(e.secondary) {
+            if let Start::SameAs(source) = f.start {
+                set_real(p, f.name, real(p, source)?)?;
+            }
+        }
+    }
     set_bool(p, &e.switch(), on).map_err(|err| Error::NoSwitch {
         switch: e.switch(),
         effect: e.key,
@@ -303,6 +312,18 @@ mod tests {
         assert_eq!(get_real(&p, "tau_amp").unwrap(), 3e-3);
         let changed: Vec<_> = changed_parameters(&p).into_iter().map(|(n, _)| n).collect();
         assert_eq!(changed, ["air_fraction", "control_mode", "tare_load_cell"]);
+    }
+
+    #[test]
+    fn an_effect_switched_on_starts_from_the_damper_it_is_added_to() {
+        // gas release on a damper charged to 3 bar: its oil is saturated at 3 bar, not at the
+        // default's 5 bar; once on, its saturation pressure is its own
+        let mut p = Parameters { p_reservoir0: 3e5, ..Default::default() };
+        set_effect(&mut p, "gas_release", true).unwrap();
+        assert_eq!(p.p_saturation, 3e5);
+        p.p_saturation = 2e5;
+        set_effect(&mut p, "gas_release", true).unwrap();
+        assert_eq!(p.p_saturation, 2e5);
     }
 
     #[test]
