@@ -7,8 +7,9 @@ description and the records (damper_tools.dyno: an independent model, logger-lik
 chains), calibrates on the calibration records from the datasheet (`damper calibrate --damper`),
 then diagnoses each other record with the calibrated parameters (`damper diagnose --damper
 --params`): a record of the unchanged damper, and one each with the gas pre-charge changed, an
-adjuster (bleed area) changed, the oil heated by 30-50 K (with a temperature column) and the stroke
-reaching the bump rubbers, which the datasheet does not describe. Then it calibrates a campaign over
+adjuster (bleed area) changed, the oil heated by 30-50 K (with a temperature column), the stroke
+reaching the bump rubbers, which the datasheet does not describe, and the oil saturated with the
+reservoir's gas, which it lets out below the pre-charge. Then it calibrates a campaign over
 three settings of one bleed adjuster in one calibration (`--per-setting`, the records grouped by
 `--setting` as a test log book names them): the adjuster's value per setting, the rest shared.
 
@@ -18,7 +19,7 @@ Scoring (the truth files are read only here, never by `damper`):
   uncertainties (z);
 - unchanged: nothing named (verdict `none`);
 - a change: the verdict names the effect that carries it first (gas_charge, rebound_valve or
-  compression_valve, oil_temperature, end_stops), and its size parameter: its relative error and
+  compression_valve, oil_temperature, end_stops, gas_release), and its size parameter: its relative error and
   z against the truth, in the uncertainty the diagnosis reports with the calibration's carried in
   (`--calibration`) (for the heated oil the viscosity coefficient, which the truth did not
   change: the change's size is the measured temperature).
@@ -38,10 +39,10 @@ from typing import Any
 from damper_tools import DAMPER, REPO, doc_figures, dyno
 from damper_tools.verdicts import right
 
-SCENARIOS = ("unchanged", "gas", "valve", "heated", "end_stop")
+SCENARIOS = ("unchanged", "gas", "valve", "heated", "end_stop", "gas_release")
 # the effect that carries each change, and its size parameter (None: the change's parameter)
 EXPECTED = {"gas": ("gas_charge", "p_reservoir0"), "heated": ("oil_temperature", "visc_temp_coeff"),
-            "end_stop": ("end_stops", "k_end_stop")}
+            "end_stop": ("end_stops", "k_end_stop"), "gas_release": ("gas_release", "gas_solubility")}
 
 
 @dataclass
