@@ -424,7 +424,7 @@ QUOTES: dict[str, dict[str | tuple[str, ...], list[str]]] = {
         **{(f"{sc}_named", f"{sc}_cases", f"{sc}_within_10pct", f"{sc}_sized", f"{sc}_within_3sigma", f"{sc}_sized"): [
             rf"\| {label} \| {N} of {N} \| {N} of {N} \| {N} of {N} \|"]
            for sc, label in (("gas", "gas pre-charge"), ("valve", "valve adjuster"), ("heated", "oil heated"),
-                             ("end_stop", "end stop"))},
+                             ("end_stop", "end stop"), ("gas_release", "gas out of solution"))},
         ("settings_within_10pct", "settings_values", "settings_within_3sigma", "settings_values"): [
             rf"\| three settings in one calibration \(the adjuster's value per setting\) \| – \| {N} of {N} \| "
             rf"{N} of {N} \|"],
