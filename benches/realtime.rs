@@ -82,7 +82,7 @@ fn step(d: &mut Damper, input: (f64, f64)) -> f64 {
 /// [`step`], with the number of Rosenbrock steps the communication step took.
 fn step_counted(d: &mut Damper, (v, f): (f64, f64)) -> (f64, u32) {
     d.inputs.v_damper = v;
-    d.inputs.force_demand = f;
+    d.inputs.f_demand = f;
     let stats = d.do_step(H).expect("step");
     // what a master reading F_damper gets (the FMU's fmi2GetReal computes the load cell alone)
     (d.load_cell(), stats.substeps)

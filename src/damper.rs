@@ -8,7 +8,6 @@
 //! sample instants inside it split it. All state is plain `Copy` data.
 
 use crate::control::{Controller, Demands, Measurements};
-use crate::model_description::RealVar;
 use crate::physics::iteration_matrix::PlantIterationMatrix;
 use crate::physics::params::{Derived, ParameterError, Parameters};
 use crate::physics::plant::{idx, rest_current, Linearisation, Plant, PlantOutputs, State, N_STATES};
@@ -29,46 +28,21 @@ const ERROR_CONTROLLED: [(usize, f64); 5] =
     [(idx::P_A, 1e6), (idx::P_B, 1e6), (idx::V_GAS, 1e-4), (idx::X_SPOOL, 1e-3), (idx::X_DAMPER, 1e-3)];
 
 /// Inputs from the master, held over a communication step (the velocity along a ramp of slope
-/// `a_damper`). `Default`: all zero but the oil temperature, at the XML's start value.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Inputs {
-    /// Damper extension velocity (m/s) at the start of the communication step.
-    pub v_damper: f64,
-    /// Damper extension acceleration (m/s²): the velocity moves along v_damper + a_damper·(t − t_c)
-    /// over the step from t_c, as a sampled continuous motion does between its samples; 0 holds it.
-    pub a_damper: f64,
-    /// Demanded force (N), tension positive.
-    pub force_demand: f64,
-    /// Spool position demand (m) (control_mode 1).
-    pub x_spool_demand: f64,
-    /// Slopes of the two demands over the step (N/s, m/s), as `a_damper` is the velocity's: a
-    /// master's input derivatives (fmi2SetRealInputDerivatives); 0 holds them.
-    pub force_demand_rate: f64,
-    pub x_spool_demand_rate: f64,
-    /// Oil temperature (K), measured (`T_oil`): acts when `effect_oil_temperature` is on; held
-    /// over the step.
-    pub t_oil: f64,
-}
+/// `a_damper`): the struct generated from `modelDescription.xml`'s inputs, a field each.
+pub use crate::model_description::Inputs;
 
-impl Default for Inputs {
-    fn default() -> Self {
-        Inputs {
-            v_damper: 0.0,
-            a_damper: 0.0,
-            force_demand: 0.0,
-            x_spool_demand: 0.0,
-            force_demand_rate: 0.0,
-            x_spool_demand_rate: 0.0,
-            t_oil: T_OIL_START,
-        }
-    }
+/// The slopes of the two demands over a step (N/s, m/s), as `a_damper` is the velocity's: a
+/// master's input derivatives (fmi2SetRealInputDerivatives); 0 holds them.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct DemandRates {
+    /// d`F_demand`/dt (N/s).
+    pub f_demand: f64,
+    /// d`x_spool_demand`/dt (m/s).
+    pub x_spool_demand: f64,
 }
 
 /// The start value of the input `T_oil` (K).
-pub const T_OIL_START: f64 = match RealVar::TOil.start() {
-    Some(t) => t,
-    None => panic!("T_oil has a start value"),
-};
+pub const T_OIL_START: f64 = Inputs::START.t_oil;
 
 impl Inputs {
     /// The damper velocity (m/s) `elapsed` (s) along its ramp.
@@ -76,12 +50,12 @@ impl Inputs {
         self.v_damper + self.a_damper * elapsed
     }
 
-    /// The inputs `elapsed` (s) along their ramps.
-    pub fn moved(&self, elapsed: f64) -> Inputs {
+    /// The inputs `elapsed` (s) along their ramps, the demands' slopes `rates`.
+    pub fn moved(&self, rates: &DemandRates, elapsed: f64) -> Inputs {
         Inputs {
             v_damper: self.velocity_at(elapsed),
-            force_demand: self.force_demand + self.force_demand_rate * elapsed,
-            x_spool_demand: self.x_spool_demand + self.x_spool_demand_rate * elapsed,
+            f_demand: self.f_demand + rates.f_demand * elapsed,
+            x_spool_demand: self.x_spool_demand + rates.x_spool_demand * elapsed,
             ..*self
         }
     }
@@ -185,6 +159,8 @@ pub struct Damper {
     derived: Derived,
     pub state: DamperState,
     pub inputs: Inputs,
+    /// The demands' slopes over the present step.
+    pub rates: DemandRates,
     /// The plant's outputs at the present state, once a master has asked for one, with what they
     /// were computed from: a master reads several outputs after a step, and each would evaluate
     /// the plant again. Not computed by the step itself: a master that reads only the force
@@ -235,7 +211,8 @@ impl Damper {
 
     fn assemble(params: Parameters, derived: Derived, state: DamperState, inputs: Inputs) -> Self {
         let start = (PlantOutputs::default(), Linearisation::zeros());
-        Damper { params, derived, state, inputs, last: Cell::new(None), saved: state, start }
+        let rates = DemandRates::default();
+        Damper { params, derived, state, inputs, rates, last: Cell::new(None), saved: state, start }
     }
 
     pub fn params(&self) -> &Parameters {
@@ -373,12 +350,12 @@ impl Damper {
             stats.substeps += self.integrate(span, std::mem::take(&mut linearised))?;
             t = t_next;
             // the inputs at the new time: on their ramps from the step's start
-            self.inputs = start.moved(t - t_start);
+            self.inputs = start.moved(&self.rates, t - t_start);
             if t >= t_end - tol {
                 break;
             }
         }
-        self.inputs = start.moved(h);
+        self.inputs = start.moved(&self.rates, h);
         self.state.time = t_end;
         Ok(stats)
     }
@@ -476,7 +453,7 @@ impl Damper {
             x_spool: self.state.y[idx::X_SPOOL],
             v_damper: self.inputs.v_damper,
         };
-        let demands = Demands { force: self.inputs.force_demand, x_spool: self.inputs.x_spool_demand };
+        let demands = Demands { force: self.inputs.f_demand, x_spool: self.inputs.x_spool_demand };
         self.state.i_command = self.state.controller.sample(&self.params, &self.derived, m, demands);
         self.state.next_sample += 1;
         // after the sample, not before it: the controller's chain of dependent operations (the

@@ -1,9 +1,10 @@
 //! The damper's FMU state for the byte format of `fmi_slave::snapshot`: every field of the
-//! parameters (their generated layout), inputs and damper state is visited in a fixed order
+//! parameters and inputs (their generated layouts), the demands' rates and the damper state is
+//! visited in a fixed order
 //! (destructuring makes a new field of the others a compile error until it is visited here).
 
 use crate::control::{Controller, DelayLine, FilteredDerivative, ForceController, SpoolLoop};
-use crate::damper::{DamperState, Inputs};
+use crate::damper::{DamperState, DemandRates};
 use crate::model_description::{Causality, IntegerVar, RealVar};
 use crate::slave::SlaveState;
 use fmi_slave::snapshot::{all_finite, boolean, uint, uint64, Visit, Visitor};
@@ -12,13 +13,11 @@ use fmi_slave::{check_integer, check_real, Refusal};
 /// Tag of a serialised damper state.
 pub const MAGIC: &[u8; 8] = b"SADAMPER";
 
-impl Visit for Inputs {
+impl Visit for DemandRates {
     fn visit<V: Visitor>(&mut self, v: &mut V) {
-        let Inputs { v_damper, a_damper, force_demand, x_spool_demand, force_demand_rate, x_spool_demand_rate, t_oil } =
-            self;
-        for x in [v_damper, a_damper, force_demand, x_spool_demand, force_demand_rate, x_spool_demand_rate, t_oil] {
-            v.real(x);
-        }
+        let DemandRates { f_demand, x_spool_demand } = self;
+        v.real(f_demand);
+        v.real(x_spool_demand);
     }
 }
 

@@ -2,12 +2,12 @@
 //! generated enums, range checks from the XML's min/max, initialisation, stepping and state
 //! save/restore. `fmi_slave` adds the C boundary and the FMI state machines on top.
 
-use crate::damper::{BeyondStroke, Damper, DamperState, Inputs};
+use crate::damper::{BeyondStroke, Damper, DamperState, DemandRates, Inputs};
 use crate::fmu_state::{check_restored, MAGIC};
 use crate::model_description::{BooleanVar, IntegerVar, RealVar, CAN_INTERPOLATE_INPUTS, GUID};
 use crate::physics::params::Parameters;
 use crate::step_error::StepError;
-use crate::variables::{default_inputs, real_input, real_output};
+use crate::variables::real_output;
 use fmi_slave::snapshot::{self, Visit, Visitor};
 use fmi_slave::{Model, Refusal, ToleranceNote};
 
@@ -16,6 +16,7 @@ use fmi_slave::{Model, Refusal, ToleranceNote};
 pub struct SlaveState {
     pub params: Parameters,
     pub inputs: Inputs,
+    pub rates: DemandRates,
     /// `Some` once initialised.
     pub damper: Option<DamperState>,
 }
@@ -25,6 +26,8 @@ pub struct SlaveState {
 pub struct Slave {
     params: Parameters,
     inputs: Inputs,
+    /// The demands' slopes a master sent (fmi2SetRealInputDerivatives), held until it sends others.
+    rates: DemandRates,
     damper: Option<Damper>,
     /// Whether the master has set the parameter `rtol`: then the tolerance of
     /// `fmi2SetupExperiment` does not replace it, whichever call came first.
@@ -33,7 +36,13 @@ pub struct Slave {
 
 impl Default for Slave {
     fn default() -> Self {
-        Slave { params: Parameters::default(), inputs: default_inputs(), damper: None, rtol_set: false }
+        Slave {
+            params: Parameters::default(),
+            inputs: Inputs::START,
+            rates: DemandRates::default(),
+            damper: None,
+            rtol_set: false,
+        }
     }
 }
 
@@ -51,11 +60,11 @@ impl Slave {
 
     /// The value of input `v`, if it is one.
     fn input(&self, v: RealVar) -> Option<f64> {
-        real_input(&mut self.inputs.clone(), v).map(|x| *x)
+        self.inputs.real(v)
     }
 
     fn input_mut(&mut self, v: RealVar) -> Option<&mut f64> {
-        real_input(&mut self.inputs, v)
+        self.inputs.real_mut(v)
     }
 
     /// A master that sets `rtol` keeps it: the tolerance of the experiment does not replace it,
@@ -78,14 +87,14 @@ impl Model for Slave {
     // (initial values of the "calculated" outputs).
     fmi_slave::real_access!();
 
-    type Settable = (Parameters, Inputs, bool);
+    type Settable = (Parameters, Inputs, DemandRates, bool);
 
     fn settable(&self) -> Self::Settable {
-        (self.params, self.inputs, self.rtol_set)
+        (self.params, self.inputs, self.rates, self.rtol_set)
     }
 
-    fn restore_settable(&mut self, (params, inputs, rtol_set): Self::Settable) {
-        (self.params, self.inputs, self.rtol_set) = (params, inputs, rtol_set);
+    fn restore_settable(&mut self, (params, inputs, rates, rtol_set): Self::Settable) {
+        (self.params, self.inputs, self.rates, self.rtol_set) = (params, inputs, rates, rtol_set);
     }
 
     /// First derivatives of the inputs (the master's interpolation of a continuous signal): the
@@ -101,8 +110,8 @@ impl Model for Slave {
         }
         let rate = match v {
             RealVar::VDamper => &mut self.inputs.a_damper,
-            RealVar::FDemand => &mut self.inputs.force_demand_rate,
-            RealVar::XSpoolDemand => &mut self.inputs.x_spool_demand_rate,
+            RealVar::FDemand => &mut self.rates.f_demand,
+            RealVar::XSpoolDemand => &mut self.rates.x_spool_demand,
             _ => {
                 return Err(Refusal::NoDerivative {
                     name: v.name(),
@@ -161,7 +170,7 @@ impl Model for Slave {
 
     fn do_step(&mut self, h: f64) -> Result<Option<BeyondStroke>, StepError> {
         let damper = self.damper.as_mut().expect("do_step after initialisation");
-        damper.inputs = self.inputs;
+        (damper.inputs, damper.rates) = (self.inputs, self.rates);
         let was_beyond = damper.beyond_stroke().is_some();
         damper.do_step(h)?;
         // the inputs moved along their ramps (a_damper, the input derivatives): they are the
@@ -172,7 +181,12 @@ impl Model for Slave {
     }
 
     fn state(&self) -> SlaveState {
-        SlaveState { params: self.params, inputs: self.inputs, damper: self.damper.as_ref().map(|d| d.state) }
+        SlaveState {
+            params: self.params,
+            inputs: self.inputs,
+            rates: self.rates,
+            damper: self.damper.as_ref().map(|d| d.state),
+        }
     }
 
     fn set_state(&mut self, s: &SlaveState) -> Result<(), Refusal> {
@@ -180,8 +194,7 @@ impl Model for Slave {
             Some(state) => Some(Damper::from_state(s.params, s.inputs, state).map_err(Refusal::model)?),
             None => None,
         };
-        self.params = s.params;
-        self.inputs = s.inputs;
+        (self.params, self.inputs, self.rates) = (s.params, s.inputs, s.rates);
         Ok(())
     }
 
@@ -206,10 +219,11 @@ impl Visit for SlaveState {
     fn visit<V: Visitor>(&mut self, v: &mut V) {
         self.params.visit(v);
         self.inputs.visit(v);
+        self.rates.visit(v);
         let mut initialized = self.damper.is_some() as i64;
         v.int(&mut initialized);
         let mut state = self.damper.unwrap_or_else(|| {
-            Damper::new(Parameters::default(), default_inputs(), 0.0).expect("defaults are valid").state
+            Damper::new(Parameters::default(), Inputs::START, 0.0).expect("defaults are valid").state
         });
         state.visit(v);
         self.damper = (initialized != 0).then_some(state);

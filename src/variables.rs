@@ -1,35 +1,11 @@
-//! The binding between `modelDescription.xml`'s inputs and outputs and the model (the parameters
-//! are generated fields of `Parameters`). Every match below is exhaustive over the enums that
-//! `build.rs` generates from the XML, so an input or output added to the XML, or removed from it,
-//! is not served until it is mapped here (the tests check that every variable is).
+//! The binding between `modelDescription.xml`'s outputs and the model (the parameters and the
+//! inputs are generated fields of `Parameters` and `Inputs`). The match below is exhaustive over
+//! the enum that `build.rs` generates from the XML, so an output added to the XML, or removed from
+//! it, is not served until it is computed here (the tests check that every variable is mapped).
 
 use crate::damper::{Damper, Inputs};
 use crate::model_description::{Causality, RealVar};
 use crate::physics::plant::idx;
-
-/// The inputs with the start values of `modelDescription.xml`.
-pub fn default_inputs() -> Inputs {
-    let mut inputs = Inputs::default();
-    for v in RealVar::ALL {
-        if let (Some(field), Some(start)) = (real_input(&mut inputs, v), v.start()) {
-            *field = start;
-        }
-    }
-    inputs
-}
-
-/// The field of a Real input.
-pub fn real_input(inputs: &mut Inputs, v: RealVar) -> Option<&mut f64> {
-    match v {
-        RealVar::VDamper => Some(&mut inputs.v_damper),
-        RealVar::ADamper => Some(&mut inputs.a_damper),
-        RealVar::FDemand => Some(&mut inputs.force_demand),
-        RealVar::XSpoolDemand => Some(&mut inputs.x_spool_demand),
-        RealVar::TOil => Some(&mut inputs.t_oil),
-        _ if v.causality() == Causality::Input => unreachable!("input {} is not mapped", v.name()),
-        _ => None,
-    }
-}
 
 /// The value of a Real output of `d` with `inputs` applied: from the state, from the load cell
 /// alone ([`Damper::load_cell_with`]), or, for four of them, from the plant's evaluation, which
@@ -68,10 +44,11 @@ mod tests {
         let mut i = Inputs::default();
         for v in RealVar::ALL {
             let n = p.real_mut(v).is_some() as u8
-                + real_input(&mut i, v).is_some() as u8
+                + i.real_mut(v).is_some() as u8
                 + (v.causality() == Causality::Output) as u8;
             assert_eq!(n, 1, "{}", v.name());
             assert_eq!(p.real_mut(v).is_some(), v.causality() == Causality::Parameter);
+            assert_eq!(i.real_mut(v).is_some(), v.causality() == Causality::Input);
         }
     }
 

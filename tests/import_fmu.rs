@@ -11,7 +11,7 @@ use fmi::fmi2::instance::{CoSimulation, Common};
 use semi_active_damper::damper::{Damper, Inputs};
 use semi_active_damper::model_description::RealVar;
 use semi_active_damper::physics::params::Parameters;
-use semi_active_damper::variables::default_inputs;
+
 use std::io::Write;
 use std::path::PathBuf;
 use std::sync::OnceLock;
@@ -55,13 +55,13 @@ fn rust_fmi_importer_runs_the_fmu_like_the_model() {
     fmu.enter_initialization_mode().unwrap();
     fmu.exit_initialization_mode().unwrap();
 
-    let mut model = Damper::new(Parameters::default(), default_inputs(), 0.0).unwrap();
+    let mut model = Damper::new(Parameters::default(), Inputs::START, 0.0).unwrap();
     let (v_in, f_in, f_out) = (RealVar::VDamper.vr(), RealVar::FDemand.vr(), RealVar::FDamper.vr());
     let h = 1e-3;
     for k in 0..500 {
         let t = k as f64 * h;
-        let inputs = Inputs { v_damper: 0.3 * (12.0 * t).sin(), force_demand: 9e3 * (5.0 * t).cos(), ..model.inputs };
-        fmu.set_real(&[v_in, f_in], &[inputs.v_damper, inputs.force_demand]).unwrap();
+        let inputs = Inputs { v_damper: 0.3 * (12.0 * t).sin(), f_demand: 9e3 * (5.0 * t).cos(), ..model.inputs };
+        fmu.set_real(&[v_in, f_in], &[inputs.v_damper, inputs.f_demand]).unwrap();
         fmu.do_step(t, h, true).unwrap();
         model.inputs = inputs;
         model.do_step(h).unwrap();
@@ -85,7 +85,7 @@ fn the_force_feeds_through_from_the_velocity_with_friction_on() {
     fmu.setup_experiment(None, 0.0, None).unwrap();
     fmu.enter_initialization_mode().unwrap();
     fmu.exit_initialization_mode().unwrap();
-    let mut model = Damper::new(params, default_inputs(), 0.0).unwrap();
+    let mut model = Damper::new(params, Inputs::START, 0.0).unwrap();
     let (v_in, f_out) = (RealVar::VDamper.vr(), RealVar::FDamper.vr());
     let h = 1e-3;
     for k in 0..200 {

@@ -16,7 +16,7 @@ fn spool_controlled(x_spool: f64, v: f64, x0: f64) -> Damper {
     let p = Parameters { control_mode: 1, x_spool_start: x_spool, x_damper_start: x0, ..Default::default() };
     Damper::new(
         p,
-        Inputs { a_damper: 0.0, v_damper: v, force_demand: 0.0, x_spool_demand: x_spool, ..Default::default() },
+        Inputs { a_damper: 0.0, v_damper: v, f_demand: 0.0, x_spool_demand: x_spool, ..Default::default() },
         0.0,
     )
     .unwrap()
@@ -100,7 +100,7 @@ fn passive_damper_never_delivers_energy() {
                     lcg = lcg.wrapping_mul(6364136223846793005).wrapping_add(1);
                     let u = (lcg >> 11) as f64 / (1u64 << 53) as f64;
                     d.inputs.x_spool_demand = 4.5e-3 * u;
-                    d.inputs.force_demand = 30e3 * (u - 0.5);
+                    d.inputs.f_demand = 30e3 * (u - 0.5);
                 }
                 // mean-free over the window: integrate the velocity at the step midpoint
                 d.inputs.v_damper = cyclic_velocity(seed, t + 0.5 * H, period);
@@ -125,7 +125,7 @@ fn force_step_t90(direction: f64) -> f64 {
         Inputs {
             a_damper: 0.0,
             v_damper: 0.15 * direction,
-            force_demand: 2e3 * direction,
+            f_demand: 2e3 * direction,
             x_spool_demand: 0.0,
             ..Default::default()
         },
@@ -134,7 +134,7 @@ fn force_step_t90(direction: f64) -> f64 {
     .unwrap();
     run(&mut d, 0.3);
     let f0 = direction * d.outputs().plant.force;
-    d.inputs.force_demand = 12e3 * direction;
+    d.inputs.f_demand = 12e3 * direction;
     for k in 1..=150 {
         d.do_step(H).unwrap();
         if (direction * d.outputs().plant.force - f0) / (12e3 - f0) >= 0.9 {
@@ -200,7 +200,7 @@ fn tared_load_cell_reads_zero_at_rest_and_the_demand_in_motion() {
     let gas_force = rest.force;
     assert!((gas_force + rest.p_reservoir * p.derive().cylinder.a_rod).abs() < 1e-6, "raw force at rest {gas_force}");
     // extension at 0.15 m/s with a 5 kN demand: the tared reading settles at the demand
-    d.inputs = Inputs { a_damper: 0.0, v_damper: 0.15, force_demand: 5e3, x_spool_demand: 0.0, ..Default::default() };
+    d.inputs = Inputs { a_damper: 0.0, v_damper: 0.15, f_demand: 5e3, x_spool_demand: 0.0, ..Default::default() };
     run(&mut d, 0.4);
     let o = d.outputs();
     assert!((o.load_cell - 5e3).abs() < 0.03 * 5e3, "tared force {}", o.load_cell);
@@ -214,7 +214,7 @@ fn steady_extension(setup: impl FnOnce(&mut Parameters)) -> semi_active_damper::
     setup(&mut p);
     let mut d = Damper::new(
         p,
-        Inputs { a_damper: 0.0, v_damper: 0.15, force_demand: 0.0, x_spool_demand: 1.2e-3, ..Default::default() },
+        Inputs { a_damper: 0.0, v_damper: 0.15, f_demand: 0.0, x_spool_demand: 1.2e-3, ..Default::default() },
         0.0,
     )
     .unwrap();
@@ -249,13 +249,13 @@ fn effect_switches_change_what_they_name() {
         let p = Parameters { effect_compressibility: air, x_damper_start: -0.045, ..Default::default() };
         let mut d = Damper::new(
             p,
-            Inputs { a_damper: 0.0, v_damper: 0.15, force_demand: 2e3, x_spool_demand: 0.0, ..Default::default() },
+            Inputs { a_damper: 0.0, v_damper: 0.15, f_demand: 2e3, x_spool_demand: 0.0, ..Default::default() },
             0.0,
         )
         .unwrap();
         run(&mut d, 0.3);
         let f0 = d.outputs().plant.force;
-        d.inputs.force_demand = 12e3;
+        d.inputs.f_demand = 12e3;
         (1..=150).find(|_| {
             d.do_step(H).unwrap();
             (d.outputs().plant.force - f0) / (12e3 - f0) >= 0.9
@@ -270,7 +270,7 @@ fn amplifier_delay_switch_removes_the_dead_time() {
         let p = Parameters { control_mode: 1, effect_amplifier_delay: delay, ..Default::default() };
         let mut d = Damper::new(
             p,
-            Inputs { a_damper: 0.0, v_damper: 0.15, force_demand: 0.0, x_spool_demand: 2.5e-3, ..Default::default() },
+            Inputs { a_damper: 0.0, v_damper: 0.15, f_demand: 0.0, x_spool_demand: 2.5e-3, ..Default::default() },
             0.0,
         )
         .unwrap();

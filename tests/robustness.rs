@@ -124,7 +124,7 @@ fn finding2_damper_refuses_corrupted_states() {
 
 #[test]
 fn finding2_accepted_integration_steps_are_bounded_and_floored() {
-    let inputs = Inputs { v_damper: 0.3, force_demand: 5e3, ..Default::default() };
+    let inputs = Inputs { v_damper: 0.3, f_demand: 5e3, ..Default::default() };
     // a step proposal below the floor used to loop over accepted steps without end
     let p = Parameters { h_max: 1e-158, ..Parameters::default() };
     let mut d = Damper::new(p, inputs, 0.0).unwrap();
@@ -222,7 +222,7 @@ fn finding8_dp_relief_at_its_minimum_is_not_stiff() {
     assert_eq!(f.set(RealVar::DpRelief, 1.0), ERROR, "below the narrowed range");
     let substeps = |dp_relief: f64, v: f64| {
         let p = Parameters { dp_relief, ..Parameters::default() };
-        let mut d = Damper::new(p, Inputs { v_damper: v, force_demand: 1e5 * v, ..Default::default() }, 0.0).unwrap();
+        let mut d = Damper::new(p, Inputs { v_damper: v, f_demand: 1e5 * v, ..Default::default() }, 0.0).unwrap();
         (0..100).map(|_| d.do_step(0.01).unwrap().substeps).sum::<u32>()
     };
     let min = RealVar::DpRelief.min().unwrap();

@@ -259,7 +259,7 @@ impl FmuModel {
 
     /// Sets `i`, the inputs at sample `k` (which the error names).
     fn set(&self, fmu: &mut InstanceCS, drive: &Drive, i: Inputs, k: usize) -> Result<(), Error> {
-        let values = [i.v_damper, i.a_damper, i.force_demand, i.x_spool_demand, i.t_oil];
+        let values = [i.v_damper, i.a_damper, i.f_demand, i.x_spool_demand, i.t_oil];
         fmu.set_real(&self.inputs, &values).map(|_| ()).map_err(|source| {
             let named: Vec<String> = INPUTS.iter().zip(values).map(|(name, x)| format!("{name} {x}")).collect();
             Error::FmuRefusedInputs { path: self.path.clone(), t: drive.time[k], inputs: named.join(", "), source }

@@ -725,7 +725,7 @@ fn hil_run(
         let f_dem = (probe.f_demand * 10.0).round() / 10.0;
         let v_in = if o.errors_in_variables { v_rel } else { v_measured };
         let inputs =
-            Inputs { v_damper: v_in, a_damper: 0.0, force_demand: f_dem, x_spool_demand: 0.0, ..Default::default() };
+            Inputs { v_damper: v_in, a_damper: 0.0, f_demand: f_dem, x_spool_demand: 0.0, ..Default::default() };
         let d = match damper.as_mut() {
             None => damper.insert(Damper::new(*p, inputs, t[0]).map_err(Error::TruthParameters)?),
             Some(d) => {

@@ -96,13 +96,13 @@ impl Drive {
 
     /// The inputs of sample `k` (the FMU runner sets the same values), the velocity held.
     pub(crate) fn inputs(&self, k: usize) -> Inputs {
-        let (force_demand, x_spool_demand) = match &self.demand {
+        let (f_demand, x_spool_demand) = match &self.demand {
             Demand::Force(f) => (f[k], 0.0),
             Demand::SpoolPosition(x) => (0.0, x[k]),
             Demand::Held => (0.0, 0.0),
         };
         let t_oil = self.t_oil.as_ref().map_or(Inputs::default().t_oil, |t| t[k]);
-        Inputs { v_damper: self.v_damper[k], a_damper: 0.0, force_demand, x_spool_demand, t_oil, ..Default::default() }
+        Inputs { v_damper: self.v_damper[k], a_damper: 0.0, f_demand, x_spool_demand, t_oil }
     }
 
     /// The inputs over substep `j` of `m` equal substeps of the interval from sample `k` to

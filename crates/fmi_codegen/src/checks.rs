@@ -39,6 +39,10 @@ fn check_causality(v: &Var) {
             if v.start.is_none() {
                 fail(v.line, format!("{}: {} needs a start value", v.name, v.causality));
             }
+            // the generated `Inputs` holds Reals (the models' inputs are signals)
+            if v.causality == "input" && v.ty != "Real" {
+                fail(v.line, format!("{}: inputs are Real here", v.name));
+            }
         }
         ("output", "continuous" | "discrete") => {
             if v.initial.as_deref() != Some("calculated") || v.start.is_some() {

@@ -1,5 +1,6 @@
 //! The generated Rust: the GUID and model identifier, one enum per FMI type with every variable's
-//! attributes, and the `Parameters` struct with one field per parameter and its accessors.
+//! attributes, and the `Parameters` struct with one field per parameter and its accessors (the
+//! `Inputs` struct: [`crate::inputs`]).
 
 use crate::parse::{ModelDescription, Var};
 use crate::{camel, field};
@@ -30,11 +31,12 @@ pub fn emit(md: &ModelDescription) -> String {
         enum_of(&mut out, ty, rust_ty, enum_name, &vs);
     }
     parameters(&mut out, &md.vars);
+    crate::inputs::emit(&mut out, &md.vars);
     out
 }
 
 /// A value of type `ty` as a Rust literal.
-fn literal(ty: &str, x: &str) -> String {
+pub(crate) fn literal(ty: &str, x: &str) -> String {
     match ty {
         "Boolean" => (x == "true" || x == "1").to_string(),
         "Real" => format!("{:?}f64", x.parse::<f64>().expect("checked")),
@@ -97,7 +99,7 @@ fn enum_of(out: &mut String, ty: &str, rust_ty: &str, enum_name: &str, vs: &[&Va
 
 /// A description as doc-comment text: brackets and angle brackets escaped, so that rustdoc reads
 /// neither intra-doc links (`[A]`, the source tags) nor HTML tags.
-fn doc_text(s: &str) -> String {
+pub(crate) fn doc_text(s: &str) -> String {
     s.replace('\\', "\\\\").replace('[', "\\[").replace(']', "\\]").replace('<', "&lt;").replace('>', "&gt;")
 }
 

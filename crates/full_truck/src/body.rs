@@ -47,15 +47,10 @@ pub const MODE_IDEAL: i32 = 1;
 pub const MODE_PASSIVE: i32 = 2;
 pub const MODE_TRACKING: i32 = 3;
 
-/// Inputs, per corner, held over a communication step.
-#[derive(Clone, Copy, Debug, Default)]
-pub struct Inputs {
-    /// Road height (m) and its rate (m/s) under each tyre.
-    pub z_road: [f64; CORNERS],
-    pub v_road: [f64; CORNERS],
-    /// Each damper's force, tension positive (N).
-    pub f_damper: [f64; CORNERS],
-}
+/// Inputs, held over a communication step: the struct generated from `modelDescription.xml`'s
+/// inputs, an array per name over the six corners (road height `z_road` and its rate `v_road`
+/// under each tyre, each damper's force `f_damper`, tension positive).
+pub use crate::model_description::Inputs;
 
 /// The side of corner `k`: +1 left, −1 right.
 pub fn side(k: usize) -> f64 {

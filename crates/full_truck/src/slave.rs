@@ -8,7 +8,7 @@ use crate::body::{At, Evaluation, Inputs, Params, State, CORNERS, MODE_TRACKING}
 use crate::fmu_state::MAGIC;
 use crate::limits::MAX_SUBSTEPS;
 use crate::model_description::{BooleanVar, IntegerVar, RealVar, CAN_INTERPOLATE_INPUTS, GUID};
-use crate::variables::{real_input, real_output};
+use crate::variables::real_output;
 use fmi_slave::snapshot;
 use fmi_slave::{check_integer, check_real, Model, Refusal, ToleranceNote};
 use suspension::tracking::DemandHistory;

@@ -1,10 +1,10 @@
-//! The binding between `modelDescription.xml`'s inputs and outputs and the truck (the parameters are
-//! generated fields of `Params`). A corner's variables have value references 100·(k + 1) + j, k
+//! The binding between `modelDescription.xml`'s outputs and the truck (the parameters and the inputs
+//! are generated fields of `Params` and `Inputs`). A corner's variables have value references 100·(k + 1) + j, k
 //! the corner (0 front left … 5 second drive axle right) and j the quantity ([`CornerQuantity`]),
 //! so one table serves all six; the body's outputs are matched by name. The test checks that every
 //! variable is mapped once and that each corner's names and value references agree.
 
-use crate::body::{Evaluation, Inputs, Params, State, CORNERS, DOF};
+use crate::body::{Evaluation, Params, State, CORNERS, DOF};
 use crate::model_description::RealVar;
 
 /// What a corner's variable is, by the last two digits of its value reference.
@@ -48,15 +48,6 @@ pub fn corner_of(v: RealVar) -> Option<(usize, CornerQuantity)> {
     let k = (vr / 100).checked_sub(1)? as usize;
     let quantity = CornerQuantity::ALL.iter().find(|q| q.0 == vr % 100)?.1;
     (k < CORNERS).then_some((k, quantity))
-}
-
-pub fn real_input(u: &mut Inputs, v: RealVar) -> Option<&mut f64> {
-    match corner_of(v)? {
-        (k, CornerQuantity::ZRoad) => Some(&mut u.z_road[k]),
-        (k, CornerQuantity::VRoad) => Some(&mut u.v_road[k]),
-        (k, CornerQuantity::FDamper) => Some(&mut u.f_damper[k]),
-        _ => None,
-    }
 }
 
 /// Value of an output at state `y` with evaluation `e`.
@@ -109,6 +100,7 @@ impl Params {
 mod tests {
     use super::*;
     use crate::body::At;
+    use crate::model_description::Inputs;
     use suspension::tracking::DemandHistory;
 
     #[test]
@@ -120,7 +112,7 @@ mod tests {
         let p0 = p;
         for v in RealVar::ALL {
             let n = p.real_mut(v).is_some() as u8
-                + real_input(&mut u, v).is_some() as u8
+                + u.real_mut(v).is_some() as u8
                 + real_output(&p0, &y, &e, v).is_some() as u8;
             assert_eq!(n, 1, "{}", v.name());
             if let Some((k, q)) = corner_of(v) {

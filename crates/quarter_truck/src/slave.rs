@@ -10,7 +10,7 @@ use crate::model_description::{BooleanVar, IntegerVar, RealVar, CAN_INTERPOLATE_
 use crate::road_source::RoadSource;
 use crate::tracking::DemandHistory;
 use crate::truck::{At, Evaluation, Inputs, Params, State, MODE_TRACKING};
-use crate::variables::{real_input, real_output};
+use crate::variables::real_output;
 use fmi_slave::snapshot;
 use fmi_slave::{check_integer, check_real, Model, Refusal, ToleranceNote};
 

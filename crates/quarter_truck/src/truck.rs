@@ -19,16 +19,9 @@ use suspension::tracking::{DemandHistory, Tracking, COMPRESSION, EXTENSION};
 /// parameter (its name in lower case); `Default` gives the XML's start values.
 pub use crate::model_description::Parameters as Params;
 
-/// Inputs, held over a communication step.
-#[derive(Clone, Copy, Debug, Default)]
-pub struct Inputs {
-    /// Road height (m).
-    pub z_road: f64,
-    /// Road height rate (m/s).
-    pub v_road: f64,
-    /// Damper force, tension positive (N).
-    pub f_damper: f64,
-}
+/// Inputs, held over a communication step: the struct generated from `modelDescription.xml`'s
+/// inputs (road height `z_road`, its rate `v_road`, the damper force `f_damper`).
+pub use crate::model_description::Inputs;
 
 /// States [z_body, v_body, z_axle, v_axle, f_extension, f_compression] (m, m/s, m, m/s, N, N): the
 /// last two are the tracking damper's lag states (0 in the other modes).

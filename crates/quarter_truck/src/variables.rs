@@ -1,20 +1,11 @@
-//! The binding between `modelDescription.xml`'s inputs and outputs and the truck (the parameters are
-//! generated fields of `Params`). Every match below is exhaustive over the enums that `build.rs`
+//! The binding between `modelDescription.xml`'s outputs and the truck (the parameters and the inputs
+//! are generated fields of `Params` and `Inputs`). The match below is over the enum that `build.rs`
 //! generates from the XML; the test checks that every variable is mapped once.
 
 use crate::model_description::RealVar;
 #[cfg(test)]
 use crate::truck::At;
-use crate::truck::{Evaluation, Inputs, Params, State};
-
-pub fn real_input(u: &mut Inputs, v: RealVar) -> Option<&mut f64> {
-    match v {
-        RealVar::ZRoad => Some(&mut u.z_road),
-        RealVar::VRoad => Some(&mut u.v_road),
-        RealVar::FDamper => Some(&mut u.f_damper),
-        _ => None,
-    }
-}
+use crate::truck::{Evaluation, Params, State};
 
 /// Value of an output at state `y` with evaluation `e`.
 pub fn real_output(y: &State, e: &Evaluation, v: RealVar) -> Option<f64> {
@@ -44,6 +35,7 @@ impl Params {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::model_description::Inputs;
 
     #[test]
     fn every_real_variable_is_mapped_once() {
@@ -52,9 +44,8 @@ mod tests {
         let past = crate::tracking::DemandHistory::default();
         let e = p.evaluate(&u, &y, At { step_start: 0.0, since_step: 0.0, past: &past });
         for v in RealVar::ALL {
-            let n = p.real_mut(v).is_some() as u8
-                + real_input(&mut u, v).is_some() as u8
-                + real_output(&y, &e, v).is_some() as u8;
+            let n =
+                p.real_mut(v).is_some() as u8 + u.real_mut(v).is_some() as u8 + real_output(&y, &e, v).is_some() as u8;
             assert_eq!(n, 1, "{}", v.name());
         }
         assert_eq!(Params::default().m_body, 4450.0);

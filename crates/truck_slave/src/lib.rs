@@ -10,7 +10,8 @@
 //!
 //! The invoking module has in scope: the generated `RealVar`, `IntegerVar`, `BooleanVar`,
 //! `Causality`, `GUID`, `CAN_INTERPOLATE_INPUTS`; the truck's `Params`, `Inputs`, `State`,
-//! `Evaluation`, `At`, `MODE_TRACKING`; `MAX_SUBSTEPS`, `MAGIC`, `DemandHistory`, `real_input`; and
+//! `Evaluation`, `At`, `MODE_TRACKING`; `MAX_SUBSTEPS`, `MAGIC`, `DemandHistory` (`Inputs` is the
+//! generated struct of the crate's inputs); and
 //! from `fmi_slave`: `Model`, `Refusal`, `ToleranceNote`, `check_real`, `check_integer`,
 //! `snapshot`. It implements on `Slave` what differs between the trucks:
 //!
@@ -61,11 +62,11 @@ macro_rules! truck_slave {
             }
 
             fn input(&self, v: RealVar) -> Option<f64> {
-                real_input(&mut self.inputs.clone(), v).map(|x| *x)
+                self.inputs.real(v)
             }
 
             fn input_mut(&mut self, v: RealVar) -> Option<&mut f64> {
-                real_input(&mut self.inputs, v)
+                self.inputs.real_mut(v)
             }
 
             /// Setting a Real means nothing beyond its value.
@@ -74,13 +75,12 @@ macro_rules! truck_slave {
             /// Checks that a restored state is one this FMU could have made: every parameter in
             /// its XML range (and, once initialised, stable), every number finite.
             fn check_restored(&self) -> Result<(), Refusal> {
-                let (mut p, mut u) = (self.params, self.inputs);
                 for v in RealVar::ALL {
-                    if let Some(x) = p.real_mut(v) {
-                        check_real(v.name(), *x, v.min(), v.max())?;
+                    if let Some(x) = self.params.real(v) {
+                        check_real(v.name(), x, v.min(), v.max())?;
                     }
-                    if let Some(x) = real_input(&mut u, v) {
-                        check_real(v.name(), *x, None, None)?;
+                    if let Some(x) = self.inputs.real(v) {
+                        check_real(v.name(), x, None, None)?;
                     }
                 }
                 for v in IntegerVar::ALL {
@@ -99,6 +99,16 @@ macro_rules! truck_slave {
                 }
                 Ok(())
             }
+        }
+
+        /// The FMU state's layout of one demand history (both trucks': [`fmu_state`](crate::fmu_state)).
+        pub(crate) fn visit_history<V: snapshot::Visitor>(history: &mut DemandHistory, v: &mut V) {
+            let DemandHistory { time, demand, newest, len } = history;
+            for x in time.iter_mut().chain(demand.iter_mut()) {
+                v.real(x);
+            }
+            snapshot::uint(v, newest);
+            snapshot::uint(v, len);
         }
 
         impl Model for Slave {
