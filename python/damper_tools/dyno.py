@@ -2,6 +2,7 @@
 
     .venv/bin/python -m damper_tools.dyno --size car --seed 3 --scenario calibration --out out/dyno/car_3
     .venv/bin/python -m damper_tools.dyno --fv out/dyno/fv_presets.png     # the presets' F-v curves
+    .venv/bin/python -m damper_tools.dyno --gas-release docs/figures/gas_release.png
 
 The diagnosis (`damper`, Rust) models a passive damper with the circuit of docs/physics.md §2 and the
 passive valves of §3.8. The records here are made by a second implementation of that physics, written
@@ -1020,6 +1021,40 @@ def plot_fv(path: str | Path, seed: int = 1) -> Path:
     return path
 
 
+def plot_gas_release(path: str | Path, size: str = "car", seed: int = 1) -> Path:
+    """The gas_release scenario's truth (quick program) against the same damper without gas release,
+    over 1.5 s of its random part: the force in time and against the stroke, and the full bore's
+    pressure with the saturation pressure. The lost motion sits at the turns into compression."""
+    plt = pyplot()
+
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    plan = plans(size, seed, "gas_release", quick=True)[0]
+    with_gas = simulate(plan.params, plan.motion)
+    without = simulate({k: v for k, v in plan.params.items() if k not in ("gas_solubility", "p_saturation")},
+                       plan.motion)
+    t = with_gas["time"]
+    sel = (t > 5.0) & (t < 6.5)
+    runs = (("no gas release", without), (f"gas release, solubility {plan.params['gas_solubility']:.3f}", with_gas))
+    fig, (ax_t, ax_x, ax_p) = plt.subplots(1, 3, figsize=(15, 4.5))
+    for label, run in runs:
+        ax_t.plot(t[sel], run["F"][sel], label=label)
+        ax_x.plot(run["x"][sel] * 1e3, run["F"][sel], label=label)
+        ax_p.plot(t[sel], run["p_B"][sel] / 1e5, label=label)
+    ax_p.axhline(plan.params["p_saturation"] / 1e5, color="k", ls=":", label="p_saturation (the pre-charge)")
+    for ax, x_label, y_label in ((ax_t, "time (s)", "F (N, tension +)"), (ax_x, "stroke (mm)", "F (N, tension +)"),
+                                 (ax_p, "time (s)", "full-bore pressure p_B (bar, gauge)")):
+        ax.set_xlabel(x_label)
+        ax.set_ylabel(y_label)
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=8)
+    fig.suptitle(f"{size} damper, seed {seed}: oil saturated at the pre-charge (damper_tools.dyno's own model)")
+    fig.tight_layout()
+    fig.savefig(path, dpi=100)
+    plt.close(fig)
+    return path
+
+
 def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--size", choices=SIZES)
@@ -1028,7 +1063,13 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--out", type=Path, help="directory for the records, truth JSONs and datasheet TOML")
     parser.add_argument("--quick", action="store_true", help="short programs (a few seconds a record)")
     parser.add_argument("--fv", type=Path, help="print the presets' steady F-v table and plot it to this PNG")
+    parser.add_argument("--gas-release", type=Path, help="plot the gas_release scenario's truth against the "
+                        "damper without it to this PNG (docs/figures/gas_release.png)")
     args = parser.parse_args(argv)
+    if args.gas_release:
+        print(f"wrote {plot_gas_release(args.gas_release, args.size or 'car', args.seed)}")
+        if not (args.size and args.out):
+            return
     if args.fv:
         table = fv_table(args.seed)
         print("v (m/s): " + "  ".join(f"{v:>7g}" for v in FV_VELOCITIES))
