@@ -85,6 +85,7 @@ P_ABS_FLOOR = 0.02 * P_ATM  # Pa: the bulk modulus's absolute pressure is frozen
 ROUNDING = 0.1  # the blow-off's rounded ramp (§3.8)
 RELEASE_BAND = 1e4  # Pa: gas starts to come out of solution over +/- this around saturation (§3.2)
 SOLUBILITY = (0.02, 0.09)  # the gas_release scenario's Bunsen coefficient, drawn log-uniformly
+RELEASE_PARAMETERS = ("gas_solubility", "p_saturation")  # what the gas_release scenario adds
 SIZES = ("small", "car", "truck")
 # (new scenarios go last: a scenario's random streams are keyed by its place here)
 SCENARIOS = ("calibration", "unchanged", "gas", "valve", "heated", "end_stop", "settings", "gas_release")
@@ -845,6 +846,11 @@ def plans(size: str, seed: int, scenario: str, quick: bool = False) -> list[Plan
     return out
 
 
+def without_gas_release(params: dict[str, float]) -> dict[str, float]:
+    """The damper `params` with its oil holding its gas (the gas_release scenario's parameters out)."""
+    return {k: v for k, v in params.items() if k not in RELEASE_PARAMETERS}
+
+
 def fmu_settings(params: dict[str, float]) -> dict[str, Value]:
     """How to reproduce the truth `params` with SemiActiveDamper.fmu (physics.md §4.6, §8): the valve
     held shut without leakage, no relief valve (area 0), the passive valves and the load-path effects
@@ -1031,8 +1037,7 @@ def plot_gas_release(path: str | Path, size: str = "car", seed: int = 1) -> Path
     path.parent.mkdir(parents=True, exist_ok=True)
     plan = plans(size, seed, "gas_release", quick=True)[0]
     with_gas = simulate(plan.params, plan.motion)
-    without = simulate({k: v for k, v in plan.params.items() if k not in ("gas_solubility", "p_saturation")},
-                       plan.motion)
+    without = simulate(without_gas_release(plan.params), plan.motion)
     t = with_gas["time"]
     sel = (t > 5.0) & (t < 6.5)
     runs = (("no gas release", without), (f"gas release, solubility {plan.params['gas_solubility']:.3f}", with_gas))

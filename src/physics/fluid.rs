@@ -69,6 +69,26 @@ pub fn effective_bulk_modulus_and_slope(p: f64, oil: &Oil) -> (f64, f64) {
     }
 }
 
+/// Absolute pressure (Pa) below which the gas law is frozen (cavitation region), so that β_e stays
+/// positive: 2 % of an atmosphere.
+const FROZEN_BELOW: f64 = 0.02 * P_ATM;
+
+/// Gauge pressure `p` as the gas laws take it: absolute, floored at [`FROZEN_BELOW`] (`frozen`
+/// below it, where the slope is 0), its reciprocal, and the air's volume ratio r there.
+struct Absolute {
+    frozen: bool,
+    p_abs: f64,
+    per_p_abs: f64,
+    r: f64,
+}
+
+#[inline(always)]
+fn absolute(p: f64, oil: &Oil) -> Absolute {
+    let p_abs = (p + P_ATM).max(FROZEN_BELOW);
+    // the reciprocal while the table reads r: the rest then multiplies
+    Absolute { frozen: p + P_ATM < FROZEN_BELOW, p_abs, per_p_abs: 1.0 / p_abs, r: oil.volume_ratio.of(p_abs) }
+}
+
 /// The bulk modulus (Pa) and its slope (-) of oil with entrained air alone.
 #[inline]
 fn entrained_air_modulus_and_slope(p: f64, oil: &Oil) -> (f64, f64) {
@@ -76,11 +96,7 @@ fn entrained_air_modulus_and_slope(p: f64, oil: &Oil) -> (f64, f64) {
     if air_fraction == 0.0 {
         return (beta_oil, 0.0);
     }
-    let frozen = p + P_ATM < 0.02 * P_ATM;
-    let p_abs = (p + P_ATM).max(0.02 * P_ATM);
-    // the reciprocal while the table reads r: the rest then multiplies
-    let per_p_abs = 1.0 / p_abs;
-    let r = oil.volume_ratio.of(p_abs);
+    let Absolute { frozen, per_p_abs, r, .. } = absolute(p, oil);
     let num = 1.0 + air_fraction * r;
     // α₀ r/(n p_abs), the air's compliance
     let air = oil.air_per_index * r * per_p_abs;
@@ -146,10 +162,7 @@ impl GasRelease {
 /// α = α₀ + α_rel(p), plus the compliance of the gas released per pressure drop, (−dα_rel/dp)·r.
 #[inline]
 fn released_gas_modulus_and_slope(p: f64, oil: &Oil, release: &GasRelease) -> (f64, f64) {
-    let frozen = p + P_ATM < 0.02 * P_ATM;
-    let p_abs = (p + P_ATM).max(0.02 * P_ATM);
-    let per_p_abs = 1.0 / p_abs;
-    let r = oil.volume_ratio.of(p_abs);
+    let Absolute { frozen, p_abs, per_p_abs, r } = absolute(p, oil);
     let (released, rate, rate_slope) = release.released(p_abs);
     let alpha = oil.air_fraction + released;
     let num = 1.0 + alpha * r;

@@ -197,8 +197,7 @@ def test_the_fmu_releases_gas_as_the_independent_model_does(fmu):
     plan = dyno.plans("car", 1, "gas_release", quick=True)[0]
     motion = plan.motion
     truth = dyno.simulate(plan.params, motion)
-    without = dyno.simulate({k: v for k, v in plan.params.items() if k not in ("gas_solubility", "p_saturation")},
-                            motion)
+    without = dyno.simulate(dyno.without_gas_release(plan.params), motion)
     slave = Slave(FmuUnit.load(fmu), "dyno")
     try:
         slave.initialize(0.0, motion.duration, **{k: v for k, v in plan.params.items()},

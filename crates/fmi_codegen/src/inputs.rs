@@ -72,7 +72,7 @@ pub fn emit(out: &mut String, vars: &[Var]) {
     let _ = writeln!(out, "    pub const START: Inputs = Inputs {{");
     for f in &fields {
         let starts: Vec<String> =
-            f.elements.iter().map(|e| literal("Real", e.start.as_deref().unwrap_or("0"))).collect();
+            f.elements.iter().map(|e| literal("Real", e.start.as_deref().expect("checked"))).collect();
         let value = if f.array { format!("[{}]", starts.join(", ")) } else { starts.join("") };
         let _ = writeln!(out, "        {}: {value},", f.name);
     }
