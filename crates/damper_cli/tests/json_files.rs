@@ -1,10 +1,10 @@
 //! The JSON files the command line writes: summary.json of `damper compare` and `damper diagnose`
-//! valid against docs/summary.schema.json and read back into the typed structs unchanged, and the
-//! truth file of `damper generate`.
+//! read back into the typed structs unchanged (tests/python/test_summary_schema.py checks them
+//! against docs/summary.schema.json), and the truth file of `damper generate`.
 
 use crate::common;
 
-use common::{checked_summary, schema_errors, scratch, validator};
+use common::{checked_summary, scratch};
 use damper_engine::generate::{Truth, TruthInputs};
 use damper_engine::summary::to_json;
 use serde_json::Value;
@@ -16,23 +16,22 @@ fn damper(args: &[&str]) {
 }
 
 #[test]
-fn compare_and_diagnose_summaries_follow_the_schema() {
+fn compare_and_diagnose_summaries_read_back_into_the_typed_structs() {
     let dir = scratch("json_summaries");
     let (csv, truth) = (dir.join("m.csv"), dir.join("m.json"));
     let (csv_s, truth_s) = (csv.to_str().unwrap(), truth.to_str().unwrap());
     damper(&["generate", "--out", csv_s, "--truth", truth_s, "--effect", "seal_friction", "--duration", "5"]);
-    let v = validator();
 
     let out = dir.join("compare");
     damper(&["compare", csv_s, "--out", out.to_str().unwrap(), "--load-cell-lowpass", "400"]);
-    let c = checked_summary(&v, &out);
+    let c = checked_summary(&out);
     assert!(c.verdict.is_none() && c.best_effect.is_none() && c.candidates.is_none() && c.diagnosis.is_none());
     assert_eq!(c.signals.keys().next().map(String::as_str), Some("F_damper"));
     assert!(!c.regimes.is_empty() && !c.worst_windows.is_empty() && c.nrmse_baseline > 0.0);
 
     let out = dir.join("diagnose");
     damper(&["diagnose", csv_s, "--out", out.to_str().unwrap(), "--load-cell-lowpass", "400"]);
-    let d = checked_summary(&v, &out);
+    let d = checked_summary(&out);
     assert_eq!(d.verdict, Some(damper_engine::verdict::Verdict::Effect));
     assert_eq!(d.best_effect.as_deref(), Some("seal_friction"));
     let diagnosis = d.diagnosis.as_ref().expect("diagnose writes the diagnosis");
@@ -43,17 +42,6 @@ fn compare_and_diagnose_summaries_follow_the_schema() {
     let tried = damper_engine::candidate::candidates(&Default::default(), false).count();
     assert_eq!(d.candidates.as_ref().map(Vec::len), Some(tried));
 
-    // the schema tells the two apart and knows every key
-    let compare_value: Value = serde_json::to_value(&c).unwrap();
-    let mut with_diagnosis = compare_value.clone();
-    with_diagnosis["explanation"] = "compare explains nothing".into();
-    assert!(!schema_errors(&v, &with_diagnosis).is_empty(), "compare's summary with a diagnosis key");
-    let mut diagnose_value = serde_json::to_value(&d).unwrap();
-    diagnose_value.as_object_mut().unwrap().remove("ladder");
-    assert!(!schema_errors(&v, &diagnose_value).is_empty(), "diagnose's summary without the ladder");
-    let mut unknown = compare_value;
-    unknown["whiteness"]["colour"] = "pink".into();
-    assert!(!schema_errors(&v, &unknown).is_empty(), "an unknown key");
     let _ = std::fs::remove_dir_all(&dir);
 }
 
