@@ -8,7 +8,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-bash scripts/setup.sh
+bash scripts/setup.sh --importer
 # Builds the three FMUs' libraries only (no libclang), for Linux and Windows, and packs the damper's.
 echo "+ python3 scripts/package_fmu.py"
 python3 scripts/package_fmu.py

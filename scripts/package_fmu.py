@@ -149,6 +149,19 @@ def platforms_arg(text, program, product="the FMU gets"):
 FMU_CRATES = ("semi_active_damper", "quarter_truck", "full_truck")
 
 
+def selection(packages, triple, fmi_version):
+    """cargo's package selection for `packages`: the whole workspace for the FMUs on the host (FMI
+    2.0, into target/release). A crate that is both a cdylib and an rlib (the FMUs') has no hash in
+    its rlib's file name, so a build of the FMU crates alone, whose dependencies resolve fewer
+    features (typenum's, syn's) than the whole workspace's, would replace the rlibs that cargo test,
+    the damper program and the engine link, and the next workspace build would compile them all
+    again (a minute and more of scripts/test.sh). Elsewhere (Windows, or FMI 3.0 in its own target
+    directory) the FMU crates alone, which need no libclang."""
+    if packages == FMU_CRATES and triple is None and fmi_version == 2:
+        return ["--workspace"]
+    return [word for package in packages for word in ("-p", package)]
+
+
 def cargo_build(platforms, packages=FMU_CRATES, environment=None, fmi_version=2):
     """Builds `packages` for each platform; by default the three FMUs' libraries (the damper's and the
     two trucks'), which need cargo alone, no libclang. `environment(triple)`, if given, is the
@@ -156,7 +169,7 @@ def cargo_build(platforms, packages=FMU_CRATES, environment=None, fmi_version=2)
     feature `fmi3`, in target_dir(3)."""
     for platform in platforms:
         triple = PLATFORMS[platform][0]
-        command = ["cargo", "build", "--release"] + [word for package in packages for word in ("-p", package)]
+        command = ["cargo", "build", "--release"] + selection(packages, triple, fmi_version)
         command += ["--target", triple] if triple else []
         if fmi_version == 3:
             features = ",".join(f"{p}/fmi3" for p in packages if p in FMU_CRATES)

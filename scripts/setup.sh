@@ -1,18 +1,20 @@
 #!/usr/bin/env bash
 # Installs what the project needs, then creates the Python environment in .venv (idempotent).
 #
-#   bash scripts/setup.sh             # for the FMUs and the scripts (scripts/main.sh)
-#   bash scripts/setup.sh --importer  # also for the FMU importers in Rust (scripts/test.sh, damper CLI)
+#   bash scripts/setup.sh                    # for the FMUs alone (scripts/package_fmu.py)
+#   bash scripts/setup.sh --importer         # also the FMU importer in Rust (scripts/main.sh: the
+#                                            # coupled runs; the damper program)
+#   bash scripts/setup.sh --importer --wine  # also Wine, for the tests' Windows runs (scripts/test.sh)
 #
 # - Rust (cargo) must be there already: rustup installs it (https://rustup.rs).
 # - The FMUs need only cargo for their Linux binaries. Their Windows binaries (binaries/win64) are
 #   cross-compiled: Rust's x86_64-pc-windows-gnu target (rustup target add) and the MinGW-w64
 #   linker (Debian's gcc-mingw-w64-x86-64). Without rustup, or where its server cannot be reached,
 #   the FMUs are packaged for Linux alone and scripts/package_fmu.py says why.
-# - The tests run the Windows binaries under Wine: Debian's wine64, installed with --importer.
-# - The Rust *importer* of FMUs (the `fmi` crate, used by `damper --fmu` and the import tests)
-#   generates its bindings with bindgen, which needs libclang: Debian's libclang-dev, installed
-#   with --importer.
+# - The tests run the Windows binaries under Wine: Debian's wine64, installed with --wine.
+# - The Rust *importer* of FMUs (the `fmi` crate, used by the compiled coupled runs, `damper --fmu`
+#   and the import tests) generates its bindings with bindgen, which needs libclang: Debian's
+#   libclang-dev, installed with --importer.
 # - `python3 -m venv` needs ensurepip, which a Debian system Python has only with python3-venv.
 # - ecospy (ecos, the tests' third co-simulation master) loads a library linked to Intel's oneTBB,
 #   libtbb.so.12: Debian's libtbb12.
@@ -27,12 +29,14 @@ cd "$(dirname "$0")/.."
 
 PYTHON=${PYTHON:-python3}
 REQUIREMENTS=tests/python/requirements.txt
-IMPORTS="import fmpy, fmu_manipulation_toolbox, libcosimpy, ecospy, numpy, scipy, matplotlib, pytest, ruff, mypy, setuptools, dask, distributed, pandas, pyarrow, tqdm"
+IMPORTS="import fmpy, fmu_manipulation_toolbox, libcosimpy, ecospy, numpy, scipy, matplotlib, pytest, xdist, jsonschema, ruff, mypy, setuptools, dask, distributed, pandas, pyarrow, tqdm"
 importer=false
+wine=false
 for arg in "$@"; do
     case "$arg" in
         --importer) importer=true ;;
-        *) echo "setup: unknown option $arg (use --importer or nothing)" >&2; exit 2 ;;
+        --wine) wine=true ;;
+        *) echo "setup: unknown option $arg (use --importer, --wine or nothing)" >&2; exit 2 ;;
     esac
 done
 
@@ -41,7 +45,7 @@ command -v "$PYTHON" >/dev/null || { echo "setup: $PYTHON not found: install Pyt
 
 packages=()
 command -v x86_64-w64-mingw32-gcc >/dev/null || packages+=(gcc-mingw-w64-x86-64)
-if $importer && ! command -v wine64 >/dev/null && ! command -v wine >/dev/null && [ ! -x /usr/lib/wine/wine64 ]; then
+if $wine && ! command -v wine64 >/dev/null && ! command -v wine >/dev/null && [ ! -x /usr/lib/wine/wine64 ]; then
     packages+=(wine64)
 fi
 if $importer && [ -z "${LIBCLANG_PATH:-}" ]; then
@@ -113,4 +117,4 @@ if $missing_command || ! .venv/bin/python -c "import damper_tools" 2>/dev/null; 
     .venv/bin/python -m pip install --quiet --no-deps --no-build-isolation -e .
 fi
 .venv/bin/python -c "$IMPORTS, damper_tools"
-echo "setup: ready ($(.venv/bin/python --version)$($importer && echo ', libclang for the importer, Wine'))"
+echo "setup: ready ($(.venv/bin/python --version)$($importer && echo ', libclang for the importer')$($wine && echo ', Wine'))"
