@@ -491,10 +491,23 @@ impl Travel {
     pub fn fade(&self, t: f64, z: f64) -> f64 {
         if self.fade_in > 0.0 {
             let ramp = ((t - self.fade_start) / self.fade_in).clamp(0.0, 1.0);
-            z * 0.5 * (1.0 - libm::cos(PI * ramp)) + 0.0
+            z * 0.5 * (1.0 - fade_cosine(ramp)) + 0.0
         } else {
             z
         }
+    }
+}
+
+/// cos(π·ramp) for a ramp in [0, 1]. At the ends it is exactly 1 and −1 (libm's cos(0) and cos(π)
+/// round to them; a test checks it), so the fade's ends skip the call, which a truck would otherwise
+/// make twice a step for the whole road after its fade-in.
+fn fade_cosine(ramp: f64) -> f64 {
+    if ramp >= 1.0 {
+        -1.0
+    } else if ramp <= 0.0 {
+        1.0
+    } else {
+        libm::cos(PI * ramp)
     }
 }
 
@@ -713,6 +726,19 @@ mod tests {
     /// A short road_case road: 14 m/s for 1 s (15 m), fade-in 0.5 s after the first 1 ms step.
     fn params() -> RoadParameters {
         RoadParameters::road_case(128e-6, 14.0, 1.0, 3, 1e-3, 0.5).unwrap()
+    }
+
+    #[test]
+    fn the_fade_s_ends_are_libm_s_own_cosines() {
+        // the ends skip libm's cos: the same bits only while cos(0) and cos(π) round to ±1
+        assert_eq!(libm::cos(0.0).to_bits(), 1.0f64.to_bits());
+        assert_eq!(libm::cos(PI).to_bits(), (-1.0f64).to_bits());
+        let travel = Travel { speed: 14.0, offset: 0.0, fade_in: 0.5, fade_start: 1e-3 };
+        for (t, z) in [(0.0, 0.013), (1e-3, -0.002), (0.5 + 1e-3, 0.007), (3.0, -0.011), (3.0, 5e-324)] {
+            let ramp = ((t - travel.fade_start) / travel.fade_in).clamp(0.0, 1.0);
+            let called = z * 0.5 * (1.0 - libm::cos(PI * ramp)) + 0.0;
+            assert_eq!(travel.fade(t, z).to_bits(), called.to_bits(), "t = {t}, z = {z}");
+        }
     }
 
     /// The error `Road::new` gives for the parameters `change` makes, and its message.
