@@ -4,7 +4,8 @@ docs/coupled_benchmark.json, the figures docs/sweeps.md quotes):
 
 1. the damper FMU's own time on the 15 s HiL record (minor road, 14 m/s, 1 ms): the packaged FMU
    loaded by rust-fmi and fed the velocity and demand the coupled run gave it, nothing else in the
-   loop (`cargo bench --bench fmu_replay`);
+   loop (`cargo bench --bench fmu_replay`), timed as the coupled runs are, whole: from its
+   instantiation to fmi2Terminate;
 2. the coupled run of the same 15 s: the compiled runner (damper_tools.runner) with the truck's own
    road and with the road fed as a series, the fmpy loop (damper_tools.cosim), and, for the choice
    of master, ecos's execution (step_until, nothing recorded) and libcosim's (simulate_until, seven
@@ -269,7 +270,8 @@ def main(argv: list[str] | None = None) -> None:
     figures: dict[str, float] = {"damper_own_ms": own * 1e3}
     figures.update({k.removesuffix("_s") + "_ms": v * 1e3 for k, v in times.items()})
     figures.update({k.removesuffix("_s") + "_over_damper": v / own for k, v in times.items()})
-    # what the truck FMU and the loop add to the damper's own time, per communication step
+    # what the truck FMU (its road, made at initialisation, among it) and the loop add to the damper's
+    # own run, per communication step
     figures["runner_extra_us_per_step"] = (times["runner_own_road_s"] - own) / round(DURATION / STEP) * 1e6
     figures.update(sweep_throughput(args.truck_fmu, args.damper_fmu, 6 if args.quick else 20))
     figures["sweep_speedup"] = figures["runner_runs_per_s"] / figures["fmpy_runs_per_s"]

@@ -490,7 +490,8 @@ QUOTES: dict[str, dict[str | tuple[str, ...], list[str]]] = {
             rf"the fitted delays and bandwidths of {N} of {N} points changed"],
         "runner_own_road_over_damper": [rf"\*\*Against the damper's own time\.\*\* The coupled run costs {N}× the"],
         "runner_extra_us_per_step": [rf"about as much as the damper \({N} µs a step over the damper's",
-                                     rf"the truck FMU itself \({N} µs a step: four RK4 substeps"],
+                                     rf"the truck FMU itself, its road made at initialisation among it \({N} µs a "
+                                     r"step: four RK4 substeps"],
     },
     "campaign": {
         ("effect_right", "effect_records"): [
