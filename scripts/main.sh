@@ -10,13 +10,13 @@ cd "$(dirname "$0")/.."
 
 bash scripts/setup.sh --importer
 # Builds the three FMUs' libraries only (no libclang), for Linux and Windows, and packs the damper's.
+# package_fmu.py builds the whole workspace for the host, the sweeps' compiled coupled runs
+# (cosim_runner) among it
 echo "+ python3 scripts/package_fmu.py"
 python3 scripts/package_fmu.py
 echo "+ python3 scripts/package_truck.py --no-build && python3 scripts/package_full_truck.py --no-build"
 python3 scripts/package_truck.py --no-build
 python3 scripts/package_full_truck.py --no-build
-echo "+ cargo build --release -p cosim_runner (the sweeps' compiled coupled runs)"
-cargo build --release -p cosim_runner
 echo "+ .venv/bin/damper-paper-tests $*"
 .venv/bin/damper-paper-tests "$@"
 echo "+ .venv/bin/damper-hil-scenarios"

@@ -150,14 +150,15 @@ FMU_CRATES = ("semi_active_damper", "quarter_truck", "full_truck")
 
 
 def selection(packages, triple, fmi_version):
-    """cargo's package selection for `packages`: the whole workspace for the FMUs on the host (FMI
-    2.0, into target/release). A crate that is both a cdylib and an rlib (the FMUs') has no hash in
-    its rlib's file name, so a build of the FMU crates alone, whose dependencies resolve fewer
-    features (typenum's, syn's) than the whole workspace's, would replace the rlibs that cargo test,
-    the damper program and the engine link, and the next workspace build would compile them all
-    again (a minute and more of scripts/test.sh). Elsewhere (Windows, or FMI 3.0 in its own target
-    directory) the FMU crates alone, which need no libclang."""
-    if packages == FMU_CRATES and triple is None and fmi_version == 2:
+    """cargo's package selection for `packages`: on the host (FMI 2.0, into target/release) the whole
+    workspace, whatever is asked for. A package compiled with other features replaces its artifacts
+    (the FMU crates' rlibs carry no hash in their file names at all), and a build of a few packages
+    resolves fewer features of the shared dependencies (typenum, syn, serde_core, …) than the whole
+    workspace's: so every `-p` build after `cargo test` recompiled what the next build needed again
+    (the engine and the damper program: about two minutes of scripts/test.sh each time). Elsewhere
+    (Windows, or FMI 3.0 in its own target directory) the packages alone: the FMU crates need no
+    libclang there."""
+    if triple is None and fmi_version == 2:
         return ["--workspace"]
     return [word for package in packages for word in ("-p", package)]
 

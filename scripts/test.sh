@@ -29,12 +29,12 @@ if [ -z "$reason" ]; then
 else
     echo "test.sh: the Windows tests of the FMI layer are skipped: $reason"
 fi
+# package_fmu.py builds the whole workspace for the host (its selection() says why): the FMUs, the
+# sweeps' compiled coupled runs (cosim_runner) and the damper program
 echo "+ python3 scripts/package_fmu.py && python3 scripts/package_truck.py --no-build && python3 scripts/package_full_truck.py --no-build"
 python3 scripts/package_fmu.py
 python3 scripts/package_truck.py --no-build
 python3 scripts/package_full_truck.py --no-build
-echo "+ cargo build --release -p cosim_runner (the sweeps' compiled coupled runs)"
-cargo build --release -p cosim_runner
 echo "+ python3 scripts/build_cli.py (the damper program; for Windows too where it can be built)"
 python3 scripts/build_cli.py
 echo "+ .venv/bin/ruff check python scripts tests/python"

@@ -123,9 +123,10 @@ def full_truck_fmu3(request, full_truck_fmu):
 
 @pytest.fixture(scope="session", autouse=True)
 def runner_library():
-    """The compiled coupled run's library (damper_tools.runner), built as scripts/test.sh builds it:
-    the sweeps step their HiL runs with it."""
-    subprocess.run(["cargo", "build", "--release", "-p", "cosim_runner"], cwd=REPO, check=True)
+    """The compiled coupled run's library (damper_tools.runner), built as scripts/test.sh builds it
+    (the whole workspace: a build of the runner alone would compile the shared dependencies with
+    other features over the ones the damper program links): the sweeps step their HiL runs with it."""
+    subprocess.run(["cargo", "build", "--release", "--workspace"], cwd=REPO, check=True)
     from damper_tools import runner
     return runner.library_path()
 
