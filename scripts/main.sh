@@ -9,9 +9,8 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 bash scripts/setup.sh --importer
-# Builds the three FMUs' libraries only (no libclang), for Linux and Windows, and packs the damper's.
-# package_fmu.py builds the whole workspace for the host, the sweeps' compiled coupled runs
-# (cosim_runner) among it
+# Builds the whole workspace for the host (the sweeps' compiled coupled runs, cosim_runner, among it;
+# libclang for the importer's bindings) and the FMUs' libraries for Windows, and packs the damper's.
 echo "+ python3 scripts/package_fmu.py"
 python3 scripts/package_fmu.py
 echo "+ python3 scripts/package_truck.py --no-build && python3 scripts/package_full_truck.py --no-build"

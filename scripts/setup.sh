@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # Installs what the project needs, then creates the Python environment in .venv (idempotent).
 #
-#   bash scripts/setup.sh                    # for the FMUs alone (scripts/package_fmu.py)
-#   bash scripts/setup.sh --importer         # also the FMU importer in Rust (scripts/main.sh: the
-#                                            # coupled runs; the damper program)
+#   bash scripts/setup.sh                    # Python and the Windows linker alone
+#   bash scripts/setup.sh --importer         # also libclang, for the FMU importer in Rust, which the
+#                                            # host's workspace build holds (scripts/package_fmu.py,
+#                                            # scripts/main.sh: the coupled runs, the damper program)
 #   bash scripts/setup.sh --importer --wine  # also Wine, for the tests' Windows runs (scripts/test.sh)
 #
 # - Rust (cargo) must be there already: rustup installs it (https://rustup.rs).

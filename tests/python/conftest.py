@@ -1,6 +1,6 @@
 """Session fixtures of the Python suite.
 
-The FMUs under test are built (cargo build --release of the three FMU packages) and packaged once
+The FMUs under test are built (cargo build --release of the workspace, package_fmu.py's) and packaged once
 per session into tests/python/work/ by the packaging commands a user runs (python3
 scripts/package_fmu.py, scripts/package_truck.py, scripts/package_full_truck.py), or taken from
 `--fmu PATH` (the damper), `--truck-fmu PATH` (the quarter truck) and `--full-truck-fmu PATH` (the
@@ -68,7 +68,7 @@ def fmu(request):
     if path:
         return path
     WORK.mkdir(exist_ok=True)
-    # Builds the three FMUs' libraries (one cargo build), so the trucks are packaged without building.
+    # Builds the workspace (the three FMUs' libraries among it), so the trucks are packaged without building.
     return package("package_fmu.py", WORK / "SemiActiveDamper.fmu", build=True)
 
 
