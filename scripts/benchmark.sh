@@ -10,7 +10,7 @@
 #   bash scripts/benchmark.sh
 set -euo pipefail
 cd "$(dirname "$0")/.."
-bash scripts/setup.sh --importer >/dev/null
+bash scripts/setup.sh >/dev/null
 out=out/benchmark
 mkdir -p "$out"
 report=$out/benchmark.md

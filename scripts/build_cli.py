@@ -10,7 +10,7 @@ program is cross-compiled as the FMUs' Windows binaries are (cargo's x86_64-pc-w
 the MinGW-w64 linker of .cargo/config.toml) and needs only DLLs of Windows 10 or later. Both take
 the same arguments and give the same results, bit for bit (tests/python/test_win64.py).
 
-Building needs libclang (Debian's libclang-dev, which `bash scripts/setup.sh --importer` installs):
+Building needs libclang (Debian's libclang-dev, which `bash scripts/setup.sh` installs):
 the fmi crate, through which `damper --fmu` loads a packaged FMU, generates its bindings of the FMI
 headers with bindgen at build time.
 """

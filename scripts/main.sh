@@ -8,7 +8,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-bash scripts/setup.sh --importer
+bash scripts/setup.sh
 # Builds the whole workspace for the host (the sweeps' compiled coupled runs, cosim_runner, among it;
 # libclang for the importer's bindings) and the FMUs' libraries for Windows, and packs the damper's.
 echo "+ python3 scripts/package_fmu.py"

@@ -166,7 +166,7 @@ def selection(packages, triple, fmi_version):
 def cargo_build(platforms, packages=FMU_CRATES, environment=None, fmi_version=2):
     """Builds `packages` for each platform; by default the three FMUs' libraries (the damper's and the
     two trucks'), on the host with the rest of the workspace (`selection`), which needs libclang for
-    the importer's bindings (scripts/setup.sh --importer). `environment(triple)`, if given, is the
+    the importer's bindings (scripts/setup.sh installs it). `environment(triple)`, if given, is the
     build's environment for a target triple (None: the host's). For FMI 3.0 each FMU crate gets its
     feature `fmi3`, in target_dir(3)."""
     for platform in platforms:

@@ -1,21 +1,19 @@
 #!/usr/bin/env bash
 # Installs what the project needs, then creates the Python environment in .venv (idempotent).
 #
-#   bash scripts/setup.sh                    # Python and the Windows linker alone
-#   bash scripts/setup.sh --importer         # also libclang, for the FMU importer in Rust, which the
-#                                            # host's workspace build holds (scripts/package_fmu.py,
-#                                            # scripts/main.sh: the coupled runs, the damper program)
-#   bash scripts/setup.sh --importer --wine  # also Wine, for the tests' Windows runs (scripts/test.sh)
+#   bash scripts/setup.sh         # what every build needs: Python, the Windows linker, libclang
+#   bash scripts/setup.sh --wine  # also Wine, for the tests' Windows runs (scripts/test.sh)
 #
 # - Rust (cargo) must be there already: rustup installs it (https://rustup.rs).
-# - The FMUs need only cargo for their Linux binaries. Their Windows binaries (binaries/win64) are
+# - The FMUs' Linux binaries need cargo (and libclang, below). Their Windows binaries (binaries/win64) are
 #   cross-compiled: Rust's x86_64-pc-windows-gnu target (rustup target add) and the MinGW-w64
 #   linker (Debian's gcc-mingw-w64-x86-64). Without rustup, or where its server cannot be reached,
 #   the FMUs are packaged for Linux alone and scripts/package_fmu.py says why.
 # - The tests run the Windows binaries under Wine: Debian's wine64, installed with --wine.
 # - The Rust *importer* of FMUs (the `fmi` crate, used by the compiled coupled runs, `damper --fmu`
 #   and the import tests) generates its bindings with bindgen, which needs libclang: Debian's
-#   libclang-dev, installed with --importer.
+#   libclang-dev. Every host build holds the importer (scripts/package_fmu.py builds the whole
+#   workspace, its selection() says why), so it is always installed.
 # - `python3 -m venv` needs ensurepip, which a Debian system Python has only with python3-venv.
 # - ecospy (ecos, the tests' third co-simulation master) loads a library linked to Intel's oneTBB,
 #   libtbb.so.12: Debian's libtbb12.
@@ -31,13 +29,11 @@ cd "$(dirname "$0")/.."
 PYTHON=${PYTHON:-python3}
 REQUIREMENTS=tests/python/requirements.txt
 IMPORTS="import fmpy, fmu_manipulation_toolbox, libcosimpy, ecospy, numpy, scipy, matplotlib, pytest, xdist, jsonschema, ruff, mypy, setuptools, dask, distributed, pandas, pyarrow, tqdm"
-importer=false
 wine=false
 for arg in "$@"; do
     case "$arg" in
-        --importer) importer=true ;;
         --wine) wine=true ;;
-        *) echo "setup: unknown option $arg (use --importer, --wine or nothing)" >&2; exit 2 ;;
+        *) echo "setup: unknown option $arg (use --wine or nothing)" >&2; exit 2 ;;
     esac
 done
 
@@ -49,7 +45,7 @@ command -v x86_64-w64-mingw32-gcc >/dev/null || packages+=(gcc-mingw-w64-x86-64)
 if $wine && ! command -v wine64 >/dev/null && ! command -v wine >/dev/null && [ ! -x /usr/lib/wine/wine64 ]; then
     packages+=(wine64)
 fi
-if $importer && [ -z "${LIBCLANG_PATH:-}" ]; then
+if [ -z "${LIBCLANG_PATH:-}" ]; then
     if command -v dpkg-query >/dev/null; then
         [ "$(dpkg-query -W -f='${Status}' libclang-dev 2>/dev/null)" = "install ok installed" ] || packages+=(libclang-dev)
     elif ! ldconfig -p 2>/dev/null | grep -q 'libclang[-.0-9]*\.so'; then
@@ -118,4 +114,4 @@ if $missing_command || ! .venv/bin/python -c "import damper_tools" 2>/dev/null; 
     .venv/bin/python -m pip install --quiet --no-deps --no-build-isolation -e .
 fi
 .venv/bin/python -c "$IMPORTS, damper_tools"
-echo "setup: ready ($(.venv/bin/python --version)$($importer && echo ', libclang for the importer')$($wine && echo ', Wine'))"
+echo "setup: ready ($(.venv/bin/python --version), libclang$($wine && echo ', Wine'))"

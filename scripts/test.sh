@@ -7,7 +7,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-bash scripts/setup.sh --importer --wine
+bash scripts/setup.sh --wine
 # clippy in the dev profile, as cargo doc checks: the two share the dependencies' checked metadata
 # (no code has a cfg(debug_assertions) branch, so the profile changes nothing clippy sees)
 echo "+ cargo fmt --check && cargo clippy --all-targets -- -D warnings && cargo doc (warnings denied)"

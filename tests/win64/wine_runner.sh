@@ -11,7 +11,7 @@ here=$(cd "$(dirname "$0")" && pwd)
 exe=$1
 shift
 wine=$(command -v wine64 || command -v wine || echo /usr/lib/wine/wine64)
-[ -x "$wine" ] || { echo "wine_runner: Wine not found: bash scripts/setup.sh --importer installs it" >&2; exit 127; }
+[ -x "$wine" ] || { echo "wine_runner: Wine not found: bash scripts/setup.sh --wine installs it" >&2; exit 127; }
 shim="$(dirname "$exe")/bcryptprimitives.dll"
 if [ ! -f "$shim" ] || [ "$here/bcryptprimitives.c" -nt "$shim" ]; then
     x86_64-w64-mingw32-gcc -O2 -shared -o "$shim" "$here/bcryptprimitives.c" -ladvapi32
