@@ -1,0 +1,132 @@
+"""The program's printouts quoted in the documents are the program's printouts today.
+
+A document quotes a printout of `damper` in a fenced block preceded by a marker comment with the
+commands that make it, run in an empty folder that holds a link to the repository's `data/`:
+
+    <!-- output of: damper generate --out a.csv --seed 1; damper diagnose a.csv --out d -->
+
+The last command's standard output must hold the block's lines in the block's order (each compared
+with its runs of spaces made single); a block may leave lines out (a line `...`), and a line that
+ends in ` ...` quotes the beginning of its line. The run's wall-clock times (`in 3.3 s`, `540× real
+time`) are masked on both sides: they are the one thing a printout does not repeat. Every figure of
+such a block is so checked by the run that prints it; a block without a marker is not a printout.
+"""
+
+from __future__ import annotations
+
+import difflib
+import re
+import shlex
+import subprocess
+from dataclasses import dataclass
+from pathlib import Path
+
+import pytest
+
+REPO = Path(__file__).resolve().parents[2]
+MARKER = re.compile(r"<!-- output of: (.*?) -->\s*\n```[a-z]*\n(.*?)\n```", re.S)
+# The wall-clock figures of a printout: a duration in seconds after "in" or "run:", and a speed.
+TIMING = [re.compile(r"(?<=\bin )\d+(?:\.\d+)? s\b"), re.compile(r"(?<=run: )\d+(?:\.\d+)? s\b"),
+          re.compile(r"\d+(?:\.\d+)?× real time")]
+ELLIPSIS = " ..."
+
+
+@dataclass(frozen=True)
+class Transcript:
+    """A quoted printout: where it is, the commands that make it and the lines it quotes."""
+
+    document: str
+    line: int
+    commands: tuple[str, ...]
+    quoted: tuple[str, ...]
+
+    def __str__(self) -> str:
+        return f"{self.document}:{self.line}"
+
+
+def normalise(line: str) -> str:
+    """The line with its runs of spaces made single and its wall-clock figures masked."""
+    line = " ".join(line.split())
+    for pattern in TIMING:
+        line = pattern.sub("…", line)
+    return line
+
+
+def transcripts() -> list[Transcript]:
+    """Every marked printout of README.md and docs/*.md."""
+    found = []
+    for path in [REPO / "README.md", *sorted((REPO / "docs").glob("*.md"))]:
+        text = path.read_text(encoding="utf-8")
+        for m in MARKER.finditer(text):
+            commands = tuple(c.strip() for c in " ".join(m.group(1).split()).split(";") if c.strip())
+            line = text[:m.start(2)].count("\n") + 1
+            found.append(Transcript(str(path.relative_to(REPO)), line, commands, tuple(m.group(2).splitlines())))
+    return found
+
+
+def missing(quoted: tuple[str, ...], printed: list[str]) -> list[str]:
+    """The quoted lines that the printout does not hold in order, each with its closest printed line."""
+    printed = [normalise(p) for p in printed]
+    wrong, at = [], 0
+    for q in quoted:
+        q = normalise(q)
+        if q in ("", "..."):
+            continue
+        prefix = q.endswith(ELLIPSIS)
+        want = q.removesuffix(ELLIPSIS) if prefix else q
+        hit = next((i for i in range(at, len(printed))
+                    if (printed[i].startswith(want) if prefix else printed[i] == want)), None)
+        if hit is None:
+            close = difflib.get_close_matches(want, printed[at:], n=1, cutoff=0.0)
+            wrong.append(f"  quoted:  {q}\n  printed: {close[0] if close else '(nothing left)'}")
+        else:
+            at = hit + 1
+    return wrong
+
+
+def run(transcript: Transcript, damper: Path, folder: Path) -> list[str]:
+    """Runs the transcript's commands in `folder`; the last one's standard output, as lines."""
+    (folder / "data").symlink_to(REPO / "data")
+    out = ""
+    for command in transcript.commands:
+        words = shlex.split(command)
+        assert words[0] == "damper", f"{transcript}: a marker runs the damper program only: {command}"
+        done = subprocess.run([str(damper), *words[1:]], cwd=folder, capture_output=True, text=True, timeout=600)
+        assert done.returncode == 0, f"{transcript}: {command} failed:\n{done.stderr}"
+        out = done.stdout
+    return out.splitlines()
+
+
+TRANSCRIPTS = transcripts()
+
+
+def test_the_documents_mark_their_printouts():
+    # a check of nothing would pass: the documents that quote printouts have their markers
+    documents = {t.document for t in TRANSCRIPTS}
+    assert {"README.md", "docs/diagnose.md", "docs/calibrate.md", "docs/effects.md"} <= documents, documents
+
+
+@pytest.fixture(scope="module")
+def printouts() -> dict[tuple[str, ...], list[str]]:
+    """The printouts made so far, by their commands: two quotes of one run (README.md and
+    docs/diagnose.md quote the same diagnosis) run it once."""
+    return {}
+
+
+@pytest.mark.parametrize("transcript", TRANSCRIPTS, ids=str)
+def test_a_quoted_printout_is_what_the_program_prints(transcript, damper, tmp_path, printouts):
+    if transcript.commands not in printouts:
+        printouts[transcript.commands] = run(transcript, damper, tmp_path)
+    wrong = missing(transcript.quoted, printouts[transcript.commands])
+    assert not wrong, (f"{transcript}: the printout of `{transcript.commands[-1]}` differs from the quote "
+                       "(run the markers' commands and quote the printout again):\n" + "\n".join(wrong))
+
+
+def test_a_changed_figure_is_found():
+    printed = ["verdict: effect (seal_friction)", "  ladder: baseline 0.2276 → + seal_friction 0.0246"]
+    assert missing(("verdict: effect (seal_friction)", "...", "ladder: baseline 0.2276 ..."), printed) == []
+    assert missing(("model run 12 runs in 3.3 s",), ["model run 12 runs in 0.9 s"]) == []
+    wrong = missing(("ladder: baseline 0.2276 → + seal_friction 0.0245",), printed)
+    assert len(wrong) == 1 and "0.0246" in wrong[0], wrong
+    # out of order is wrong too
+    assert len(missing(("ladder: baseline ...", "verdict: effect (seal_friction)"), printed)) == 1
