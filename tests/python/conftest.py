@@ -123,10 +123,10 @@ def full_truck_fmu3(request, full_truck_fmu):
 
 @pytest.fixture(scope="session", autouse=True)
 def runner_library():
-    """The compiled coupled run's library (damper_tools.runner), built as scripts/test.sh builds it
-    (the whole workspace: a build of the runner alone would compile the shared dependencies with
-    other features over the ones the damper program links): the sweeps step their HiL runs with it."""
-    subprocess.run(["cargo", "build", "--release", "--workspace"], cwd=REPO, check=True)
+    """The compiled coupled run's library (damper_tools.runner), built by the packaging script's host
+    build (package_fmu.cargo_build: the whole workspace, so that nothing already built for the FMUs
+    and the damper program is compiled again): the sweeps step their HiL runs with it."""
+    script("package_fmu").cargo_build(["linux64"])
     from damper_tools import runner
     return runner.library_path()
 
