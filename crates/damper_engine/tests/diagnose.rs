@@ -146,37 +146,6 @@ fn two_hidden_effects_are_both_found_by_the_ladder() {
 }
 
 #[test]
-fn a_user_written_effect_turns_unexplained_into_named() {
-    // docs/effects.md's worked example: before viscous_friction.rs existed (here: left out with
-    // --skip) the residual is unexplained; with it, it is named and the error falls to the floor
-    let dir = common::scratch("diag_user_effect");
-    let (csv, g) = common::generate(&dir, "m", |o| {
-        o.effects = vec!["viscous_friction".to_string()];
-        o.seed = 1;
-    });
-    let mut o = CompareOptions::new(&csv);
-    o.load_cell_lowpass_hz = Some(400.0);
-    o.skip = vec!["viscous_friction".into()];
-    let before = diagnose_measurement(&o, 2, &|_, _, _| {}).unwrap().diagnosis;
-    assert_eq!(before.verdict, Verdict::Unexplained, "{}", before.explanation);
-    assert!(before.effects.is_empty());
-    o.skip.clear();
-    let r = diagnose_measurement(&o, 2, &|_, _, _| {}).unwrap();
-    let d = &r.diagnosis;
-    assert_eq!((d.verdict, d.best_effect), (Verdict::Effect, Some("viscous_friction")), "{}", d.explanation);
-    let fitted = d.candidates[0].params[0].1;
-    let truth = get_real(&g.params, "c_viscous").unwrap();
-    assert!((fitted - truth).abs() <= PARAM_TOLERANCE * truth, "c_viscous {fitted} vs {truth}");
-    // the report's before/after: the error falls in every regime that has samples
-    let after = r.after.as_ref().expect("the model with the named effect");
-    for (group, name, _, rms_before, rms_after) in
-        damper_engine::before_after::regime_rows(&r.comparison.analysis, &after.analysis)
-    {
-        assert!(rms_after < rms_before, "{group} {name}: {rms_before:.0} N → {rms_after:.0} N");
-    }
-}
-
-#[test]
 fn hil_inputs_name_every_effect() {
     // the quarter truck on a minor road (10 s, tared load cell); piston leakage leaves the baseline
     // within 1.3× the noise floor, and is named by its cut of the mean-square error (MIN_GAIN), not
