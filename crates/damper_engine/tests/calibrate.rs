@@ -120,6 +120,11 @@ fn a_hidden_effect_is_named_with_the_calibrated_parameters() {
         let mut o = CompareOptions::new(&record);
         o.load_cell_lowpass_hz = Some(400.0);
         o.params_file = params;
+        // both diagnoses choose among the effects that could stand in for friction (the mount, the
+        // oil's and the gas's stiffness, the check valve, viscous friction): the nominal verdict is
+        // `unexplained`, which fits every pair of candidates (80 s with all eleven, 15 s with these)
+        o.skip =
+            ["end_stops", "gas_release", "piston_leakage", "flow_forces", "amplifier_delay"].map(String::from).to_vec();
         diagnose_measurement(&o, 2, &|_, _, _| {}).expect("diagnose").diagnosis
     };
     let nominal = diagnose(None);
