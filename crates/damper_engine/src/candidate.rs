@@ -260,62 +260,92 @@ pub fn fit_effects(
                 (x0.clone(), vec![None; fitted.len()], 0)
             }
         },
-        // a quantised parameter (a delay in samples) on its grid, the others (if any) fitted by
-        // Levenberg–Marquardt at each grid point tried: a derivative cannot see a staircase
         Some(g) => {
-            let step = fitted[g].grid.expect("a grid parameter");
-            let value_at = |k: usize| bounds[g].lo + k as f64 * step;
-            let others: Vec<usize> = (0..fitted.len()).filter(|&i| i != g).collect();
-            let full_x = |k: usize, rest: &[f64]| -> Vec<f64> {
-                let mut x = x0.clone();
-                x[g] = value_at(k);
-                for (&i, &v) in others.iter().zip(rest) {
-                    x[i] = v;
-                }
-                x
-            };
-            let tried = std::sync::Mutex::new(std::collections::BTreeMap::new());
-            let sse = |k: usize| {
-                let fit = if others.is_empty() {
-                    residuals(&full_x(k, &[]))
-                        .map(|r| (r.iter().map(|v| v * v).sum(), x0.clone(), vec![None; fitted.len()], 1))
-                } else {
-                    let rest = |x: &[f64]| residuals(&full_x(k, x));
-                    let start: Vec<f64> = others.iter().map(|&i| x0[i]).collect();
-                    let scales: Vec<Bound> = others.iter().map(|&i| bounds[i]).collect();
-                    lm::solve(&rest, &start, &scales, pool, FIT_OPTIONS, input_error).map(|s| {
-                        let mut errors = vec![None; fitted.len()];
-                        for (j, &i) in others.iter().enumerate() {
-                            errors[i] = s.std_error(j);
-                        }
-                        (s.cost, full_x(k, &s.x), errors, s.model_runs)
-                    })
-                };
-                let cost = fit.as_ref().map_or(f64::INFINITY, |f| f.0);
-                tried.lock().expect("no fit panicked").insert(k, fit.ok());
-                cost
-            };
-            let n = ((bounds[g].hi - bounds[g].lo) / step).round() as usize;
-            let (best, _) = grid_minimum(sse, n);
-            let tried = tried.into_inner().expect("no fit panicked");
-            let runs =
-                tried.values().flatten().map(|f| f.3).sum::<usize>() + tried.values().filter(|f| f.is_none()).count();
-            match tried.get(&best).cloned().flatten() {
-                Some((_, mut x, mut errors, _)) => {
-                    x[g] = value_at(best);
-                    errors[g] = Some(0.5 * step);
-                    (x, errors, runs)
-                }
-                None => {
-                    flags.push("the fit failed at every grid point".to_string());
-                    (x0.clone(), vec![None; fitted.len()], runs)
-                }
+            let (x, errors, runs, failed) = fit_on_grid(&residuals, &x0, &bounds, fitted, g, pool, input_error);
+            if failed {
+                flags.push("the fit failed at every grid point".to_string());
             }
+            (x, errors, runs)
         }
     };
     let model = with(&x)?;
     let full = simulate(&model, measured.len())?;
-    for (s, &x) in fitted.iter().zip(&x) {
+    flags.extend(range_flags(fitted, &x));
+    flags.extend(nothing_found_flags(baseline, keys, fitted, (&x, &x0), &errors)?);
+    Ok(JointFit {
+        params: fitted.iter().zip(&x).zip(errors).map(|((s, &x), e)| (s.name, x, e)).collect(),
+        model,
+        nrmse_train: nrmse_kept(train, &full[..train_len], &keep[..train_len]),
+        nrmse_validation: nrmse_kept(&measured[split..], &full[split..], &keep[split..]),
+        flags,
+        evaluations,
+    })
+}
+
+/// A quantised parameter `g` (a delay in controller samples) searched on its grid, the others (if
+/// any) fitted by Levenberg–Marquardt at each grid point tried: a derivative cannot see a staircase.
+/// The parameters, their uncertainties (half a grid step for `g`), the model runs, and whether
+/// the fit failed at every grid point (then the parameters are `x0`).
+fn fit_on_grid(
+    residuals: &lm::Residuals<'_>,
+    x0: &[f64],
+    bounds: &[Bound],
+    fitted: &[FittedParameter],
+    g: usize,
+    pool: &rayon::ThreadPool,
+    input_error: &[Vec<f64>],
+) -> (Vec<f64>, Vec<Option<f64>>, usize, bool) {
+    let step = fitted[g].grid.expect("a grid parameter");
+    let value_at = |k: usize| bounds[g].lo + k as f64 * step;
+    let others: Vec<usize> = (0..fitted.len()).filter(|&i| i != g).collect();
+    let full_x = |k: usize, rest: &[f64]| -> Vec<f64> {
+        let mut x = x0.to_vec();
+        x[g] = value_at(k);
+        for (&i, &v) in others.iter().zip(rest) {
+            x[i] = v;
+        }
+        x
+    };
+    let tried = std::sync::Mutex::new(std::collections::BTreeMap::new());
+    let sse = |k: usize| {
+        let fit = if others.is_empty() {
+            residuals(&full_x(k, &[]))
+                .map(|r| (r.iter().map(|v| v * v).sum(), x0.to_vec(), vec![None; fitted.len()], 1))
+        } else {
+            let rest = |x: &[f64]| residuals(&full_x(k, x));
+            let start: Vec<f64> = others.iter().map(|&i| x0[i]).collect();
+            let scales: Vec<Bound> = others.iter().map(|&i| bounds[i]).collect();
+            lm::solve(&rest, &start, &scales, pool, FIT_OPTIONS, input_error).map(|s| {
+                let mut errors = vec![None; fitted.len()];
+                for (j, &i) in others.iter().enumerate() {
+                    errors[i] = s.std_error(j);
+                }
+                (s.cost, full_x(k, &s.x), errors, s.model_runs)
+            })
+        };
+        let cost = fit.as_ref().map_or(f64::INFINITY, |f| f.0);
+        tried.lock().expect("no fit panicked").insert(k, fit.ok());
+        cost
+    };
+    let n = ((bounds[g].hi - bounds[g].lo) / step).round() as usize;
+    let (best, _) = grid_minimum(sse, n);
+    let tried = tried.into_inner().expect("no fit panicked");
+    let runs = tried.values().flatten().map(|f| f.3).sum::<usize>() + tried.values().filter(|f| f.is_none()).count();
+    match tried.get(&best).cloned().flatten() {
+        Some((_, mut x, mut errors, _)) => {
+            x[g] = value_at(best);
+            errors[g] = Some(0.5 * step);
+            (x, errors, runs, false)
+        }
+        None => (x0.to_vec(), vec![None; fitted.len()], runs, true),
+    }
+}
+
+/// Why the fitted values `x` are not plausible: each at its search bound or outside its
+/// plausible range.
+fn range_flags(fitted: &[FittedParameter], x: &[f64]) -> Vec<String> {
+    let mut flags = Vec::new();
+    for (s, &x) in fitted.iter().zip(x) {
         if bound(s).near_bound(x, AT_BOUND) {
             flags.push(format!("{} = {x:.4e} at its search bound", s.name));
         } else if x < s.plausible.0 || x > s.plausible.1 {
@@ -325,10 +355,23 @@ pub fn fit_effects(
             ));
         }
     }
-    // a refit that stays within its uncertainty of the model's value has found nothing
+    flags
+}
+
+/// Why a fit of `keys` on `baseline` found nothing: a refit of effects already on that stays within
+/// its uncertainty of the model's values (`x0`), or an effect switched on whose size (its first
+/// parameter, zero when off) is within its uncertainty of zero. `(x, x0)`: fitted and start values.
+fn nothing_found_flags(
+    baseline: &Parameters,
+    keys: &[&str],
+    fitted: &[FittedParameter],
+    (x, x0): (&[f64], &[f64]),
+    errors: &[Option<f64>],
+) -> Result<Vec<String>, Error> {
+    let mut flags = Vec::new();
     let was_on = keys.iter().map(|k| effect_on(baseline, k)).collect::<Result<Vec<_>, _>>()?;
     if was_on.iter().all(|&on| on) {
-        let moved = fitted.iter().zip(&x).zip(&x0).zip(&errors).any(|(((s, &x), &x0), e)| match (s.grid, e) {
+        let moved = fitted.iter().zip(x).zip(x0).zip(errors).any(|(((s, &x), &x0), e)| match (s.grid, e) {
             (Some(step), _) => (x - x0).abs() >= 0.5 * step,
             (None, Some(e)) => (x - x0).abs() > MOVED_SIGMAS * e,
             (None, None) => (x - x0).abs() > 1e-3 * x0.abs(),
@@ -337,9 +380,7 @@ pub fn fit_effects(
             flags.push(format!("within {MOVED_SIGMAS} standard uncertainties of the model's value: {NOTHING_MOVED}"));
         }
     }
-    // an effect switched on whose size (its first parameter, zero when off) is within its
-    // uncertainty of zero has not been found either: a spurious viscous friction of 313 ± 286 N·s/m
-    // had been kept beside a hidden cracking
+    // (a spurious viscous friction of 313 ± 286 N·s/m had been kept beside a hidden cracking)
     for (key, on) in keys.iter().zip(&was_on) {
         let size = catalog().find(|e| e.key == *key).and_then(|e| e.fitted.first()).map(|f| f.name);
         let Some(i) = size.and_then(|name| fitted.iter().position(|f| f.name == name)) else { continue };
@@ -352,14 +393,7 @@ pub fn fit_effects(
             }
         }
     }
-    Ok(JointFit {
-        params: fitted.iter().zip(&x).zip(errors).map(|((s, &x), e)| (s.name, x, e)).collect(),
-        model,
-        nrmse_train: nrmse_kept(train, &full[..train_len], &keep[..train_len]),
-        nrmse_validation: nrmse_kept(&measured[split..], &full[split..], &keep[split..]),
-        flags,
-        evaluations,
-    })
+    Ok(flags)
 }
 
 /// Coarse grid step of [`grid_minimum`].
