@@ -305,18 +305,6 @@ def platforms_html(model):
 
 def documentation_html(model):
     """documentation/index.html: self-contained description of the model."""
-    p_r0 = start_value(model, "p_reservoir0")
-    d_rod = start_value(model, "D_rod")
-    d_piston = start_value(model, "D_piston")
-    l_half = start_value(model, "L_half_stroke")
-    l_dead = start_value(model, "L_dead")
-    v_hose = start_value(model, "V_hose")
-    a_rod = math.pi * d_rod ** 2 / 4
-    a_piston = math.pi * d_piston ** 2 / 4
-    a_annulus = a_piston - a_rod
-    gas_force = p_r0 * a_rod
-    v_ext = a_annulus * (l_half + l_dead) + v_hose
-    v_comp = v_ext + a_piston * (l_half + l_dead)
     header = ("<tr><th>name</th><th>vr</th><th>type</th><th>causality</th><th>unit</th>"
               "<th>start</th><th>min</th><th>max</th><th>description</th></tr>")
     sections = []
@@ -399,14 +387,34 @@ assumption chosen so that the model is coherent and meets the paper's figures.</
 
 <h2>Limits</h2>
 <ul>
-<li>Gas force offset: at rest both chambers are at the reservoir pressure, so the damper pushes out with
+{limits_html(model)}
+</ul>
+</body>
+</html>
+"""
+
+
+def limits_html(model):
+    """The list items of documentation/index.html's "Limits", with figures from the start values."""
+    p_r0 = start_value(model, "p_reservoir0")
+    d_rod = start_value(model, "D_rod")
+    d_piston = start_value(model, "D_piston")
+    l_half = start_value(model, "L_half_stroke")
+    l_dead = start_value(model, "L_dead")
+    v_hose = start_value(model, "V_hose")
+    a_rod = math.pi * d_rod ** 2 / 4
+    a_piston = math.pi * d_piston ** 2 / 4
+    gas_force = p_r0 * a_rod
+    v_ext = (a_piston - a_rod) * (l_half + l_dead) + v_hose
+    v_comp = v_ext + a_piston * (l_half + l_dead)
+    return f"""<li>Gas force offset: at rest both chambers are at the reservoir pressure, so the damper pushes out with
 −p_reservoir0·A_r = −{gas_force / 1e3:.2f} kN with the default parameters. <code>F_damper</code> includes it,
 like the load cell of the rig.</li>
 <li>Semi-active: only dissipative forces can be produced. With the valve wide open the force cannot go below
 a velocity-dependent minimum (≈0.1 kN at 0.15 m/s, ≈5 kN at 1 m/s, see physics.md §5.3); the relief valve caps it
 near 37 kN.</li>
-<li>Velocity range: the input accepts |v_damper| ≤ 5 m/s, but the valve is well behaved up to about 0.6 m/s.
-Above ~0.6–1 m/s at high force, flow forces make the spool show small limit cycles (≈0.1 mm, a few % of force).</li>
+<li>Velocity range: the input accepts |v_damper| ≤ 5 m/s; at high velocity and high force, flow forces make
+the spool show small limit cycles (physics.md §10).</li>
 <li>Stroke: end stops act only with the catalog effect <code>effect_end_stops</code> (off by default). Keep
 |x_damper| below L_half_stroke = {l_half * 1e3:.0f} mm without it; beyond, the chamber volumes are floored and
 the result is not physical (the FMU logs a warning).</li>
@@ -418,13 +426,10 @@ maximum, not a peak.</li>
 <li>Parameters have variability "fixed": they can be set before <code>{model['prefix']}ExitInitializationMode</code>
 only; later changes are refused with {model['prefix']}Error. Over a communication step the velocity moves along
 the slope <code>a_damper</code> (0: held){model['derivatives']}.</li>
-<li>Not modelled: cavitation and air release, the temperature of the orifices and the bulk modulus, check-valve
-dynamics, solenoid hysteresis and spool stiction, pipe fluid inertia, load-cell filtering (docs/physics.md §8
-lists their signatures).</li>
-</ul>
-</body>
-</html>
-"""
+<li>Gas coming out of solution at low pressure and the oil's temperature are catalog effects
+(<code>effect_gas_release</code>, <code>effect_oil_temperature</code>), off by default. Not modelled: check-valve
+dynamics, solenoid hysteresis and spool stiction, pipe fluid inertia, load-cell filtering (physics.md §8 lists
+their signatures).</li>"""
 
 
 def write_zip(fmu_path, files, executable=lambda name: name.startswith("binaries/")):
