@@ -51,7 +51,7 @@ def test_damper_fmu_tracking_asymmetry_has_the_papers_sign(minor_14):
     assert com["mean_error"] < 0 and com["fraction_below"] > 0.5, com
     # the force follows the demand: error well below the demand itself
     assert tr["error_rms"] < 0.8 * tr["F_demand_rms"]
-    # inside the valve's well-behaved velocity range (README: up to about 0.6 m/s)
+    # below the velocities where the valve's limit cycles were measured (docs/limits.md: 0.6 m/s and up)
     assert tr["v_max"] < 0.6
 
 
