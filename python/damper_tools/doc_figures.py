@@ -122,8 +122,8 @@ def span(out: dict[str, float], name: str, values: list[float]) -> None:
 # ----------------------------------------------------------------------- ranking accuracy (Rust example)
 
 RANKING_TXT = DOCS / "ranking_accuracy.txt"
-RANKING_COMMAND = ("cargo run --release -p damper_engine --example ranking_accuracy | tee docs/ranking_accuracy.txt; "
-                   ".venv/bin/python -m damper_tools.doc_figures ranking_accuracy")
+RANKING_COMMAND = ("cargo run --release -p damper_engine --features study --example ranking_accuracy"
+                   " | tee docs/ranking_accuracy.txt; .venv/bin/python -m damper_tools.doc_figures ranking_accuracy")
 _PCT = r"([\d.]+)"
 # effect: (unit suffix, scale from SI) of its fitted parameter in docs/diagnose.md's table
 SEED_TABLE_UNITS = {"amplifier_delay": ("_ms", 1e3), "check_valve_cracking": ("_bar", 1e-5)}

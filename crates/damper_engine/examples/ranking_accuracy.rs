@@ -2,7 +2,7 @@
 //! (the CI tests in `tests/diagnose.rs` use two).
 //!
 //! ```sh
-//! cargo run --release -p damper_engine --example ranking_accuracy -- \
+//! cargo run --release -p damper_engine --features study --example ranking_accuracy -- \
 //!     [--seeds N] [--out FILE.json] [--only rig|hil|pairs|none|drift[,...]] [--hil-seconds S]
 //! ```
 //!
