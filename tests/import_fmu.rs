@@ -12,49 +12,26 @@ use semi_active_damper::damper::{Damper, Inputs};
 use semi_active_damper::model_description::RealVar;
 use semi_active_damper::physics::params::Parameters;
 
+#[path = "common/damper_library.rs"]
+mod damper_library;
+use damper_library::damper_library;
+
 use std::io::Write;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::sync::OnceLock;
 
-/// Packs the cdylib of this test's profile ([`library`]) into an .fmu in target/<profile>/import_test/,
-/// once per test program: the tests run in parallel threads, and one rewriting the file while
-/// another reads it broke the zip.
+/// Packs the damper's cdylib of this test's profile ([`damper_library`]) into an .fmu in
+/// target/<profile>/import_test/, once per test program: the tests run in parallel threads, and one
+/// rewriting the file while another reads it broke the zip.
 fn pack_fmu() -> PathBuf {
     static FMU: OnceLock<PathBuf> = OnceLock::new();
     FMU.get_or_init(pack).clone()
 }
 
-/// The cdylib of this test's code: the one `cargo test` compiled into deps/ in the same rustc run as
-/// the rlib this program links (cargo does not copy it up to the profile folder: cargo#8311), else
-/// a `cargo build --lib` of this profile. That build resolves the root crate's features without the
-/// workspace's and recompiled shared dependencies inside the test (about a minute of CI).
-fn library(profile_dir: &Path) -> PathBuf {
-    let deps = profile_dir.join("deps");
-    let modified = |p: &Path| std::fs::metadata(p).and_then(|m| m.modified()).ok();
-    let so = deps.join("libsemi_active_damper.so");
-    // written together with the rlib: at most a few seconds apart, in either order
-    let with_rlib = match (modified(&so), modified(&deps.join("libsemi_active_damper.rlib"))) {
-        (Some(so), Some(rlib)) => {
-            so.duration_since(rlib).or_else(|_| rlib.duration_since(so)).is_ok_and(|d| d.as_secs() < 5)
-        }
-        _ => false,
-    };
-    if with_rlib {
-        return so;
-    }
-    let mut cargo = std::process::Command::new(std::env::var("CARGO").unwrap_or_else(|_| "cargo".into()));
-    cargo.args(["build", "--lib", "--manifest-path", concat!(env!("CARGO_MANIFEST_DIR"), "/Cargo.toml")]);
-    if profile_dir.ends_with("release") {
-        cargo.arg("--release");
-    }
-    assert!(cargo.status().expect("run cargo").success(), "cargo build --lib failed");
-    profile_dir.join("libsemi_active_damper.so")
-}
-
 fn pack() -> PathBuf {
     let exe = std::env::current_exe().unwrap();
     let profile_dir = exe.parent().and_then(|d| d.parent()).unwrap().to_path_buf();
-    let library = library(&profile_dir);
+    let library = damper_library(&profile_dir, env!("CARGO_MANIFEST_DIR"));
     let fmu = profile_dir.join("import_test").join("SemiActiveDamper.fmu");
     std::fs::create_dir_all(fmu.parent().unwrap()).unwrap();
     let mut zip = zip::ZipWriter::new(std::fs::File::create(&fmu).unwrap());

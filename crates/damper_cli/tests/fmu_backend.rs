@@ -1,6 +1,9 @@
 //! `--fmu`: the model run through the packaged FMU (rust-fmi's importer) gives the same comparison
 //! and the same diagnosis as the in-process model, bit for bit; an FMU of another build is refused.
 use crate::common;
+#[path = "../../../tests/common/damper_library.rs"]
+mod damper_library;
+use damper_library::damper_library;
 
 use damper_cli::json_summary::diagnosed as summary;
 use damper_engine::comparison::CompareOptions;
@@ -25,15 +28,8 @@ fn pack_fmu(name: &str, binary: bool, edit_xml: impl Fn(String) -> String) -> Pa
     zip.start_file("modelDescription.xml", options).unwrap();
     zip.write_all(edit_xml(xml).as_bytes()).unwrap();
     if binary {
-        // `cargo test -p damper_cli` builds the damper's rlib only, so the .so could be stale
-        let mut cargo = std::process::Command::new(std::env::var("CARGO").unwrap_or_else(|_| "cargo".into()));
-        cargo.args(["build", "--lib", "-p", "semi_active_damper", "--manifest-path", &format!("{ROOT}/Cargo.toml")]);
-        if profile_dir.ends_with("release") {
-            cargo.arg("--release");
-        }
-        assert!(cargo.status().expect("run cargo").success(), "cargo build --lib failed");
         zip.start_file("binaries/linux64/SemiActiveDamper.so", options).unwrap();
-        zip.write_all(&std::fs::read(profile_dir.join("libsemi_active_damper.so")).unwrap()).unwrap();
+        zip.write_all(&std::fs::read(damper_library(&profile_dir, ROOT)).unwrap()).unwrap();
     }
     zip.finish().unwrap();
     fmu

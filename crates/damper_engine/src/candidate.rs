@@ -260,13 +260,13 @@ pub fn fit_effects(
                 (x0.clone(), vec![None; fitted.len()], 0)
             }
         },
-        Some(g) => {
-            let (x, errors, runs, failed) = fit_on_grid(&residuals, &x0, &bounds, fitted, g, pool, input_error);
-            if failed {
+        Some(g) => match fit_on_grid(&residuals, &x0, &bounds, fitted, g, pool, input_error) {
+            (Some((x, errors)), runs) => (x, errors, runs),
+            (None, runs) => {
                 flags.push("the fit failed at every grid point".to_string());
+                (x0.clone(), vec![None; fitted.len()], runs)
             }
-            (x, errors, runs)
-        }
+        },
     };
     let model = with(&x)?;
     let full = simulate(&model, measured.len())?;
@@ -282,10 +282,13 @@ pub fn fit_effects(
     })
 }
 
+/// Fitted values and their standard uncertainties (none where the fit gives none).
+type Fitted = (Vec<f64>, Vec<Option<f64>>);
+
 /// A quantised parameter `g` (a delay in controller samples) searched on its grid, the others (if
 /// any) fitted by Levenberg–Marquardt at each grid point tried: a derivative cannot see a staircase.
-/// The parameters, their uncertainties (half a grid step for `g`), the model runs, and whether
-/// the fit failed at every grid point (then the parameters are `x0`).
+/// The parameters and their uncertainties (half a grid step for `g`), none when the fit failed at
+/// every grid point; and the model runs.
 fn fit_on_grid(
     residuals: &lm::Residuals<'_>,
     x0: &[f64],
@@ -294,7 +297,7 @@ fn fit_on_grid(
     g: usize,
     pool: &rayon::ThreadPool,
     input_error: &[Vec<f64>],
-) -> (Vec<f64>, Vec<Option<f64>>, usize, bool) {
+) -> (Option<Fitted>, usize) {
     let step = fitted[g].grid.expect("a grid parameter");
     let value_at = |k: usize| bounds[g].lo + k as f64 * step;
     let others: Vec<usize> = (0..fitted.len()).filter(|&i| i != g).collect();
@@ -331,14 +334,12 @@ fn fit_on_grid(
     let (best, _) = grid_minimum(sse, n);
     let tried = tried.into_inner().expect("no fit panicked");
     let runs = tried.values().flatten().map(|f| f.3).sum::<usize>() + tried.values().filter(|f| f.is_none()).count();
-    match tried.get(&best).cloned().flatten() {
-        Some((_, mut x, mut errors, _)) => {
-            x[g] = value_at(best);
-            errors[g] = Some(0.5 * step);
-            (x, errors, runs, false)
-        }
-        None => (x0.to_vec(), vec![None; fitted.len()], runs, true),
-    }
+    let fit = tried.get(&best).cloned().flatten().map(|(_, mut x, mut errors, _)| {
+        x[g] = value_at(best);
+        errors[g] = Some(0.5 * step);
+        (x, errors)
+    });
+    (fit, runs)
 }
 
 /// Why the fitted values `x` are not plausible: each at its search bound or outside its
