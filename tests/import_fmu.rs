@@ -12,9 +12,7 @@ use semi_active_damper::damper::{Damper, Inputs};
 use semi_active_damper::model_description::RealVar;
 use semi_active_damper::physics::params::Parameters;
 
-#[path = "common/damper_library.rs"]
-mod damper_library;
-use damper_library::damper_library;
+use crate::common::cdylib::damper_library;
 
 use std::io::Write;
 use std::path::PathBuf;

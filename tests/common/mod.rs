@@ -1,6 +1,8 @@
 //! Calling the exported C API in-process, as an importer would.
 #![allow(dead_code)]
 
+pub mod cdylib;
+
 use fmi_slave::fmi2::*;
 use semi_active_damper::c_api::*;
 use semi_active_damper::model_description::{RealVar, GUID};

@@ -132,13 +132,18 @@ fn cargo(subcommand: &str) -> std::process::Command {
     cargo
 }
 
-/// Builds the cdylibs of this test's profile for `standard` (`cargo test` builds only the rlibs,
-/// so the .so files could be stale) and returns the profile's directory. The FMI 3.0 ones are the
-/// crates' feature `fmi3`, built into the target directory's fmi3/ (as scripts/package_fmu.py
-/// builds them), so that they do not replace the FMI 2.0 ones.
+/// The directory of the cdylibs of this test's profile for `standard`. The FMI 2.0 ones are those
+/// `cargo test` compiled into deps/ with the rlibs, where all three are there
+/// ([`fresh_cdylib`](crate::common::cdylib::fresh_cdylib)); else they are built, as the FMI 3.0 ones
+/// always are: the crates' feature `fmi3`, built into the target directory's fmi3/ (as
+/// scripts/package_fmu.py builds them), so that they do not replace the FMI 2.0 ones.
 fn build(standard: Standard) -> PathBuf {
     let exe = std::env::current_exe().unwrap();
     let profile_dir = exe.parent().and_then(|d| d.parent()).unwrap().to_path_buf();
+    let fresh = |(_, krate, _): &(&str, &str, &str)| crate::common::cdylib::fresh_cdylib(&profile_dir, krate).is_some();
+    if standard == Standard::Fmi2 && CRATES.iter().all(fresh) {
+        return profile_dir.join("deps");
+    }
     let release = profile_dir.ends_with("release");
     let mut cargo = cargo("build");
     cargo.arg("--lib");

@@ -1,9 +1,9 @@
 //! `--fmu`: the model run through the packaged FMU (rust-fmi's importer) gives the same comparison
 //! and the same diagnosis as the in-process model, bit for bit; an FMU of another build is refused.
 use crate::common;
-#[path = "../../../tests/common/damper_library.rs"]
-mod damper_library;
-use damper_library::damper_library;
+#[path = "../../../tests/common/cdylib.rs"]
+mod cdylib;
+use cdylib::damper_library;
 
 use damper_cli::json_summary::diagnosed as summary;
 use damper_engine::comparison::CompareOptions;
