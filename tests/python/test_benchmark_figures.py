@@ -14,7 +14,7 @@ import re
 import subprocess
 from pathlib import Path
 
-from damper_tools import benchmark_figures, benefit_map, doc_figures, full_truck
+from damper_tools import benchmark_figures, benefit_map, doc_figures, full_truck, reference_figures
 
 REPO = Path(__file__).resolve().parents[2]
 
@@ -576,6 +576,50 @@ QUOTES: dict[str, dict[str | tuple[str, ...], list[str]]] = {
                ("check_valve_cracking", r"check-valve cracking, p_cv_crack", "_bar", " bar"),
                ("flow_forces", r"flow forces, Cv_valve", "", ""),
                ("viscous_friction", r"viscous friction, c_viscous \(the worked example\)", "", " N·s/m"))},
+    },    # the slow Python reference's printed output (damper_tools.reference_figures): docs/physics.md §6, hil.md
+    "reference": {
+        ("spool_dead_time_ms", "spool_t90_ms", "spool_overshoot_max_pct"): [
+            rf"found a dead time of {N} ms and t90 {N} ms in every step, with at most {N} % overshoot"],
+        **{tuple(f"ffc_{kind}_{x}_{m}_um" for x in ("16", "25") for m in ("rms", "max")): [
+            rf"\| {label} \| {N} / {N} µm \| {N} / {N} µm \|"]
+           for kind, label in (("none", r"none \(flow_force_compensation 0\)"),
+                               ("fixed", r"fixed gain at 50 bar \(flow_force_compensation 1\)"),
+                               ("scheduled", r"scheduled, Q·sqrt\(Δp̂\) \(flow_force_compensation 2\)"))},
+        "ffc_flow_force_max_n": [rf"Flow forces reach {N} N there"],
+        ("steps_extension_2_12_t90_ms|steps_extension_12_22_t90_ms", "steps_compression_2_12_t90_ms",
+         "steps_compression_12_22_t90_ms"): [
+            rf"The reference found t90 {N} ms in extension and {N} / {N} ms in compression"],
+        ("valve_air_2_5_ext_t50_ms", "valve_air_2_5_ext_t90_ms", "valve_air_0_ext_t50_ms", "valve_air_0_ext_t90_ms",
+         "valve_rigid_mount_ext_t50_ms", "valve_rigid_mount_ext_t90_ms", "valve_air_2_5_comp_t50_ms",
+         "valve_air_2_5_comp_t90_ms", "valve_air_0_comp_t50_ms", "valve_air_0_comp_t90_ms"): [
+            rf"extension {N} / {N} ms with 2\.5 % air, {N} / {N} ms without air, {N} / {N} ms with a rigid mount; "
+            rf"compression {N} / {N} ms with 2\.5 % air, {N} / {N} ms without\."],
+        ("viscous_body_hz", "viscous_body_zeta", "viscous_wheel_hz", "viscous_wheel_zeta"): [
+            rf"c = α C_m = 19\.2 kN·s/m, {N} Hz \(ζ {N}\) and {N} Hz \(ζ {N}\)"],
+        ("maxwell_2_mn_wheel_hz", "maxwell_5_mn_wheel_hz"): [rf"with k = 2 MN/m gives {N} Hz, with 5 MN/m {N} Hz"],
+        ("msd_lag0_force_peak_hz", "msd_lag10_force_peak_hz", "msd_lag10_tyre_peak_hz"): [
+            rf"peaks at {N} Hz with an ideal force actuator but at {N} Hz \(tyre force {N} Hz\)"],
+        ("hil_force_peak_hz", "hil_5ms_force_peak_hz"): [
+            rf"peaks at {N} Hz with no extra latency and at {N} Hz with 5 ms of extra latency"],
+        tuple(f"msd_{road}_{m}" for m in ("dlc", "f_rms_kn", "f_max_kn", "v_max")
+              for road in ("a", "b", "minor", "c")): [
+            rf"16 / 64 / 128 / 256 e-6 m³: DLC {N} / {N} / {N} / {N}, damper force RMS {N} / {N} / {N} / {N} kN, "
+            rf"largest force {N} / {N} / {N} / {N} kN, largest relative velocity {N} / {N} / {N} / {N} m/s"],
+        ("hil_extension_above_pct", "hil_extension_mean_kn", "hil_compression_below_pct", "hil_compression_mean_kn",
+         "hil_f_rms_kn", "hil_f_demand_rms_kn", "hil_error_rms_kn", "hil_v_max", "hil_f_max_kn", "hil_force_peak_hz",
+         "hil_5ms_force_peak_hz", "hil_5ms_error_rms_kn"): [
+            rf"in extension the force exceeds the demand \*\*{N} %\*\* of the time \(mean \*\*{N} kN\*\*\); in "
+            rf"compression it falls short \*\*{N} %\*\* of the time \(mean \*\*{N} kN\*\*\), the paper's T11 pattern\. "
+            rf"Force RMS {N} kN against a demand of {N} kN, tracking error RMS {N} kN, "
+            rf"largest relative velocity {N} m/s, largest force {N} kN, force-spectrum peak \*\*{N} Hz\*\*\. "
+            rf"With 5 ms extra latency: peak \*\*{N} Hz\*\*, error RMS {N} kN\."],
+        "hil_force_peak_hz": [rf"\| 15 Hz \(wheel hop\) \| {N} Hz \|"],
+        ("hil_extension_mean_kn", "hil_extension_above_pct"): [
+            rf"\| Extending: force above the demand \| often \| {N} kN, {N} % \|"],
+        ("hil_compression_mean_kn", "hil_compression_below_pct"): [
+            rf"\| Contracting: force below the demand \| often \| {N} kN, {N} % \|"],
+        ("hil_f_rms_kn", "hil_f_demand_rms_kn", "hil_error_rms_kn"): [
+            rf"\| RMS force / demand, RMS error \| — \| {N} / {N} kN, {N} kN \|"],
     },
 }
 # The figures files whose figures a generated table or report of the docs gives as well: the file and
@@ -861,3 +905,31 @@ def test_a_report_without_a_figure_is_refused_by_name():
         assert "python_slower" in str(e)
     else:
         raise AssertionError("a report without the cross-check's ratio was accepted")
+
+
+REFERENCE_OUTPUT = REPO / "tests" / "python" / "resources" / "slow_reference_output.txt"
+
+
+def test_the_references_figures_are_what_its_recorded_output_gives():
+    """docs/reference.json holds what damper_tools.reference_figures reads from the reference's output
+    kept in the repository (the reference itself is not: its output is the record)."""
+    figures = reference_figures.parse_output(REFERENCE_OUTPUT.read_text(encoding="utf-8"))
+    assert figures == doc_figures.read("reference")
+    # spot checks against the printed lines: a step's t90, a ratio turned into a percentage, the largest
+    # overshoot of the five spool steps
+    assert figures["steps_compression_12_22_t90_ms"] == 40.5
+    assert figures["hil_extension_above_pct"] == 73.0 and figures["hil_compression_mean_kn"] == -0.63
+    assert figures["spool_overshoot_max_pct"] == 1.7
+
+
+def test_a_reference_output_without_a_line_or_with_two_values_is_refused_by_name():
+    text = REFERENCE_OUTPUT.read_text(encoding="utf-8")
+    for changed, name in ((text.replace("viscous c= 19.2", "viscous c= 19.3"), "viscous_wheel_hz"),
+                          (text.replace("2.5->1.8 mm: dead time(2%)  4.0", "2.5->1.8 mm: dead time(2%)  4.5"),
+                           "spool_dead_time_ms")):
+        try:
+            reference_figures.parse_output(changed)
+        except ValueError as e:
+            assert name in str(e)
+        else:
+            raise AssertionError(f"an output without a single {name} was accepted")
