@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import difflib
 import json
+import os
 import re
 import shlex
 import subprocess
@@ -28,6 +29,8 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import pytest
+
+from damper_tools import report_figure
 
 REPO = Path(__file__).resolve().parents[2]
 MARKER = re.compile(r"<!-- output of: (.*?) -->\s*\n```[a-z]*\n(.*?)\n```", re.S)
@@ -178,3 +181,9 @@ def test_the_worked_example_of_a_new_effect_turns_unexplained_into_named(damper,
     table = next(i for i, line in enumerate(named) if line.startswith("before → after"))
     regimes = [line for line in named[table + 1:] if "→" in line]
     assert regimes and all(re.search(r"\(-\d+ %\)$", line) for line in regimes), regimes
+    # the page's figure is this report's before/after plots
+    figure = report_figure.before_after_svg((folder / "after" / "report.html").read_text(encoding="utf-8"))
+    if os.environ.get("UPDATE_DOCS") == "1":
+        report_figure.DOCS_FIGURE.write_text(figure, encoding="utf-8")
+    assert figure == report_figure.DOCS_FIGURE.read_text(encoding="utf-8"), (
+        f"{report_figure.DOCS_FIGURE} is not this report's: rerun with UPDATE_DOCS=1")
