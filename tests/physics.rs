@@ -365,6 +365,15 @@ fn released_gas_is_lost_motion_at_the_turn_into_compression() {
         "extra lost stroke {extra} m, hand {hand} m (p_B {p_b} Pa)"
     );
     assert!(lost_without < 0.2 * lost_with, "without release {lost_without} m, with {lost_with} m");
+    // docs/physics.md §3.2 quotes both to the hundredth of a millimetre
+    let doc = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/docs/physics.md")).unwrap();
+    let doc = doc.split_whitespace().collect::<Vec<_>>().join(" ");
+    for quote in [
+        format!("{:.2} mm more than without the effect", extra * 1e3),
+        format!("V_B α_rel r/A_p, gives {:.2} mm [C]", hand * 1e3),
+    ] {
+        assert!(doc.contains(&quote), "docs/physics.md §3.2 does not say \"{quote}\"");
+    }
     // degassed oil (saturated at −0.9 bar) releases nothing here: the same run bit for bit
     let (_, lost_degassed, forces_degassed) = turn(&|p| {
         p.effect_gas_release = true;
