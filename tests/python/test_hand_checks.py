@@ -766,7 +766,7 @@ def test_the_refilling_check_valve_gives_the_full_bore_a_pole_near_minus_1e4_per
 
 def test_the_valves_laminar_zone_gives_chamber_A_a_pole_near_minus_1e4_per_second_at_mid_stroke() -> None:
     # Δp = 0, the spool at its stop (at rest, x_spool_start, it is −4.5e3 s⁻¹), the reservoir's 5 bar
-    assert_quotes(rf"and {NUMBER} s⁻¹ in the valve's laminar zone \(Δp → 0\) with the spool at its stop, chamber A "
+    assert_quotes(rf"; - {NUMBER} s⁻¹ in the valve's laminar zone \(Δp → 0\) with the spool at its stop, chamber A "
                   rf"at mid-stroke and the reservoir at {NUMBER} bar;",
                   laminar_pole_at_mid_stroke(), reservoir_pressure(0.0) / 1e5, significant=1)
 
@@ -774,7 +774,7 @@ def test_the_valves_laminar_zone_gives_chamber_A_a_pole_near_minus_1e4_per_secon
 def test_the_valves_laminar_zone_gives_a_pole_near_minus_7e4_per_second_at_the_extension_stroke_end() -> None:
     # Δp = 0, the spool at its stop, V_A at x_p = L_half_stroke and the reservoir at 3.7 bar (at 5 bar it would be
     # −1.1e5 s⁻¹; the spool at rest gives −3.2e4 s⁻¹)
-    assert_quotes(rf"; {NUMBER} s⁻¹ in that zone with the spool at its stop at the extension stroke end,",
+    assert_quotes(rf"; - {NUMBER} s⁻¹ in that zone with the spool at its stop at the extension stroke end,",
                   laminar_pole_at_stroke_end(), significant=1)
     assert_quotes(rf"at the extension stroke end, where V_A is {NUMBER} cm³ and the reservoir's gas law gives "
                   rf"{NUMBER} bar;",
