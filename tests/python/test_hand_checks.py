@@ -12,19 +12,23 @@ digits the document quotes: a changed default or equation then cannot leave a fi
 sentence also quotes its inputs (the oil's air content, the passive valve's bleeds), those are held to
 the XML's defaults too.
 
-Not here: the valve law's hand check of §3.3 and the natural frequencies of §6.4 and of §6.6's linear
-model (test_docs.py holds them; the body's roll without k_roll or gravity, a quasi-static estimate, is
-here), the reference implementation's numbers (not computed by hand) and the figures that come from a
-simulation (the lost stroke of §3.2, the tuned loops' step responses, the benchmark's errors).
+The valve law's hand check of §3.3 and the natural frequencies of §6.4 and of §6.6's linear model are
+checked as the exact strings the document prints (the last test). Not here: the reference
+implementation's numbers (not computed by hand) and the figures that come from a simulation (the lost
+stroke of §3.2, the tuned loops' step responses, the benchmark's errors).
 """
 
 import math
 import re
 import xml.etree.ElementTree as ET
 from pathlib import Path
+from types import SimpleNamespace
 from typing import NamedTuple
 
 from scipy.optimize import brentq, minimize_scalar
+
+from damper_tools import full_truck
+from damper_tools.crosscheck import Plant
 
 REPO = Path(__file__).resolve().parents[2]
 PHYSICS = REPO / "docs" / "physics.md"
@@ -54,7 +58,16 @@ def starts(path: Path) -> dict[str, float]:
     return result
 
 
+def switches(path: Path) -> dict[str, bool]:
+    """name -> start value of every Boolean variable (the effect switches)."""
+    return {v.get("name", ""): next(iter(v)).get("start") == "true"
+            for v in ET.parse(path).getroot().iter("ScalarVariable") if next(iter(v)).tag == "Boolean"}
+
+
 DAMPER = starts(DAMPER_XML)
+# The §3 equations the hand checks share with the plain-Python cross-check of the plant
+# (damper_tools.crosscheck, itself held to the FMU): areas, volumes, the orifice and port laws, the gas.
+PLANT = Plant(SimpleNamespace(**DAMPER, **switches(DAMPER_XML)))
 TRUCK = starts(TRUCK_XML)
 FULL_TRUCK = starts(FULL_TRUCK_XML)
 
@@ -104,16 +117,12 @@ def assert_quotes(pattern: str, *computed: float, significant: int | None = None
 
 def areas() -> tuple[float, float, float]:
     """§3.1: A_p = π D_piston²/4, A_r = π D_rod²/4, A_a = A_p − A_r (m²)."""
-    a_p = math.pi * DAMPER["D_piston"] ** 2 / 4
-    a_r = math.pi * DAMPER["D_rod"] ** 2 / 4
-    return a_p, a_r, a_p - a_r
+    return PLANT.A_p, PLANT.A_r, PLANT.A_a
 
 
 def volumes_at_mid_stroke() -> tuple[float, float]:
     """§3.1 at x_p = 0: V_A = A_a (L_half_stroke + L_dead) + V_hose, V_B = A_p (L_half_stroke + L_dead) (m³)."""
-    a_p, _, a_a = areas()
-    length = DAMPER["L_half_stroke"] + DAMPER["L_dead"]
-    return a_a * length + DAMPER["V_hose"], a_p * length
+    return PLANT.V_A0, PLANT.V_B0
 
 
 def gas_force() -> float:
@@ -138,12 +147,7 @@ def bulk_modulus(p: float, solubility: float = 0.0, p_saturation: float = 0.0) -
 
 def port_area(h: float) -> float:
     """§3.3: n ports of radius r uncovered by h, n [r² acos((r − h)/r) − (r − h) sqrt(2rh − h²)] (m²)."""
-    n, r = DAMPER["n_ports"], DAMPER["r_port"]
-    if h <= 0:
-        return 0.0
-    if h >= 2 * r:
-        return n * math.pi * r * r
-    return n * (r * r * math.acos((r - h) / r) - (r - h) * math.sqrt(2 * r * h - h * h))
+    return PLANT.port_area(DAMPER["x_lap"] + h)
 
 
 def opening_for_area(area: float) -> float:
@@ -174,11 +178,6 @@ def valve_drop(area: float, v: float) -> float:
     return DAMPER["rho"] / 2 * (areas()[2] * v / (DAMPER["Cd_valve"] * area)) ** 2
 
 
-def orifice(cd: float, area: float, dp: float) -> float:
-    """§3.3's regularised orifice law Q = C_d A sqrt(2/ρ) Δp/(Δp² + p_transition²)^(1/4) (m³/s)."""
-    return cd * area * math.sqrt(2 / DAMPER["rho"]) * dp * math.pow(dp * dp + DAMPER["p_transition"] ** 2, -0.25)
-
-
 def orifice_slope(cd: float, area: float, dp: float, area_slope: float = 0.0) -> float:
     """∂Q/∂Δp (m³/(s·Pa)) of §3.3's regularised law Q = C_d A sqrt(2/ρ) Δp/(Δp² + p_transition²)^(1/4), with
     an area A(Δp) of slope `area_slope` (m²/Pa) where the orifice opens with the drop (a check valve)."""
@@ -198,9 +197,7 @@ def check_valve(dp: float) -> tuple[float, float]:
 
 def reservoir_pressure(x: float) -> float:
     """§3.5 at rest at stroke x: V_g = V_gas0 + A_r x, p_r = (p_reservoir0 + p_atm)(V_gas0/V_g)^n − p_atm (Pa)."""
-    v_gas0 = DAMPER["V_gas0"]
-    expansion = v_gas0 / (v_gas0 + areas()[1] * x)
-    return (DAMPER["p_reservoir0"] + P_ATM) * math.pow(expansion, DAMPER["n_polytropic"]) - P_ATM
+    return PLANT.reservoir(DAMPER["V_gas0"] + areas()[1] * x)
 
 
 def annulus_at_extension_end() -> float:
@@ -528,7 +525,7 @@ def test_the_rebound_valve_gives_about_20_kN_at_one_metre_per_second() -> None:
     def flow(dp: float) -> float:
         u = DAMPER["k_open_reb"] * (dp - DAMPER["p_open_reb"]) / a_open
         area = DAMPER["A_bleed_reb"] + a_open * (ramp(u) - ramp(u - 1))
-        return DAMPER["G_bleed_reb"] * dp + orifice(cd, area, dp)
+        return DAMPER["G_bleed_reb"] * dp + PLANT.orifice(cd, area, dp)
 
     dp = brentq(lambda d: flow(d) - a_a * 1.0, 0.0, 1e9, xtol=1e-3)
     assert_quotes(rf"About {NUMBER} kN at 1 m/s in extension with the bleeds",
@@ -851,3 +848,23 @@ def test_the_minor_road_has_a_white_velocity_spectrum_of_7e_4() -> None:
     assert_quotes(rf"\*\*minor road = {NUMBER}e-6 m³", g_d0 * 1e6)
     assert_quotes(rf"\(2π n0\)² G_d\(n0\) U = {NUMBER}e-4 \(m/s\)²/Hz for the minor road at {NUMBER} m/s \[C\]",
                   (2 * math.pi * n0) ** 2 * g_d0 * speed * 1e4, speed)
+
+
+# --------------------------------------------------------------------------- §3.3, §6.4, §6.6: quoted exactly
+
+def test_the_valve_law_and_the_natural_frequencies_are_quoted_as_computed() -> None:
+    # §6.4's two-mass roots, §6.6's linear full truck and §3.3's valve hand check, each as the formatted
+    # string the document prints
+    ms, mu, ks, kt = TRUCK["m_body"], TRUCK["m_axle"], TRUCK["k_susp"], TRUCK["k_tyre"]
+    b = ms * (ks + kt) + mu * ks
+    root = math.sqrt(b * b - 4 * ms * mu * ks * kt)
+    body, hop = (math.sqrt((b + s * root) / (2 * ms * mu)) / (2 * math.pi) for s in (-1, 1))
+    markdown = PHYSICS.read_text(encoding="utf-8")
+    assert f"body **{body:.3f} Hz**, wheel hop **{hop:.3f} Hz**" in markdown
+    roll, pitch, heave = full_truck.natural_frequencies(dict(FULL_TRUCK))[:3]
+    assert f"roll **{roll:.3f} Hz**, pitch **{pitch:.3f} Hz**, heave **{heave:.3f} Hz**" in markdown
+    _, a_rod, a_annulus = areas()
+    dp = (10e3 + DAMPER["p_reservoir0"] * a_rod) / a_annulus
+    area = a_annulus * 0.15 / (DAMPER["Cd_valve"] * math.sqrt(2 * dp / DAMPER["rho"]))
+    assert f"{dp / 1e6:.3f} MPa ({dp / 1e5:.1f} bar)" in markdown
+    assert f"= {area * 1e6:.2f} mm²" in markdown
